@@ -1,0 +1,11 @@
+// The probefilter subcommands: each registers its options and runs when chosen.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace probefilter {
+
+void addReferenceCommand(CLI::App& app);
+void addSynthCommand(CLI::App& app);
+
+} // namespace probefilter

@@ -1,0 +1,32 @@
+// probefilter: GGX-filtered reflection probes. Exit codes: 0 success, 2 bad input or failure.
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "probe/error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"probefilter: fast GGX filtering of reflection probes (Manson & Sloan 2016)"};
+    app.require_subcommand(1);
+    probefilter::addReferenceCommand(app);
+    probefilter::addSynthCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        fmt::print(stderr, "probefilter: error: {}\n", e.what());
+        return 2;
+    } catch (const probe::ProbeError& e) {
+        fmt::print(stderr, "probefilter: error: {}\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "probefilter: error: {}\n", e.what());
+        return 2;
+    }
+    return 0;
+}

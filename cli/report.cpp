@@ -1,0 +1,48 @@
+#include "report.h"
+
+#include <chrono>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+
+namespace probefilter {
+
+nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapping mapping) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (int m = 0; m < levelCount; ++m)
+        levels.push_back({{"level", m},
+                          {"face_size", faceSize >> m},
+                          {"roughness", probe::levelRoughness(mapping, m, levelCount)},
+                          {"alpha", probe::levelAlpha(mapping, m, levelCount)},
+                          {"file", fmt::format("level_{}.exr", m)}});
+    return {{"face_size", faceSize},
+            {"level_count", levelCount},
+            {"mapping", std::string(probe::roughnessMappingName(mapping))},
+            {"levels", levels}};
+}
+
+static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+Stopwatch::Stopwatch() : start_(now()) {}
+double Stopwatch::seconds() const { return now() - start_; }
+
+void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
+    std::ofstream out(path);
+    out << json.dump(2) << "\n";
+    if (!out)
+        throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+}
+
+void printProgress(const std::string& label, std::size_t done, std::size_t total) {
+    const int width = 30;
+    const int filled = total ? static_cast<int>(width * done / total) : width;
+    fmt::print(stderr, "\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
+               total ? 100 * done / total : 100);
+    if (done >= total) fmt::print(stderr, "\n");
+}
+
+} // namespace probefilter

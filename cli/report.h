@@ -1,0 +1,31 @@
+// report.json: what was run, on what, with which settings, how long it took and how wrong it is.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "probe/roughness.h"
+
+namespace probefilter {
+
+// The settings block every report starts with: input, face size, levels and their roughness.
+nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapping mapping);
+
+// Wall-clock stopwatch in seconds.
+class Stopwatch {
+public:
+    Stopwatch();
+    double seconds() const;
+
+private:
+    double start_;
+};
+
+void writeJson(const std::filesystem::path& path, const nlohmann::json& json);
+
+// A one-line progress bar on stderr, redrawn in place.
+void printProgress(const std::string& label, std::size_t done, std::size_t total);
+
+} // namespace probefilter

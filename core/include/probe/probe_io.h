@@ -1,0 +1,68 @@
+// Probes in and out: EXR and Radiance HDR reading, pixel validation, conversion to a cube of a
+// chosen face size, EXR writing, and output folders that appear whole or not at all.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "probe/cube_image.h"
+
+namespace probe {
+
+// Reads an OpenEXR (RGB or RGBA, any pixel type and compression OpenEXR reads) or Radiance .hdr
+// image. Throws ProbeError naming the file and the problem.
+Image readImage(const std::filesystem::path& path);
+
+// What to do with NaN, Inf and negative pixels: refuse the file, or set them to 0.
+enum class BadPixelPolicy { refuse, repair };
+
+// Checks every channel of every pixel. With `refuse`, throws ProbeError with the count and the
+// first position; with `repair`, zeroes them and returns how many pixels were repaired.
+std::size_t checkPixels(Image& image, const std::filesystem::path& path, BadPixelPolicy policy);
+
+// The two layouts a probe image may have.
+enum class ProbeLayout { equirectangular, faceStrip };
+
+// Equirectangular images are 2:1, face strips 6:1 (six S x S faces in Vulkan order). Throws
+// ProbeError for anything else.
+ProbeLayout detectLayout(const Image& image, const std::filesystem::path& path);
+
+// Resamples a probe image to a cube of `faceSize`. Each output texel integrates the source over
+// its own footprint (solid-angle weighted supersampling at or above the source resolution), so
+// energy is kept when shrinking and a small bright source does not alias away.
+// Equirectangular convention (glTF-IBL-Sampler's): +Y up, row 0 at +Y, column u = 0.5 + atan2(z, x) / (2 pi).
+CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize);
+
+// Reads, validates and resamples in one step.
+CubeImage loadProbe(const std::filesystem::path& path, int faceSize, BadPixelPolicy policy);
+
+// Writes float32 RGB EXR (ZIP compressed). Throws ProbeError on failure.
+void writeExr(const std::filesystem::path& path, const Image& image);
+
+// Output file name of level m: level_<m>.exr.
+std::string levelFileName(int level);
+
+// Writes into a hidden staging folder beside `outDir`, and moves the files into place only on
+// commit(), so that a failed run leaves no partial output. Creating it checks that the output
+// folder is writable, before any expensive work starts.
+class StagedOutput {
+public:
+    explicit StagedOutput(std::filesystem::path outDir);
+    ~StagedOutput();
+    StagedOutput(const StagedOutput&) = delete;
+    StagedOutput& operator=(const StagedOutput&) = delete;
+
+    // Where to write a file that will appear as outDir/name.
+    std::filesystem::path file(const std::string& name);
+    void commit();
+
+    const std::filesystem::path& outDir() const { return outDir_; }
+
+private:
+    std::filesystem::path outDir_;
+    std::filesystem::path staging_;
+    std::vector<std::string> names_;
+};
+
+} // namespace probe

@@ -1,0 +1,36 @@
+// The exact reference of DESIGN.md: brute-force texel-centre quadrature over every source texel,
+// accumulated in double. Every other method is judged against it.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probe/cube_image.h"
+#include "probe/roughness.h"
+
+namespace probe {
+
+// Progress callback: (work done, total work); called from one thread at a time.
+using ProgressCallback = std::function<void(std::size_t done, std::size_t total)>;
+
+// F(R) = sum_t L(t) K(R, l_t) dOmega_t / sum_t K(R, l_t) dOmega_t for every texel centre R of an
+// output level of face size `outSize`. alpha = 0 is a copy (point lookup of the source).
+CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha);
+
+// Every output level m = 0..levelCount-1 (face size source.size >> m, alpha from the mapping),
+// all cores. Throws ProbeError for an impossible level count.
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+                           const ProgressCallback& progress = {});
+
+// The reference's impulse response for output direction R: normalized weights k(R, t) over the
+// source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on
+// the texel that contains R.
+std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha);
+
+// The exact cosine convolution E(n) = sum_t L(t) max(n.l_t, 0) dOmega_t / pi at every texel centre
+// of a level of `outSize` (so a constant radiance L gives E = L).
+CubeImage exactIrradiance(const CubeImage& source, int outSize);
+
+} // namespace probe

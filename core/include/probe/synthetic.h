@@ -1,0 +1,34 @@
+// Probes the project makes itself, for tests, benchmarks and the demo: no download needed.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "probe/cube_image.h"
+
+namespace probe {
+
+// Constant radiance everywhere (the white furnace).
+CubeImage constantProbe(int faceSize, glm::vec3 radiance);
+
+// One texel of `value` on black.
+CubeImage impulseProbe(int faceSize, const Texel& texel, float value = 1.0f);
+
+// Smooth sky: blue gradient above the horizon, warm ground below, no sun.
+CubeImage skyProbe(int faceSize);
+
+// The smooth sky with a small sun (radius ~2 degrees) of radiance 1e4.
+CubeImage sunSkyProbe(int faceSize);
+
+// A room of big flat colour patches: the talks' worst case for the lobe's tail.
+CubeImage roomProbe(int faceSize);
+
+// A checkerboard of 8 x 8 squares per face, 0.05 and 1.
+CubeImage checkerProbe(int faceSize);
+
+// By name: constant, sky, sunsky, room, checker. Throws ProbeError for an unknown name.
+CubeImage syntheticProbe(std::string_view name, int faceSize);
+const std::vector<std::string>& syntheticProbeNames();
+
+} // namespace probe

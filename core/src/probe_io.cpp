@@ -1,0 +1,262 @@
+#include "probe/probe_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+#include <unistd.h>
+
+#include "probe/error.h"
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_HDR
+#define STBI_NO_STDIO_WARNINGS
+#include <stb/stb_image.h>
+
+namespace fs = std::filesystem;
+
+namespace probe {
+
+namespace {
+
+[[noreturn]] void fail(const fs::path& path, const std::string& problem) {
+    throw ProbeError(fmt::format("{}: {}", path.string(), problem));
+}
+
+std::string readMagic(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        fail(path, "cannot open file");
+    char magic[4] = {};
+    in.read(magic, 4);
+    return std::string(magic, static_cast<std::size_t>(in.gcount()));
+}
+
+Image readExr(const fs::path& path) {
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i window = file.header().dataWindow();
+        const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
+        if (width <= 0 || height <= 0)
+            fail(path, "image has zero size");
+        const Imf::ChannelList& channels = file.header().channels();
+        for (const char* name : {"R", "G", "B"})
+            if (!channels.findChannel(name))
+                fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
+        Image image{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
+        // OpenEXR addresses the buffer with absolute data-window coordinates.
+        char* base = reinterpret_cast<char*>(image.rgb.data()) -
+                     (static_cast<std::ptrdiff_t>(window.min.y) * width + window.min.x) * 3 * sizeof(float);
+        Imf::FrameBuffer frame;
+        const std::size_t xStride = 3 * sizeof(float), yStride = xStride * width;
+        frame.insert("R", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
+        frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xStride, yStride));
+        frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xStride, yStride));
+        file.setFrameBuffer(frame);
+        file.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const ProbeError&) {
+        throw;
+    } catch (const std::exception& e) {
+        fail(path, fmt::format("unreadable or corrupt EXR ({})", e.what()));
+    }
+}
+
+Image readHdr(const fs::path& path) {
+    int width = 0, height = 0, components = 0;
+    float* pixels = stbi_loadf(path.c_str(), &width, &height, &components, 3);
+    if (!pixels)
+        fail(path, fmt::format("unreadable or corrupt Radiance HDR ({})", stbi_failure_reason()));
+    Image image{width, height, std::vector<float>(pixels, pixels + static_cast<std::size_t>(width) * height * 3)};
+    stbi_image_free(pixels);
+    if (width <= 0 || height <= 0)
+        fail(path, "image has zero size");
+    return image;
+}
+
+// Bilinear read of an equirectangular image, wrapping in longitude and clamping in latitude.
+glm::vec3 sampleEquirect(const Image& image, const glm::dvec3& d) {
+    const double u = 0.5 + std::atan2(d.z, d.x) / (2.0 * std::numbers::pi);
+    const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
+    const double x = u * image.width - 0.5, y = v * image.height - 0.5;
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+    const int w = image.width, h = image.height;
+    const int xa = ((static_cast<int>(x0) % w) + w) % w, xb = (xa + 1) % w;
+    const int ya = std::clamp(static_cast<int>(y0), 0, h - 1), yb = std::clamp(static_cast<int>(y0) + 1, 0, h - 1);
+    const glm::vec3 top = image.pixel(xa, ya) * (1.0f - fx) + image.pixel(xb, ya) * fx;
+    const glm::vec3 bottom = image.pixel(xa, yb) * (1.0f - fx) + image.pixel(xb, yb) * fx;
+    return top * (1.0f - fy) + bottom * fy;
+}
+
+// Bilinear read of one face of a 6S x S strip, clamped to the face (used only to resample).
+glm::vec3 sampleStrip(const Image& strip, const glm::dvec3& d) {
+    const int s = strip.height;
+    const FaceUv f = directionToFaceUv(d);
+    const double x = (f.u + 1.0) * 0.5 * s - 0.5, y = (f.v + 1.0) * 0.5 * s - 0.5;
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+    const int xa = std::clamp(static_cast<int>(x0), 0, s - 1), xb = std::clamp(static_cast<int>(x0) + 1, 0, s - 1);
+    const int ya = std::clamp(static_cast<int>(y0), 0, s - 1), yb = std::clamp(static_cast<int>(y0) + 1, 0, s - 1);
+    const int o = f.face * s;
+    const glm::vec3 top = strip.pixel(o + xa, ya) * (1.0f - fx) + strip.pixel(o + xb, ya) * fx;
+    const glm::vec3 bottom = strip.pixel(o + xa, yb) * (1.0f - fx) + strip.pixel(o + xb, yb) * fx;
+    return top * (1.0f - fy) + bottom * fy;
+}
+
+template <typename Sampler>
+CubeImage resample(int faceSize, int subsamples, Sampler sample) {
+    CubeImage cube(faceSize);
+    const double texelWidth = 2.0 / faceSize, step = texelWidth / subsamples;
+#pragma omp parallel for collapse(2) schedule(dynamic)
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < faceSize; ++j)
+            for (int i = 0; i < faceSize; ++i) {
+                glm::dvec3 sum(0.0);
+                double weightSum = 0.0;
+                for (int b = 0; b < subsamples; ++b)
+                    for (int a = 0; a < subsamples; ++a) {
+                        const double u = -1.0 + i * texelWidth + (a + 0.5) * step;
+                        const double v = -1.0 + j * texelWidth + (b + 0.5) * step;
+                        // Solid angle per unit face area: (1 + u^2 + v^2)^(-3/2).
+                        const double r2 = 1.0 + u * u + v * v;
+                        const double weight = 1.0 / (r2 * std::sqrt(r2));
+                        sum += weight * glm::dvec3(sample(faceUvToCubePoint(f, u, v)));
+                        weightSum += weight;
+                    }
+                cube.set(texelIndex({f, i, j}, faceSize), glm::vec3(sum / weightSum));
+            }
+    return cube;
+}
+
+} // namespace
+
+Image readImage(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        fail(path, "no such file");
+    if (fs::file_size(path, ec) == 0)
+        fail(path, "file is empty (zero-size image)");
+    const std::string magic = readMagic(path);
+    if (magic == std::string("\x76\x2f\x31\x01", 4))
+        return readExr(path);
+    if (magic.rfind("#?", 0) == 0)
+        return readHdr(path);
+    fail(path, "not an OpenEXR or Radiance HDR file");
+}
+
+std::size_t checkPixels(Image& image, const fs::path& path, BadPixelPolicy policy) {
+    std::size_t bad = 0, first = 0;
+    for (std::size_t p = 0; p < image.rgb.size() / 3; ++p) {
+        bool isBad = false;
+        for (int c = 0; c < 3; ++c) {
+            float& value = image.rgb[3 * p + c];
+            if (!std::isfinite(value) || value < 0.0f) {
+                isBad = true;
+                if (policy == BadPixelPolicy::repair) value = 0.0f;
+            }
+        }
+        if (isBad && bad++ == 0) first = p;
+    }
+    if (bad && policy == BadPixelPolicy::refuse) {
+        const int x = static_cast<int>(first % image.width), y = static_cast<int>(first / image.width);
+        const glm::vec3 value = image.pixel(x, y);
+        fail(path, fmt::format("{} pixel(s) are NaN, Inf or negative, first at x={} y={} ({}, {}, {}); "
+                               "--repair-pixels sets them to 0",
+                               bad, x, y, value.r, value.g, value.b));
+    }
+    return bad;
+}
+
+ProbeLayout detectLayout(const Image& image, const fs::path& path) {
+    if (image.width == 2 * image.height)
+        return ProbeLayout::equirectangular;
+    if (image.width == 6 * image.height)
+        return ProbeLayout::faceStrip;
+    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular or a 6:1 strip of faces",
+                           image.width, image.height));
+}
+
+CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize) {
+    if (layout == ProbeLayout::faceStrip) {
+        // Subsamples land exactly on source texel centres when the sizes divide.
+        const int subsamples = std::max(1, (image.height + faceSize - 1) / faceSize);
+        return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleStrip(image, d); });
+    }
+    // A face texel spans about height / (2 S) source rows; take two subsamples per source pixel.
+    const int subsamples = std::max(2, (image.height + faceSize - 1) / faceSize);
+    return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleEquirect(image, d); });
+}
+
+CubeImage loadProbe(const fs::path& path, int faceSize, BadPixelPolicy policy) {
+    Image image = readImage(path);
+    const ProbeLayout layout = detectLayout(image, path);
+    checkPixels(image, path, policy);
+    return imageToCube(image, layout, faceSize);
+}
+
+void writeExr(const fs::path& path, const Image& image) {
+    try {
+        Imf::Header header(image.width, image.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        Imf::OutputFile file(path.c_str(), header);
+        Imf::FrameBuffer frame;
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(image.rgb.data()));
+        const std::size_t xStride = 3 * sizeof(float), yStride = xStride * image.width;
+        frame.insert("R", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
+        frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xStride, yStride));
+        frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xStride, yStride));
+        file.setFrameBuffer(frame);
+        file.writePixels(image.height);
+    } catch (const std::exception& e) {
+        fail(path, fmt::format("cannot write EXR ({})", e.what()));
+    }
+}
+
+std::string levelFileName(int level) { return fmt::format("level_{}.exr", level); }
+
+StagedOutput::StagedOutput(fs::path outDir) : outDir_(std::move(outDir)) {
+    std::error_code ec;
+    if (fs::exists(outDir_, ec) && !fs::is_directory(outDir_, ec))
+        fail(outDir_, "output path exists and is not a folder");
+    const fs::path parent = fs::absolute(outDir_, ec).parent_path();
+    staging_ = parent / fmt::format(".{}.partial-{}", outDir_.filename().string(), ::getpid());
+    fs::create_directories(staging_, ec);
+    if (ec)
+        fail(outDir_, fmt::format("output folder is not writable ({})", ec.message()));
+    if (::access(staging_.c_str(), W_OK) != 0)
+        fail(outDir_, "output folder is not writable");
+}
+
+StagedOutput::~StagedOutput() {
+    std::error_code ec;
+    fs::remove_all(staging_, ec);
+}
+
+fs::path StagedOutput::file(const std::string& name) {
+    names_.push_back(name);
+    return staging_ / name;
+}
+
+void StagedOutput::commit() {
+    std::error_code ec;
+    fs::create_directories(outDir_, ec);
+    if (ec)
+        fail(outDir_, fmt::format("cannot create output folder ({})", ec.message()));
+    for (const std::string& name : names_) {
+        fs::rename(staging_ / name, outDir_ / name, ec);
+        if (ec)
+            fail(outDir_ / name, fmt::format("cannot move output into place ({})", ec.message()));
+    }
+}
+
+} // namespace probe

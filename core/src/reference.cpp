@@ -1,0 +1,158 @@
+#include "probe/reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "probe/ggx.h"
+
+namespace probe {
+
+namespace {
+
+// The source in structure-of-arrays form for a vectorized inner loop: texel directions and
+// radiance premultiplied by solid angle.
+struct SourceTexels {
+    int size;
+    std::vector<float> x, y, z, solidAngle, r, g, b;
+
+    explicit SourceTexels(const CubeImage& source) : size(source.size) {
+        const CubeGeometry geometry(source.size);
+        const std::size_t n = texelCount(size);
+        for (auto* v : {&x, &y, &z, &solidAngle, &r, &g, &b}) v->resize(n);
+        for (std::size_t t = 0; t < n; ++t) {
+            const glm::dvec3& d = geometry.directions[t];
+            const double w = geometry.solidAngles[t];
+            const glm::vec3 radiance = source.texel(t);
+            x[t] = static_cast<float>(d.x);
+            y[t] = static_cast<float>(d.y);
+            z[t] = static_cast<float>(d.z);
+            solidAngle[t] = static_cast<float>(w);
+            r[t] = static_cast<float>(radiance.r * w);
+            g[t] = static_cast<float>(radiance.g * w);
+            b[t] = static_cast<float>(radiance.b * w);
+        }
+    }
+};
+
+// True when every point of the face has R.l <= 0, where both kernels vanish. The face is convex,
+// so checking its four corners is exact.
+bool faceBehind(const glm::dvec3& R, int face) {
+    for (double u : {-1.0, 1.0})
+        for (double v : {-1.0, 1.0})
+            if (glm::dot(R, faceUvToCubePoint(face, u, v)) > 0.0) return false;
+    return true;
+}
+
+struct Convolution {
+    glm::dvec3 weighted{0.0}; // sum L K dOmega
+    double weight = 0.0;      // sum K dOmega
+};
+
+// Sums kernel(R.l, |R - l|^2) over all source texels. Each row is summed in float (vectorized),
+// rows in double.
+template <typename Kernel>
+Convolution convolve(const SourceTexels& src, const glm::dvec3& R, Kernel kernel) {
+    Convolution sum;
+    const float rx = static_cast<float>(R.x), ry = static_cast<float>(R.y), rz = static_cast<float>(R.z);
+    const std::size_t s = static_cast<std::size_t>(src.size);
+    for (int f = 0; f < kFaceCount; ++f) {
+        if (faceBehind(R, f)) continue;
+        for (std::size_t row = 0; row < s; ++row) {
+            const std::size_t begin = (f * s + row) * s, end = begin + s;
+            float sr = 0.0f, sg = 0.0f, sb = 0.0f, sw = 0.0f;
+#pragma omp simd reduction(+ : sr, sg, sb, sw)
+            for (std::size_t t = begin; t < end; ++t) {
+                const float dx = rx - src.x[t], dy = ry - src.y[t], dz = rz - src.z[t];
+                const float cosRL = rx * src.x[t] + ry * src.y[t] + rz * src.z[t];
+                const float k = kernel(cosRL, dx * dx + dy * dy + dz * dz);
+                sr += k * src.r[t];
+                sg += k * src.g[t];
+                sb += k * src.b[t];
+                sw += k * src.solidAngle[t];
+            }
+            sum.weighted += glm::dvec3(sr, sg, sb);
+            sum.weight += sw;
+        }
+    }
+    return sum;
+}
+
+CubeImage copyLevel(const CubeImage& source, int outSize) {
+    CubeImage out(outSize);
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < outSize; ++j)
+            for (int i = 0; i < outSize; ++i) {
+                const Texel t{f, i, j};
+                out.set(texelIndex(t, outSize), source.texel(texelIndex(directionToTexel(texelDirection(t, outSize), source.size), source.size)));
+            }
+    return out;
+}
+
+template <typename PerTexel>
+CubeImage forEachOutputTexel(int outSize, PerTexel perTexel) {
+    CubeImage out(outSize);
+    const CubeGeometry geometry(outSize);
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::size_t t = 0; t < texelCount(outSize); ++t) out.set(t, perTexel(geometry.directions[t]));
+    return out;
+}
+
+} // namespace
+
+CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
+    if (alpha <= 0.0)
+        return copyLevel(source, outSize);
+    const SourceTexels src(source);
+    const float alpha2 = static_cast<float>(alpha * alpha);
+    return forEachOutputTexel(outSize, [&](const glm::dvec3& R) {
+        const Convolution c = convolve(src, R, [alpha2](float cosRL, float d2) { return ggxKernel(cosRL, d2, alpha2); });
+        return glm::vec3(c.weighted / c.weight);
+    });
+}
+
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+                           const ProgressCallback& progress) {
+    validateSizeAndLevels(source.size, levelCount);
+    CubeLevels levels;
+    std::size_t total = 0, done = 0;
+    for (int m = 0; m < levelCount; ++m) total += texelCount(source.size >> m);
+    for (int m = 0; m < levelCount; ++m) {
+        levels.push_back(referenceLevel(source, source.size >> m, levelAlpha(mapping, m, levelCount)));
+        done += texelCount(source.size >> m);
+        if (progress) progress(done, total);
+    }
+    return levels;
+}
+
+std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha) {
+    const CubeGeometry geometry(sourceSize);
+    std::vector<double> weights(texelCount(sourceSize), 0.0);
+    const glm::dvec3 r = glm::normalize(R);
+    if (alpha <= 0.0) {
+        weights[texelIndex(directionToTexel(r, sourceSize), sourceSize)] = 1.0;
+        return weights;
+    }
+    const double alpha2 = alpha * alpha;
+    double sum = 0.0;
+    for (std::size_t t = 0; t < weights.size(); ++t) {
+        const glm::dvec3& l = geometry.directions[t];
+        const glm::dvec3 d = r - l;
+        weights[t] = ggxKernel(glm::dot(r, l), glm::dot(d, d), alpha2) * geometry.solidAngles[t];
+        sum += weights[t];
+    }
+    for (double& w : weights) w /= sum;
+    return weights;
+}
+
+CubeImage exactIrradiance(const CubeImage& source, int outSize) {
+    const SourceTexels src(source);
+    return forEachOutputTexel(outSize, [&](const glm::dvec3& n) {
+        const Convolution c = convolve(src, n, [](float cosNL, float) { return std::max(cosNL, 0.0f); });
+        return glm::vec3(c.weighted / std::numbers::pi);
+    });
+}
+
+} // namespace probe

@@ -1,0 +1,53 @@
+#include "probe/sh.h"
+
+#include <numbers>
+
+namespace probe {
+
+std::array<double, kShCount> shBasis(const glm::dvec3& n) {
+    return {0.282095,
+            0.488603 * n.y,
+            0.488603 * n.z,
+            0.488603 * n.x,
+            1.092548 * n.x * n.y,
+            1.092548 * n.y * n.z,
+            0.315392 * (3.0 * n.z * n.z - 1.0),
+            1.092548 * n.x * n.z,
+            0.546274 * (n.x * n.x - n.y * n.y)};
+}
+
+ShCoefficients projectRadiance(const CubeImage& radiance) {
+    const CubeGeometry geometry(radiance.size);
+    ShCoefficients c{};
+    for (std::size_t t = 0; t < texelCount(radiance.size); ++t) {
+        const auto y = shBasis(geometry.directions[t]);
+        const glm::dvec3 l = glm::dvec3(radiance.texel(t)) * geometry.solidAngles[t];
+        for (int k = 0; k < kShCount; ++k) c[k] += l * y[k];
+    }
+    return c;
+}
+
+ShCoefficients radianceToIrradiance(const ShCoefficients& radiance) {
+    constexpr double pi = std::numbers::pi;
+    constexpr std::array<double, 3> band{pi, 2.0 * pi / 3.0, pi / 4.0};
+    constexpr std::array<int, kShCount> bandOf{0, 1, 1, 1, 2, 2, 2, 2, 2};
+    ShCoefficients e{};
+    for (int k = 0; k < kShCount; ++k) e[k] = radiance[k] * (band[bandOf[k]] / pi);
+    return e;
+}
+
+glm::dvec3 evaluateSh(const ShCoefficients& c, const glm::dvec3& n) {
+    const auto y = shBasis(n);
+    glm::dvec3 sum(0.0);
+    for (int k = 0; k < kShCount; ++k) sum += c[k] * y[k];
+    return sum;
+}
+
+CubeImage shToCube(const ShCoefficients& irradiance, int size) {
+    CubeImage out(size);
+    const CubeGeometry geometry(size);
+    for (std::size_t t = 0; t < texelCount(size); ++t) out.set(t, glm::vec3(evaluateSh(irradiance, geometry.directions[t])));
+    return out;
+}
+
+} // namespace probe
