@@ -1,5 +1,5 @@
 // probefilter reference IN --size S [--levels M] [--mapping NAME] --out DIR
-#include <thread>
+#include <optional>
 
 #include <fmt/format.h>
 #include <omp.h>
@@ -16,7 +16,7 @@ namespace {
 struct ReferenceOptions {
     std::string input;
     int size = 128;
-    int levels = 0; // 0: the default for the size
+    std::optional<int> levels; // default: max(1, log2 S)
     std::string mapping = "gltf";
     std::string out;
     bool repairPixels = false;
@@ -24,7 +24,7 @@ struct ReferenceOptions {
 
 void runReference(const ReferenceOptions& o) {
     const probe::RoughnessMapping mapping = probe::parseRoughnessMapping(o.mapping);
-    const int levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
+    const int levelCount = o.levels.value_or(probe::defaultLevelCount(o.size));
     probe::validateSizeAndLevels(o.size, levelCount);
     probe::StagedOutput output(o.out);
 

@@ -12,21 +12,26 @@ void addSynthCommand(CLI::App& app) {
     struct Options {
         std::string name;
         int size = 128;
+        int equirectWidth = 0;
         std::string out;
     };
     auto o = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand("synth", "Write a synthetic probe (constant, sky, sunsky, room, checker) as a face strip EXR");
     cmd->add_option("name", o->name, "Which probe")->required();
-    cmd->add_option("--size", o->size, "Face size")->required();
+    cmd->add_option("--size", o->size, "Face size of the 6S x S strip");
+    cmd->add_option("--equirect", o->equirectWidth, "Write a W x W/2 equirectangular image instead of a strip");
     cmd->add_option("--out", o->out, "Output EXR file")->required();
     cmd->callback([o] {
-        probe::validateSizeAndLevels(o->size, 1);
-        const probe::CubeImage cube = probe::syntheticProbe(o->name, o->size);
         const std::filesystem::path out(o->out);
         const std::filesystem::path partial = out.parent_path() / ("." + out.filename().string() + ".partial");
-        probe::writeExr(partial, probe::cubeToStrip(cube));
+        if (o->equirectWidth > 0) {
+            probe::writeExr(partial, probe::syntheticEquirect(o->name, o->equirectWidth));
+        } else {
+            probe::validateSizeAndLevels(o->size, 1);
+            probe::writeExr(partial, probe::cubeToStrip(probe::syntheticProbe(o->name, o->size)));
+        }
         std::filesystem::rename(partial, out);
-        fmt::print("synth: {} {}^2 -> {}\n", o->name, o->size, o->out);
+        fmt::print("synth: {} -> {}\n", o->name, o->out);
     });
 }
 

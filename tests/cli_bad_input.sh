@@ -1,2 +1,53 @@
 #!/usr/bin/env bash
-exit 0
+# Bad input to `probefilter reference`: exit code 2, a one-line error naming the file or option, and
+# no output (neither the folder nor a staging folder beside it).
+set -u
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$MAKE_BAD_PROBES" "$work/in" || exit 1
+touch "$work/a-file"
+failures=0
+
+expect_refused() { # name, expected text in the message, args...
+    local name=$1 text=$2
+    shift 2
+    local out="$work/out"
+    "$PROBEFILTER" "$@" 2>"$work/stderr" >/dev/null
+    local code=$?
+    local lines
+    lines=$(wc -l <"$work/stderr")
+    if [[ $code -ne 2 ]]; then echo "FAIL $name: exit code $code, expected 2"; failures=$((failures + 1)); fi
+    if [[ $lines -ne 1 ]]; then echo "FAIL $name: $lines lines on stderr, expected 1"; cat "$work/stderr"; failures=$((failures + 1)); fi
+    if ! grep -qF -- "$text" "$work/stderr"; then echo "FAIL $name: message lacks '$text': $(cat "$work/stderr")"; failures=$((failures + 1)); fi
+    if [[ -e $out ]] || compgen -G "$work/.out.partial-*" >/dev/null; then echo "FAIL $name: output written"; failures=$((failures + 1)); fi
+    rm -rf "$out"
+    echo "ok $name: $(cat "$work/stderr")"
+}
+
+in=$work/in
+ref() { echo reference "$@" --size 8 --out "$work/out"; }
+expect_refused missing-file   "$in/nope.exr"      $(ref "$in/nope.exr")
+expect_refused empty-file     "$in/empty.exr"     $(ref "$in/empty.exr")
+expect_refused not-an-image   "$in/garbage.exr"   $(ref "$in/garbage.exr")
+expect_refused truncated-exr  "$in/truncated.exr" $(ref "$in/truncated.exr")
+expect_refused aspect-ratio   "$in/aspect.exr"    $(ref "$in/aspect.exr")
+expect_refused nan-pixel      "x=17 y=3"          $(ref "$in/nan.exr")
+expect_refused inf-pixel      "$in/inf.exr"       $(ref "$in/inf.exr")
+expect_refused negative-pixel "$in/negative.exr"  $(ref "$in/negative.exr")
+expect_refused unknown-mapping "bogus"            reference "$in/good.exr" --size 8 --mapping bogus --out "$work/out"
+expect_refused size-not-pow2  "face size 12"      reference "$in/good.exr" --size 12 --out "$work/out"
+expect_refused size-zero      "face size 0"       reference "$in/good.exr" --size 0 --out "$work/out"
+expect_refused too-many-levels "level count 5"    reference "$in/good.exr" --size 8 --levels 5 --out "$work/out"
+expect_refused zero-levels    "level count 0"     reference "$in/good.exr" --size 8 --levels 0 --out "$work/out"
+expect_refused unwritable-out "$work/a-file/out"  reference "$in/good.exr" --size 8 --out "$work/a-file/out"
+
+# The explicit flag repairs instead of refusing, and then the output is complete.
+if "$PROBEFILTER" reference "$in/nan.exr" --size 8 --repair-pixels --out "$work/repaired" >/dev/null 2>&1 &&
+   [[ -f $work/repaired/level_2.exr && -f $work/repaired/report.json ]]; then
+    echo "ok repair-pixels"
+else
+    echo "FAIL repair-pixels"; failures=$((failures + 1))
+fi
+
+echo "cli_bad_input: $failures failure(s)"
+[[ $failures -eq 0 ]]

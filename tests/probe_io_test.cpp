@@ -1,1 +1,212 @@
+// Probes in and out: EXR (every compression, half and float, RGB and RGBA), Radiance HDR, layouts,
+// area-correct resampling, bad pixels, staged output.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <unistd.h>
+
+#include <ImfArray.h>
+#include <ImfRgbaFile.h>
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+
+#include "probe/error.h"
+#include "probe/probe_io.h"
+#include "probe/synthetic.h"
+
+using namespace probe;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir()
+        : path(fs::temp_directory_path() /
+               fmt::format("probe_io_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+Image rampImage(int width, int height) {
+    Image image{width, height, std::vector<float>(std::size_t(width) * height * 3)};
+    for (std::size_t k = 0; k < image.rgb.size(); ++k) image.rgb[k] = float(k % 97) * 0.37f + 0.01f;
+    return image;
+}
+
+double energy(const CubeImage& cube) {
+    const CubeGeometry g(cube.size);
+    double e = 0.0;
+    for (std::size_t t = 0; t < texelCount(cube.size); ++t) e += cube.texel(t).r * g.solidAngles[t];
+    return e;
+}
+
+} // namespace
+
+TEST(ProbeIo, FloatExrRoundTripIsExact) {
+    TempDir dir;
+    const Image image = rampImage(48, 8);
+    writeExr(dir.path / "a.exr", image);
+    const Image back = readImage(dir.path / "a.exr");
+    EXPECT_EQ(back.width, 48);
+    EXPECT_EQ(back.height, 8);
+    EXPECT_EQ(back.rgb, image.rgb);
+}
+
+TEST(ProbeIo, HalfRgbaExrInEveryCompression) {
+    TempDir dir;
+    const int w = 64, h = 32;
+    Imf::Array2D<Imf::Rgba> pixels(h, w);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) pixels[y][x] = Imf::Rgba(float(x) / w, float(y) / h, 0.5f + 0.01f * float(x % 7), 1.0f);
+    const Imf::Compression compressions[] = {Imf::NO_COMPRESSION, Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+                                             Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION,
+                                             Imf::B44_COMPRESSION, Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
+    for (Imf::Compression c : compressions) {
+        const fs::path file = dir.path / fmt::format("c{}.exr", int(c));
+        {
+            Imf::RgbaOutputFile out(file.c_str(), w, h, Imf::WRITE_RGBA, 1.0f, Imath::V2f(0, 0), 1.0f, Imf::INCREASING_Y, c);
+            out.setFrameBuffer(&pixels[0][0], 1, w);
+            out.writePixels(h);
+        }
+        const Image image = readImage(file);
+        ASSERT_EQ(image.width, w);
+        // Lossy codecs (B44, DWA) stay within a few percent on this smooth ramp.
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                EXPECT_NEAR(image.pixel(x, y).r, float(pixels[y][x].r), 0.03f) << "compression " << int(c);
+                EXPECT_NEAR(image.pixel(x, y).b, float(pixels[y][x].b), 0.03f) << "compression " << int(c);
+            }
+    }
+}
+
+TEST(ProbeIo, RadianceHdr) {
+    TempDir dir;
+    const Image image = rampImage(32, 16);
+    const fs::path file = dir.path / "a.hdr";
+    ASSERT_TRUE(stbi_write_hdr(file.c_str(), image.width, image.height, 3, image.rgb.data()));
+    const Image back = readImage(file);
+    ASSERT_EQ(back.width, 32);
+    ASSERT_EQ(back.height, 16);
+    // RGBE shares one exponent per pixel: 8 bits of mantissa relative to the brightest channel.
+    for (std::size_t k = 0; k < image.rgb.size(); ++k) {
+        const std::size_t p = k / 3 * 3;
+        const float brightest = std::max({image.rgb[p], image.rgb[p + 1], image.rgb[p + 2]});
+        EXPECT_NEAR(back.rgb[k], image.rgb[k], brightest / 128.0f);
+    }
+}
+
+TEST(ProbeIo, StripOfTheSameSizeIsACopy) {
+    const CubeImage cube = roomProbe(16);
+    const Image strip = cubeToStrip(cube);
+    EXPECT_EQ(detectLayout(strip, "x"), ProbeLayout::faceStrip);
+    EXPECT_EQ(imageToCube(strip, ProbeLayout::faceStrip, 16).rgb, cube.rgb);
+}
+
+TEST(ProbeIo, ShrinkingAStripIsASolidAngleWeightedBoxFilter) {
+    const CubeImage fine = checkerProbe(32);
+    const CubeImage coarse = imageToCube(cubeToStrip(fine), ProbeLayout::faceStrip, 16);
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < 16; ++j)
+            for (int i = 0; i < 16; ++i) {
+                double sum = 0.0, weight = 0.0;
+                for (int b = 0; b < 2; ++b)
+                    for (int a = 0; a < 2; ++a) {
+                        const double w = texelSolidAngle(2 * i + a, 2 * j + b, 32);
+                        sum += w * fine.texel(texelIndex({f, 2 * i + a, 2 * j + b}, 32)).r;
+                        weight += w;
+                    }
+                // Subsample weights are the Jacobian at the fine texel centres, close to their solid angles.
+                EXPECT_NEAR(coarse.texel(texelIndex({f, i, j}, 16)).r, sum / weight, 2e-3 * sum / weight);
+            }
+}
+
+TEST(ProbeIo, EquirectangularConstantStaysConstant) {
+    const Image image = syntheticEquirect("constant", 256);
+    EXPECT_EQ(detectLayout(image, "x"), ProbeLayout::equirectangular);
+    const CubeImage cube = imageToCube(image, ProbeLayout::equirectangular, 16);
+    for (float v : cube.rgb) EXPECT_NEAR(v, 1.0f, 1e-5f);
+}
+
+TEST(ProbeIo, EquirectangularOrientation) {
+    // +Y is the top row; column u = 0.5 + atan2(z, x) / (2 pi).
+    Image image{64, 32, std::vector<float>(64 * 32 * 3, 0.0f)};
+    auto paint = [&](int x0, int y0, float value) {
+        for (int y = y0; y < y0 + 2; ++y)
+            for (int x = x0; x < x0 + 2; ++x) image.rgb[(std::size_t(y) * 64 + x) * 3] = value;
+    };
+    paint(31, 15, 1.0f); // u = 0.5, horizon: +X
+    paint(47, 15, 2.0f); // u = 0.75: atan2(z, x) = pi / 2, +Z
+    const CubeImage cube = imageToCube(image, ProbeLayout::equirectangular, 8);
+    EXPECT_GT(cube.texel(texelIndex(directionToTexel({1, 0, 0}, 8), 8)).r, 0.1f);
+    EXPECT_GT(cube.texel(texelIndex(directionToTexel({0, 0, 1}, 8), 8)).r, 0.2f);
+    EXPECT_EQ(cube.texel(texelIndex(directionToTexel({-1, 0, 0}, 8), 8)).r, 0.0f);
+}
+
+TEST(ProbeIo, SmallSunKeepsItsEnergyAtEverySize) {
+    // A 2 degree sun of 1e4 in a 2048 x 1024 image: its energy must not alias away when shrinking.
+    const Image image = syntheticEquirect("sunsky", 2048);
+    const Image sky = syntheticEquirect("sky", 2048);
+    double pixelEnergy = 0.0;
+    for (int y = 0; y < image.height; ++y) {
+        const double theta0 = double(y) / image.height * std::numbers::pi, theta1 = double(y + 1) / image.height * std::numbers::pi;
+        const double solidAngle = (std::cos(theta0) - std::cos(theta1)) * 2.0 * std::numbers::pi / image.width;
+        for (int x = 0; x < image.width; ++x) pixelEnergy += (image.pixel(x, y).r - sky.pixel(x, y).r) * solidAngle;
+    }
+    for (int size : {4, 8, 16, 32, 64, 128}) {
+        const double sun = energy(imageToCube(image, ProbeLayout::equirectangular, size)) -
+                           energy(imageToCube(sky, ProbeLayout::equirectangular, size));
+        EXPECT_NEAR(sun, pixelEnergy, 0.01 * pixelEnergy) << "face size " << size;
+    }
+}
+
+TEST(ProbeIo, BadPixelsAreRefusedWithCountAndPosition) {
+    Image image = rampImage(12, 6);
+    image.rgb[(2 * 12 + 5) * 3 + 1] = std::numeric_limits<float>::quiet_NaN();
+    image.rgb[(4 * 12 + 1) * 3 + 0] = -1.0f;
+    image.rgb[(5 * 12 + 0) * 3 + 2] = std::numeric_limits<float>::infinity();
+    try {
+        Image copy = image;
+        checkPixels(copy, "probe.exr", BadPixelPolicy::refuse);
+        FAIL() << "bad pixels accepted";
+    } catch (const ProbeError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("probe.exr"), std::string::npos) << message;
+        EXPECT_NE(message.find("3 pixel"), std::string::npos) << message;
+        EXPECT_NE(message.find("x=5 y=2"), std::string::npos) << message;
+    }
+    EXPECT_EQ(checkPixels(image, "probe.exr", BadPixelPolicy::repair), 3u);
+    for (float v : image.rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0.0f);
+}
+
+TEST(ProbeIo, WrongAspectRatioIsRefused) {
+    const Image image = rampImage(30, 20);
+    EXPECT_THROW(detectLayout(image, "x.exr"), ProbeError);
+}
+
+TEST(ProbeIo, StagedOutputAppearsOnlyOnCommit) {
+    TempDir dir;
+    const fs::path out = dir.path / "result";
+    {
+        StagedOutput staged(out);
+        writeExr(staged.file("level_0.exr"), rampImage(6, 1));
+        EXPECT_FALSE(fs::exists(out));
+    }
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 0);
+    {
+        StagedOutput staged(out);
+        writeExr(staged.file("level_0.exr"), rampImage(6, 1));
+        staged.commit();
+    }
+    EXPECT_TRUE(fs::exists(out / "level_0.exr"));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1);
+}

@@ -1,1 +1,45 @@
+// Order-2 SH irradiance: the basis, the white furnace, and agreement with the exact cosine
+// convolution on band-limited radiance.
+#include <cmath>
+#include <numbers>
+
 #include <gtest/gtest.h>
+
+#include "probe/reference.h"
+#include "probe/sh.h"
+#include "probe/synthetic.h"
+
+using namespace probe;
+
+TEST(Sh, BasisIsOrthonormalUnderCubeQuadrature) {
+    const int size = 64;
+    const CubeGeometry g(size);
+    for (int a = 0; a < kShCount; ++a)
+        for (int b = 0; b < kShCount; ++b) {
+            double dot = 0.0;
+            for (std::size_t t = 0; t < texelCount(size); ++t) dot += shBasis(g.directions[t])[a] * shBasis(g.directions[t])[b] * g.solidAngles[t];
+            // Texel-centre quadrature of the quadratic band at 64^2 is good to ~1e-4.
+            EXPECT_NEAR(dot, a == b ? 1.0 : 0.0, 2e-4) << a << "," << b;
+        }
+}
+
+TEST(Sh, WhiteFurnace) {
+    const ShCoefficients e = radianceToIrradiance(projectRadiance(constantProbe(32, glm::vec3(3.0f))));
+    const CubeImage out = shToCube(e, 4);
+    for (float v : out.rgb) EXPECT_NEAR(v, 3.0f, 3e-5f);
+}
+
+TEST(Sh, MatchesTheExactCosineConvolutionForBandLimitedRadiance) {
+    // L = 1 + 0.5 z + 0.3 x y is in the span of bands 0..2, so order-2 SH irradiance is exact up to
+    // quadrature.
+    const int size = 64;
+    CubeImage radiance(size);
+    const CubeGeometry g(size);
+    for (std::size_t t = 0; t < texelCount(size); ++t) {
+        const glm::dvec3& d = g.directions[t];
+        radiance.set(t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y)));
+    }
+    const CubeImage sh = shToCube(radianceToIrradiance(projectRadiance(radiance)), 8);
+    const CubeImage exact = exactIrradiance(radiance, 8);
+    for (std::size_t k = 0; k < sh.rgb.size(); ++k) EXPECT_NEAR(sh.rgb[k], exact.rgb[k], 2e-4);
+}

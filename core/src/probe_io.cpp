@@ -82,7 +82,8 @@ Image readHdr(const fs::path& path) {
     return image;
 }
 
-// Bilinear read of an equirectangular image, wrapping in longitude and clamping in latitude.
+// Bilinear read of an equirectangular image at a unit direction, wrapping in longitude and
+// clamping in latitude.
 glm::vec3 sampleEquirect(const Image& image, const glm::dvec3& d) {
     const double u = 0.5 + std::atan2(d.z, d.x) / (2.0 * std::numbers::pi);
     const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / std::numbers::pi;
@@ -129,7 +130,7 @@ CubeImage resample(int faceSize, int subsamples, Sampler sample) {
                         // Solid angle per unit face area: (1 + u^2 + v^2)^(-3/2).
                         const double r2 = 1.0 + u * u + v * v;
                         const double weight = 1.0 / (r2 * std::sqrt(r2));
-                        sum += weight * glm::dvec3(sample(faceUvToCubePoint(f, u, v)));
+                        sum += weight * glm::dvec3(sample(glm::normalize(faceUvToCubePoint(f, u, v))));
                         weightSum += weight;
                     }
                 cube.set(texelIndex({f, i, j}, faceSize), glm::vec3(sum / weightSum));

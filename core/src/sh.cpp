@@ -5,15 +5,11 @@
 namespace probe {
 
 std::array<double, kShCount> shBasis(const glm::dvec3& n) {
-    return {0.282095,
-            0.488603 * n.y,
-            0.488603 * n.z,
-            0.488603 * n.x,
-            1.092548 * n.x * n.y,
-            1.092548 * n.y * n.z,
-            0.315392 * (3.0 * n.z * n.z - 1.0),
-            1.092548 * n.x * n.z,
-            0.546274 * (n.x * n.x - n.y * n.y)};
+    // sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi), sqrt(15/16pi)
+    constexpr double c0 = 0.28209479177387814, c1 = 0.4886025119029199, c2 = 1.0925484305920792;
+    constexpr double c20 = 0.31539156525252005, c22 = 0.5462742152960396;
+    return {c0, c1 * n.y, c1 * n.z, c1 * n.x, c2 * n.x * n.y, c2 * n.y * n.z, c20 * (3.0 * n.z * n.z - 1.0), c2 * n.x * n.z,
+            c22 * (n.x * n.x - n.y * n.y)};
 }
 
 ShCoefficients projectRadiance(const CubeImage& radiance) {

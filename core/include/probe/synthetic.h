@@ -29,6 +29,10 @@ CubeImage checkerProbe(int faceSize);
 
 // By name: constant, sky, sunsky, room, checker. Throws ProbeError for an unknown name.
 CubeImage syntheticProbe(std::string_view name, int faceSize);
+
+// The same probes as equirectangular images of width x width/2 (the convention of probe_io.h),
+// for testing the equirectangular path; checker is a cube-only pattern and is refused.
+Image syntheticEquirect(std::string_view name, int width);
 const std::vector<std::string>& syntheticProbeNames();
 
 } // namespace probe

@@ -1,0 +1,73 @@
+#include "probe/importance_sampling.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "probe/ggx.h"
+
+namespace probe {
+
+namespace {
+
+double radicalInverse2(std::uint32_t bits) {
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    return static_cast<double>(bits) * 0x1p-32;
+}
+
+} // namespace
+
+void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
+                          std::vector<Tap>& taps) {
+    taps.clear();
+    const glm::dvec3 up = std::abs(R.z) < 0.999 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 tx = glm::normalize(glm::cross(up, R)), ty = glm::cross(R, tx);
+    const double alpha2 = alpha * alpha;
+    const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * baseSize * baseSize);
+    for (int i = 0; i < settings.samples; ++i) {
+        const double e1 = static_cast<double>(i) / settings.samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
+        const double cosTheta = std::sqrt((1.0 - e1) / (1.0 + (alpha2 - 1.0) * e1));
+        const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+        const double phi = 2.0 * std::numbers::pi * e2;
+        const glm::dvec3 h = tx * (sinTheta * std::cos(phi)) + ty * (sinTheta * std::sin(phi)) + R * cosTheta;
+        const glm::dvec3 l = 2.0 * glm::dot(R, h) * h - R;
+        const double nl = glm::dot(R, l);
+        if (nl <= 0.0) continue;
+        const glm::dvec3 d = R - l;
+        const double pdf = ggxReflectedPdf(nl, glm::dot(d, d), alpha2);
+        const double sampleSolidAngle = 1.0 / (settings.samples * pdf);
+        taps.push_back({l, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + settings.bias, nl});
+    }
+}
+
+TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
+                                          const ImportanceSamplingSettings& settings) {
+    return [=](int level, const Texel& texel, std::vector<Tap>& taps) {
+        const double alpha = levelAlpha(mapping, level, levelCount);
+        if (alpha <= 0.0) return false;
+        importanceSampleTaps(texelDirection(texel, baseSize >> level), alpha, baseSize, settings, taps);
+        return true;
+    };
+}
+
+CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+                                  const ImportanceSamplingSettings& settings) {
+    validateSizeAndLevels(source.size, levelCount);
+    return filterWithTaps(buildPyramid(source, settings.pyramid), levelCount,
+                          importanceSampleTapGenerator(source.size, levelCount, mapping, settings));
+}
+
+std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize,
+                                                    int levelCount, RoughnessMapping mapping,
+                                                    const ImportanceSamplingSettings& settings, int level,
+                                                    const Texel& texel) {
+    return impulseWithTaps(operators, baseSize, level, texel,
+                           importanceSampleTapGenerator(baseSize, levelCount, mapping, settings));
+}
+
+} // namespace probe

@@ -1,0 +1,48 @@
+#include "probe/table_filter.h"
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+
+namespace probe {
+
+void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, std::vector<Tap>& taps) {
+    taps.clear();
+    const std::vector<double>& coefficients = table.levels[level].coefficients;
+    for (int axis = 0; axis < kFrameCount; ++axis) {
+        const FrameSetup frame = frameSetup(cubeVector, axis);
+        if (frame.weight <= 0.0) continue;
+        for (int t = 0; t < table.taps; ++t) {
+            const TapSample<double> s = evaluateTap(frame, &coefficients[table.offset(axis, t)], coefficientCount(table.form));
+            taps.push_back({{s.direction[0], s.direction[1], s.direction[2]}, s.level, s.weight});
+        }
+    }
+}
+
+TapGenerator tableTapGenerator(const TapTable& table) {
+    return [&table](int level, const Texel& texel, std::vector<Tap>& taps) {
+        if (tableLevelAlpha(table, level) <= 0.0) return false;
+        const int size = table.baseSize >> level;
+        tableTaps(table, level, faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)), taps);
+        return true;
+    };
+}
+
+CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table) {
+    validateTable(table, "tap table");
+    if (pyramid.empty() || pyramid[0].size != table.baseSize)
+        throw ProbeError(fmt::format("tap table for base size {} applied to a probe of size {}", table.baseSize,
+                                     pyramid.empty() ? 0 : pyramid[0].size));
+    return filterWithTaps(pyramid, table.levelCount, tableTapGenerator(table));
+}
+
+CubeLevels tableFilter(const CubeImage& source, const TapTable& table) {
+    return tableFilter(buildPyramid(source, table.pyramid), table);
+}
+
+std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators,
+                                         int level, const Texel& texel) {
+    return impulseWithTaps(operators, table.baseSize, level, texel, tableTapGenerator(table));
+}
+
+} // namespace probe
