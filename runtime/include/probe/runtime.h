@@ -1,0 +1,145 @@
+// probe runtime: GGX filtering of reflection probes with Vulkan compute (DESIGN.md).
+//
+// Two ways to use it:
+// - Tools: a Device owns a headless Vulkan 1.2 instance and device, and Filter::run uploads a
+//   probe, runs the passes, reads the levels back and times every pass with timestamp queries.
+// - Engines: wrap your own VkDevice in a Device and call Filter::record to record the passes into
+//   your command buffer, from your cube image to your output cube's mip chain.
+//
+// All data lives in storage buffers (RGBA32F texels, all levels of all faces packed, see
+// shaders/buffers.glsl) and every bilinear read is the shader's own arithmetic, following the
+// shared sampling model of probecore, so that the GPU equals the CPU model to float rounding.
+// SPIR-V is compiled from shaders/ at build time and embedded; nothing compiles at run time.
+// Errors (no device, unsupported format, a table that does not fit) throw probe::ProbeError.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "probe/cube_image.h"
+#include "probe/roughness.h"
+
+namespace probe::gpu {
+
+// A Vulkan physical device as the runtime names it in reports.
+struct DeviceInfo {
+    int index = -1;         // position in vkEnumeratePhysicalDevices order (what `--device N` picks)
+    std::string name;       // deviceName
+    std::string driver;     // driverName and driverInfo, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)"
+    std::string type;       // "discrete", "integrated", "virtual", "cpu" or "other"
+    uint32_t apiVersion = 0;
+};
+
+// Every Vulkan 1.2+ device with a compute queue, in enumeration order. Throws when there is no
+// Vulkan loader or driver at all.
+std::vector<DeviceInfo> listDevices();
+
+struct DeviceOptions {
+    // "" picks the first discrete GPU, else the first CPU device (lavapipe), else the first device;
+    // a number picks that index of listDevices(); anything else is a case-insensitive substring of
+    // the device name. No match, or no device at all: ProbeError.
+    std::string choice;
+    // Enables VK_LAYER_KHRONOS_validation and collects every warning and error it reports
+    // (validationMessages()); ProbeError when the layer is not installed.
+    bool validation = false;
+};
+
+// A Vulkan device and one compute queue: owned (tools) or the caller's (engines).
+class Device {
+public:
+    // Creates an instance and a device. Throws ProbeError naming what is missing.
+    explicit Device(const DeviceOptions& options = {});
+    // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
+    // be Vulkan 1.2+; `queue` belongs to `queueFamily`, which must support compute.
+    Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice device, uint32_t queueFamily, VkQueue queue);
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    const DeviceInfo& info() const;
+    // Messages of the validation layer so far (empty without DeviceOptions::validation).
+    std::vector<std::string> validationMessages() const;
+
+    VkInstance instance() const;
+    VkPhysicalDevice physicalDevice() const;
+    VkDevice device() const;
+    uint32_t queueFamily() const;
+    VkQueue queue() const;
+
+    struct Impl;
+    Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+enum class Method {
+    table,     // pass 1 pyramid + pass 2 tap table (Manson & Sloan)
+    fis,       // pass 1 pyramid + filtered importance sampling (Krivanek & Colbert)
+    reference, // brute force, every source texel for every output texel
+};
+
+struct FilterSettings {
+    Method method = Method::reference;
+    int faceSize = 128;   // S_0, a power of two: the source and output level 0
+    int levelCount = 7;   // M output levels, face size S_0 >> m
+    RoughnessMapping mapping = RoughnessMapping::gltf;
+};
+
+// GPU time of one pass: the median over the repeats, from timestamp queries.
+struct PassTime {
+    std::string name;          // "pyramid", "table", "fis", "reference" or "total"
+    double medianMs = 0.0;
+    std::vector<double> runsMs; // one per repeat
+};
+
+// One vkCmdDispatch of a run.
+struct Dispatch {
+    std::string pass;
+    int level = 0;          // output or pyramid level it writes
+    uint32_t groups = 0;    // workgroups (x; y = z = 1)
+};
+
+// The buffers and pipelines of one filter setting, reusable for many probes.
+class Filter {
+public:
+    // Checks the settings (size, levels, device limits) and builds the pipelines and buffers.
+    Filter(const Device& device, const FilterSettings& settings);
+    ~Filter();
+    Filter(const Filter&) = delete;
+    Filter& operator=(const Filter&) = delete;
+
+    // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time) and
+    // returns the M output levels.
+    CubeLevels run(const CubeImage& source, int repeat = 1);
+
+    // Engines: records the passes into `commandBuffer`: copies mip 0 of `sourceCube` (RGBA32F, 6
+    // layers of S_0^2, layout TRANSFER_SRC_OPTIMAL, usage TRANSFER_SRC) into the pyramid and writes
+    // mips 0..M-1 of `outputCube` (RGBA32F, 6 layers, layout TRANSFER_DST_OPTIMAL, usage
+    // TRANSFER_DST). The caller orders it against its own work. timings() reads the timestamps
+    // once the caller's submission has completed.
+    void record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube);
+
+    // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
+    // the queue has no timestamps.
+    std::vector<PassTime> timings() const;
+    // The dispatches of one run.
+    const std::vector<Dispatch>& dispatches() const;
+    // The pyramid of the last run (levels 0..log2(S_0)); empty for the reference method.
+    CubeLevels downloadPyramid() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+std::string_view methodName(Method method);
+// "table", "fis" or "reference"; ProbeError otherwise.
+Method parseMethod(std::string_view name);
+
+} // namespace probe::gpu

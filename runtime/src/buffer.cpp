@@ -1,0 +1,68 @@
+#include "buffer.h"
+
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "device.h"
+#include "probe/error.h"
+#include "vulkan_check.h"
+
+namespace probe::gpu {
+
+Buffer::Buffer(const Device& device, VkDeviceSize bytes, Kind kind) : device_(device.device()), bytes_(bytes) {
+    const Device::Impl& d = device.impl();
+    if (kind == Kind::storage && bytes > d.limits.maxStorageBufferRange)
+        throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {} MiB, over its maxStorageBufferRange of {} MiB; use a smaller --size",
+                                     d.info.name, bytes >> 20, d.limits.maxStorageBufferRange >> 20));
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = bytes;
+    info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                 (kind == Kind::storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0);
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    vkCheck(vkCreateBuffer(device_, &info, nullptr, &buffer_), "vkCreateBuffer");
+
+    VkMemoryRequirements requirements;
+    vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
+    VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    allocate.allocationSize = requirements.size;
+    allocate.memoryTypeIndex =
+        kind == Kind::storage
+            ? d.memoryType(requirements.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
+            : d.memoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                           VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    try {
+        vkCheck(vkAllocateMemory(device_, &allocate, nullptr, &memory_), "vkAllocateMemory");
+        vkCheck(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
+        if (kind == Kind::staging) vkCheck(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+    } catch (...) {
+        release();
+        throw;
+    }
+}
+
+Buffer::~Buffer() { release(); }
+
+Buffer::Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+    if (this != &other) {
+        release();
+        device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+        buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+        memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+        bytes_ = std::exchange(other.bytes_, 0);
+        mapped_ = std::exchange(other.mapped_, nullptr);
+    }
+    return *this;
+}
+
+void Buffer::release() {
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+    buffer_ = VK_NULL_HANDLE;
+    memory_ = VK_NULL_HANDLE;
+    mapped_ = nullptr;
+}
+
+} // namespace probe::gpu

@@ -1,0 +1,38 @@
+// A VkBuffer with its own memory: device-local storage, or host-visible staging (mapped).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include "probe/runtime.h"
+
+namespace probe::gpu {
+
+class Buffer {
+public:
+    enum class Kind {
+        storage, // device local (preferred), storage + transfer source and destination
+        staging, // host visible and coherent, mapped, transfer source and destination
+    };
+
+    Buffer() = default;
+    Buffer(const Device& device, VkDeviceSize bytes, Kind kind);
+    ~Buffer();
+    Buffer(Buffer&& other) noexcept;
+    Buffer& operator=(Buffer&& other) noexcept;
+
+    VkBuffer handle() const { return buffer_; }
+    VkDeviceSize bytes() const { return bytes_; }
+    // The mapped memory of a staging buffer (nullptr for storage).
+    void* mapped() const { return mapped_; }
+
+private:
+    void release();
+
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkDeviceSize bytes_ = 0;
+    void* mapped_ = nullptr;
+};
+
+} // namespace probe::gpu

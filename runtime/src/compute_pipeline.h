@@ -1,0 +1,63 @@
+// The runtime's compute pipelines: one descriptor set of the four storage buffers of
+// shaders/buffers.glsl, shared by every shader, and push constants for the per-dispatch values.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include <vulkan/vulkan.h>
+
+#include "buffer.h"
+
+namespace probe::gpu {
+
+inline constexpr uint32_t kBindingCount = 4;   // pyramid, output, geometry, table
+inline constexpr uint32_t kPushConstantBytes = 64;
+inline constexpr uint32_t kWorkgroupSize = 64; // local_size_x of every shader
+
+// The layout and the one descriptor set that binds the four buffers.
+class PipelineLayout {
+public:
+    PipelineLayout(VkDevice device, const std::array<const Buffer*, kBindingCount>& buffers);
+    ~PipelineLayout();
+    PipelineLayout(const PipelineLayout&) = delete;
+    PipelineLayout& operator=(const PipelineLayout&) = delete;
+
+    VkPipelineLayout handle() const { return layout_; }
+    void bind(VkCommandBuffer commandBuffer) const;
+
+private:
+    VkDevice device_;
+    VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+// One compute pipeline from embedded SPIR-V.
+class ComputePipeline {
+public:
+    ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv);
+    ~ComputePipeline();
+    ComputePipeline(const ComputePipeline&) = delete;
+    ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+    // Binds the pipeline, pushes `constants` and dispatches `groups` workgroups.
+    void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const;
+
+private:
+    VkDevice device_;
+    VkPipelineLayout layout_;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+// Workgroups to cover `invocations` threads.
+inline uint32_t groupsFor(std::size_t invocations) {
+    return static_cast<uint32_t>((invocations + kWorkgroupSize - 1) / kWorkgroupSize);
+}
+
+// Makes the shader writes of one dispatch visible to the next dispatch's reads and to transfers.
+void computeBarrier(VkCommandBuffer commandBuffer);
+
+} // namespace probe::gpu

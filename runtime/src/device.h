@@ -1,0 +1,37 @@
+// The Vulkan objects behind probe::gpu::Device, shared by the runtime's sources.
+#pragma once
+
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "probe/runtime.h"
+
+namespace probe::gpu {
+
+struct Device::Impl {
+    bool owned = false; // created here (destroyed here) or the caller's
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+    VkQueue queue = VK_NULL_HANDLE;
+    DeviceInfo info;
+    VkPhysicalDeviceLimits limits{};
+    VkPhysicalDeviceMemoryProperties memory{};
+    uint32_t timestampValidBits = 0;
+
+    mutable std::mutex messagesMutex;
+    std::vector<std::string> messages;
+
+    // A memory type allowed by `typeBits` with all of `required`, preferring one with `preferred` too.
+    uint32_t memoryType(uint32_t typeBits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;
+};
+
+// Name, driver and type of a physical device.
+DeviceInfo describePhysicalDevice(VkPhysicalDevice physical, int index);
+
+} // namespace probe::gpu

@@ -1,0 +1,242 @@
+// Filter: buffers, pipelines, the order of the passes, upload and read-back, the engine path.
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "device.h"
+#include "filter_impl.h"
+#include "probe/error.h"
+#include "vulkan_check.h"
+
+namespace probe::gpu {
+
+namespace {
+
+constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F
+
+// First texel of each level of a packed cube with `levels` levels from `baseSize`, and the total.
+std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
+    std::vector<uint32_t> offsets{0};
+    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(texelCount(baseSize >> m)));
+    return offsets;
+}
+
+std::vector<std::string> passNames(Method method) {
+    switch (method) {
+    case Method::table: return {"pyramid", "table"};
+    case Method::fis: return {"pyramid", "fis"};
+    default: return {"reference"};
+    }
+}
+
+// Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
+std::vector<float> geometryTexels(int baseSize, int levels) {
+    std::vector<float> texels;
+    for (int m = 0; m < levels; ++m) {
+        const CubeGeometry geometry(baseSize >> m);
+        for (std::size_t t = 0; t < geometry.directions.size(); ++t)
+            for (double value : {geometry.directions[t].x, geometry.directions[t].y, geometry.directions[t].z, geometry.solidAngles[t]})
+                texels.push_back(static_cast<float>(value));
+    }
+    return texels;
+}
+
+// The levels of a packed RGBA cube (see packedOffsets), RGB only.
+CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, int levels) {
+    CubeLevels result;
+    for (int m = 0; m < levels; ++m) {
+        CubeImage level(baseSize >> m);
+        const float* first = texels + 4 * std::size_t(offsets[m]);
+        for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
+        result.push_back(std::move(level));
+    }
+    return result;
+}
+
+void copyBuffer(VkCommandBuffer commandBuffer, const Buffer& from, const Buffer& to, VkDeviceSize bytes) {
+    const VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(commandBuffer, from.handle(), to.handle(), 1, &region);
+}
+
+void checkTransferFormat(const Device& device) {
+    VkFormatProperties properties;
+    vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), VK_FORMAT_R32G32B32A32_SFLOAT, &properties);
+    const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+    if ((properties.optimalTilingFeatures & needed) != needed)
+        throw ProbeError(fmt::format("Vulkan: {} cannot copy R32G32B32A32_SFLOAT images to and from buffers (format features {:#x})",
+                                     device.info().name, properties.optimalTilingFeatures));
+}
+
+} // namespace
+
+Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
+    validateSizeAndLevels(s.faceSize, s.levelCount);
+    pyramidLevels = log2Exact(s.faceSize) + 1;
+    pyramidOffsets = packedOffsets(s.faceSize, pyramidLevels);
+    outputOffsets = packedOffsets(s.faceSize, s.levelCount);
+
+    pyramid = Buffer(d, pyramidOffsets.back() * kTexelBytes, Buffer::Kind::storage);
+    output = Buffer(d, outputOffsets.back() * kTexelBytes, Buffer::Kind::storage);
+    const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
+    geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
+    table = Buffer(d, kTexelBytes, Buffer::Kind::storage);
+
+    layout = std::make_unique<PipelineLayout>(d.device(), std::array<const Buffer*, kBindingCount>{&pyramid, &output, &geometry, &table});
+    switch (s.method) {
+    case Method::reference: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, referenceSpirv()); break;
+    default: throw ProbeError(fmt::format("method {} is not available in this build", methodName(s.method)));
+    }
+    timer = std::make_unique<GpuTimer>(d, passNames(s.method));
+
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = d.queueFamily();
+    vkCheck(vkCreateCommandPool(d.device(), &poolInfo, nullptr, &commandPool), "vkCreateCommandPool");
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    vkCheck(vkCreateFence(d.device(), &fenceInfo, nullptr, &fence), "vkCreateFence");
+
+    Buffer staging(d, geometry.bytes(), Buffer::Kind::staging);
+    std::memcpy(staging.mapped(), geometryData.data(), geometry.bytes());
+    VkCommandBuffer commandBuffer = begin();
+    copyBuffer(commandBuffer, staging, geometry, geometry.bytes());
+    submitAndWait(commandBuffer);
+}
+
+Filter::Impl::~Impl() {
+    if (fence) vkDestroyFence(device.device(), fence, nullptr);
+    if (commandPool) vkDestroyCommandPool(device.device(), commandPool, nullptr);
+}
+
+VkCommandBuffer Filter::Impl::begin() {
+    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    allocate.commandPool = commandPool;
+    allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    allocate.commandBufferCount = 1;
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    vkCheck(vkAllocateCommandBuffers(device.device(), &allocate, &commandBuffer), "vkAllocateCommandBuffers");
+    VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    vkCheck(vkBeginCommandBuffer(commandBuffer, &beginInfo), "vkBeginCommandBuffer");
+    return commandBuffer;
+}
+
+void Filter::Impl::submitAndWait(VkCommandBuffer commandBuffer, bool end) {
+    if (end) vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &commandBuffer;
+    vkCheck(vkResetFences(device.device(), 1, &fence), "vkResetFences");
+    vkCheck(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
+    vkCheck(vkWaitForFences(device.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+}
+
+void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
+    dispatches.clear();
+    timer->reset(commandBuffer);
+    computeBarrier(commandBuffer);
+    layout->bind(commandBuffer);
+    uint32_t boundary = 0;
+    timer->boundary(commandBuffer, boundary++);
+    switch (settings.method) {
+    case Method::reference: recordReferencePass(*this, commandBuffer); break;
+    default: break;
+    }
+    computeBarrier(commandBuffer);
+    timer->boundary(commandBuffer, boundary++);
+}
+
+Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings)) {}
+Filter::~Filter() = default;
+
+CubeLevels Filter::run(const CubeImage& source, int repeat) {
+    Impl& f = *impl_;
+    if (source.size != f.settings.faceSize)
+        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
+    if (repeat < 1) throw ProbeError(fmt::format("--repeat {}: must be at least 1", repeat));
+
+    const VkDeviceSize sourceBytes = texelCount(source.size) * kTexelBytes;
+    Buffer staging(f.device, std::max(sourceBytes, f.output.bytes()), Buffer::Kind::staging);
+    auto* texels = static_cast<float*>(staging.mapped());
+    for (std::size_t t = 0; t < texelCount(source.size); ++t) {
+        const glm::vec3 c = source.texel(t);
+        const float rgba[4] = {c.r, c.g, c.b, 1.0f};
+        std::memcpy(texels + 4 * t, rgba, sizeof(rgba));
+    }
+    VkCommandBuffer upload = f.begin();
+    copyBuffer(upload, staging, f.pyramid, sourceBytes);
+    f.submitAndWait(upload);
+
+    VkCommandBuffer passes = f.begin();
+    f.recordPasses(passes);
+    vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
+    f.timer->clear();
+    for (int k = 0; k < repeat; ++k) {
+        f.submitAndWait(passes, false);
+        f.timer->collect();
+    }
+
+    VkCommandBuffer download = f.begin();
+    copyBuffer(download, f.output, staging, f.output.bytes());
+    f.submitAndWait(download);
+    CubeLevels levels = unpackLevels(texels, f.outputOffsets, f.settings.faceSize, f.settings.levelCount);
+    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &passes);
+    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &upload);
+    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
+    return levels;
+}
+
+void Filter::record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube) {
+    Impl& f = *impl_;
+    checkTransferFormat(f.device);
+    const auto size = static_cast<uint32_t>(f.settings.faceSize);
+    VkBufferImageCopy in{};
+    in.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
+    in.imageExtent = {size, size, 1};
+    vkCmdCopyImageToBuffer(commandBuffer, sourceCube, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, f.pyramid.handle(), 1, &in);
+    f.recordPasses(commandBuffer);
+    std::vector<VkBufferImageCopy> out;
+    for (int m = 0; m < f.settings.levelCount; ++m) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = f.outputOffsets[m] * kTexelBytes;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, static_cast<uint32_t>(m), 0, kFaceCount};
+        region.imageExtent = {size >> m, size >> m, 1};
+        out.push_back(region);
+    }
+    vkCmdCopyBufferToImage(commandBuffer, f.output.handle(), outputCube, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           static_cast<uint32_t>(out.size()), out.data());
+    f.timer->clear();
+}
+
+std::vector<PassTime> Filter::timings() const {
+    // After record(), the caller's submission has completed when this is called.
+    if (impl_->timer->timings().empty()) impl_->timer->collect();
+    return impl_->timer->timings();
+}
+
+const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatches; }
+
+CubeLevels Filter::downloadPyramid() const {
+    Impl& f = *impl_;
+    if (!f.pass1) return {};
+    Buffer staging(f.device, f.pyramid.bytes(), Buffer::Kind::staging);
+    VkCommandBuffer download = f.begin();
+    copyBuffer(download, f.pyramid, staging, f.pyramid.bytes());
+    f.submitAndWait(download);
+    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
+    return unpackLevels(static_cast<const float*>(staging.mapped()), f.pyramidOffsets, f.settings.faceSize, f.pyramidLevels);
+}
+
+std::string_view methodName(Method method) {
+    switch (method) {
+    case Method::table: return "table";
+    case Method::fis: return "fis";
+    default: return "reference";
+    }
+}
+
+Method parseMethod(std::string_view name) {
+    for (Method m : {Method::table, Method::fis, Method::reference})
+        if (methodName(m) == name) return m;
+    throw ProbeError(fmt::format("--method {}: expected table, fis or reference", name));
+}
+
+} // namespace probe::gpu

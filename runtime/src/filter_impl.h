@@ -1,0 +1,61 @@
+// The state of a probe::gpu::Filter, shared by the pass recorders.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "buffer.h"
+#include "compute_pipeline.h"
+#include "gpu_timer.h"
+#include "probe/runtime.h"
+
+namespace probe::gpu {
+
+struct Filter::Impl {
+    const Device& device;
+    FilterSettings settings;
+    int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
+    std::vector<uint32_t> pyramidOffsets; // first texel of each pyramid level, and the total
+    std::vector<uint32_t> outputOffsets;  // first texel of each output level, and the total
+
+    Buffer pyramid;  // binding 0
+    Buffer output;   // binding 1
+    Buffer geometry; // binding 2: per pyramid level, (texel direction, solid angle)
+    Buffer table;    // binding 3: tap table or FIS samples (one vec4 when unused)
+    std::unique_ptr<PipelineLayout> layout;
+    std::unique_ptr<ComputePipeline> pass1; // the pyramid; null for the reference method
+    std::unique_ptr<ComputePipeline> pass2; // table, fis or reference
+    std::unique_ptr<GpuTimer> timer;
+    std::vector<Dispatch> dispatches;
+
+    VkCommandPool commandPool = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+
+    Impl(const Device& d, const FilterSettings& s);
+    ~Impl();
+
+    // Timer reset, boundary 0, the passes with barriers, a boundary after each pass.
+    void recordPasses(VkCommandBuffer commandBuffer);
+    // A primary command buffer from the filter's pool, begun.
+    VkCommandBuffer begin();
+    // Ends `commandBuffer` if `end`, submits it to the device's queue and waits for it.
+    void submitAndWait(VkCommandBuffer commandBuffer, bool end = true);
+};
+
+// Pass recorders, one per file (reference_pass.cpp, pyramid_pass.cpp, table_pass.cpp,
+// importance_sampling_pass.cpp): each records its dispatches and appends them to impl.dispatches.
+std::span<const uint32_t> referenceSpirv();
+void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+
+// Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
+// impl.dispatches.
+template <typename Constants>
+void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, const char* pass,
+                  int level, const Constants& constants, uint32_t groups) {
+    static_assert(sizeof(Constants) <= kPushConstantBytes);
+    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups);
+    impl.dispatches.push_back({pass, level, groups});
+}
+
+} // namespace probe::gpu

@@ -1,0 +1,31 @@
+// The exact reference on the GPU (shaders/reference.comp): one dispatch per output level.
+#include <cstdint>
+
+#include <reference.spv.h>
+
+#include "filter_impl.h"
+
+namespace probe::gpu {
+
+namespace {
+
+struct ReferenceConstants {
+    int32_t sourceSize;
+    int32_t outLevel;
+    float alpha2;
+};
+
+} // namespace
+
+std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
+
+void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+    const FilterSettings& s = impl.settings;
+    for (int m = 0; m < s.levelCount; ++m) {
+        const double alpha = levelAlpha(s.mapping, m, s.levelCount);
+        const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
+        dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
+    }
+}
+
+} // namespace probe::gpu

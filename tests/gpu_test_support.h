@@ -1,0 +1,61 @@
+// What the GPU tests share: one validated Vulkan device per test binary (Mesa's lavapipe in CI),
+// a check that the validation layer said nothing during each test, random probes, and the
+// relative comparison of GPU results with their CPU models.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "probe/cube_image.h"
+#include "probe/runtime.h"
+
+namespace probetest {
+
+// The device of the whole binary, with VK_LAYER_KHRONOS_validation on; PROBE_TEST_DEVICE picks
+// another than the default (lavapipe here).
+inline probe::gpu::Device& testDevice() {
+    static probe::gpu::Device device([] {
+        probe::gpu::DeviceOptions options;
+        options.validation = true;
+        if (const char* choice = std::getenv("PROBE_TEST_DEVICE")) options.choice = choice;
+        return options;
+    }());
+    return device;
+}
+
+// Fails a test during which the validation layer reported anything.
+class GpuTest : public ::testing::Test {
+protected:
+    void SetUp() override { messagesBefore_ = testDevice().validationMessages().size(); }
+    void TearDown() override {
+        const std::vector<std::string> messages = testDevice().validationMessages();
+        for (std::size_t k = messagesBefore_; k < messages.size(); ++k) ADD_FAILURE() << "validation: " << messages[k];
+    }
+
+private:
+    std::size_t messagesBefore_ = 0;
+};
+
+// Independent uniform radiance in [0, 1) per texel and channel.
+inline probe::CubeImage randomProbe(int faceSize, unsigned seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    probe::CubeImage probe(faceSize);
+    for (float& c : probe.rgb) c = uniform(random);
+    return probe;
+}
+
+// max |gpu - cpu| / max(|cpu|, floor) over texels and channels: the relative error, with `floor`
+// keeping near-black texels from dividing by ~0.
+inline double maxRelativeError(const probe::CubeImage& gpu, const probe::CubeImage& cpu, double floor = 1e-3) {
+    double worst = 0.0;
+    for (std::size_t k = 0; k < cpu.rgb.size(); ++k)
+        worst = std::max(worst, std::abs(double(gpu.rgb[k]) - cpu.rgb[k]) / std::max(std::abs(double(cpu.rgb[k])), floor));
+    return worst;
+}
+
+} // namespace probetest
