@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
+#include "preview.h"
 #include "report.h"
 
 namespace probefilter {
@@ -29,8 +30,10 @@ void runReference(const ReferenceOptions& o) {
     probe::StagedOutput output(o.out);
 
     Stopwatch loadTime;
-    const probe::CubeImage source = probe::loadProbe(
-        o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+    probe::Image image = probe::readImage(o.input);
+    const probe::ProbeLayout layout = probe::detectLayout(image, o.input);
+    const std::size_t repaired = probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+    const probe::CubeImage source = probe::imageToCube(image, layout, o.size);
     const double loadSeconds = loadTime.seconds();
 
     Stopwatch filterTime;
@@ -42,9 +45,15 @@ void runReference(const ReferenceOptions& o) {
     for (int m = 0; m < levelCount; ++m)
         probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
 
+    writeLevelsPreview(output.file("preview.png"), levels);
+
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
     report["command"] = "reference";
-    report["input"] = o.input;
+    report["input"] = {{"path", o.input},
+                       {"width", image.width},
+                       {"height", image.height},
+                       {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"},
+                       {"repaired_pixels", repaired}};
     report["method"] = "reference";
     report["device"] = {{"kind", "cpu"}, {"threads", omp_get_max_threads()}};
     report["passes"] = {{{"name", "load"}, {"seconds", loadSeconds}}, {{"name", "reference"}, {"seconds", filterSeconds}}};

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include "probe/error.h"
 
@@ -38,6 +39,8 @@ void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
 }
 
 void printProgress(const std::string& label, std::size_t done, std::size_t total) {
+    // Redrawn in place on a terminal; in logs only the final line.
+    if (!::isatty(STDERR_FILENO) && done < total) return;
     const int width = 30;
     const int filled = total ? static_cast<int>(width * done / total) : width;
     fmt::print(stderr, "\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
