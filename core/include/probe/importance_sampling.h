@@ -1,0 +1,40 @@
+// Filtered importance sampling (Krivanek & Colbert 2008), the baseline, as engines do it: N
+// Hammersley samples of GGX around R with n = v = R, each read from the pyramid at the level whose
+// texels cover the sample's solid angle, weighted by n.l.
+#pragma once
+
+#include <vector>
+
+#include "probe/roughness.h"
+#include "probe/tap_sum.h"
+
+namespace probe {
+
+struct ImportanceSamplingSettings {
+    int samples = 32;
+    double bias = 0.0; // added to the level; 0 is the accurate setting (DESIGN.md), Filament uses 1
+    PyramidSettings pyramid;
+};
+
+// The taps for direction R (unit): sample i of N uses the Hammersley point (i / N, radicalInverse2(i)),
+// h from the GGX distribution of alpha in the tangent frame of R (up = +Z, or +X where |R.z| > 0.999;
+// x = normalize(cross(up, R)), y = cross(R, x)), l = reflect(-R, h); samples with n.l <= 0 are dropped.
+// pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) + bias, weight n.l.
+void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
+                          std::vector<Tap>& taps);
+
+// As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies).
+TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
+                                          const ImportanceSamplingSettings& settings);
+
+// Filters a probe: builds the pyramid of settings.pyramid and computes every output level.
+CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+                                  const ImportanceSamplingSettings& settings);
+
+// Impulse response of one output texel of level m over base texels.
+std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize,
+                                                    int levelCount, RoughnessMapping mapping,
+                                                    const ImportanceSamplingSettings& settings, int level,
+                                                    const Texel& texel);
+
+} // namespace probe

@@ -1,0 +1,24 @@
+// Numeric constants of the sampling model that the C++ model and the GLSL shaders share.
+// Valid as both C++ and GLSL: only #defines of plain numbers, no includes, no code.
+#ifndef PROBE_SHARED_CONSTANTS_H
+#define PROBE_SHARED_CONSTANTS_H
+
+// Frames: a frame's weight is (max(|d_b|, |d_c|) - START) / WIDTH, d scaled to major component 1.
+#define PROBE_FRAME_BAND_START 0.75
+#define PROBE_FRAME_BAND_WIDTH 0.25
+
+// Polynomial domain: theta switches to the other coordinate where y' is within this of -1 or 1.
+#define PROBE_THETA_EDGE 0.999
+// phi = m instead of z on the frame's own pole faces, where z is within this of 1.
+#define PROBE_POLE_EPSILON 0.001
+
+// Tap level bias from the cube's distortion: level += SCALE * log2(|d'|^2), d' major component 1.
+#define PROBE_LEVEL_JACOBIAN_SCALE 0.75
+
+// Pass 1 B-spline: the four bilinear taps sit at +-OFFSET fine texels around the coarse texel
+// centre; tap i weighs SHARE * J_i / sum(J) + BASE (4 * BASE + SHARE = 1).
+#define PROBE_PYRAMID_TAP_OFFSET 0.75
+#define PROBE_PYRAMID_JACOBIAN_SHARE 0.5
+#define PROBE_PYRAMID_BASE_WEIGHT 0.125
+
+#endif

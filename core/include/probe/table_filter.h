@@ -1,0 +1,30 @@
+// Pass 2 with a tap table (Manson & Sloan): each output texel sums 3 frames x N taps, read
+// trilinearly from the pyramid, as DESIGN.md "Tap tables" says. The CPU model that the optimizer
+// fits and the GPU shader must match.
+#pragma once
+
+#include <vector>
+
+#include "probe/tap_sum.h"
+#include "probe/tap_table.h"
+
+namespace probe {
+
+// The taps of the output texel with cube vector d (faceUvToCubePoint of the texel centre, major
+// component 1) at output level m: frames with weight <= 0 are skipped, tap weights include the
+// frame weight. Clears `taps` first.
+void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, std::vector<Tap>& taps);
+
+// The table as a TapGenerator (levels with alpha = 0 are copies).
+TapGenerator tableTapGenerator(const TapTable& table);
+
+// Filters a probe: builds the table's pyramid and computes every output level.
+CubeLevels tableFilter(const CubeImage& source, const TapTable& table);
+CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table);
+
+// Impulse response of one output texel of level m: weights over base texels (operators from
+// pyramidOperators(table.baseSize, table.pyramid)).
+std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators,
+                                         int level, const Texel& texel);
+
+} // namespace probe

@@ -1,0 +1,61 @@
+// The tap table of DESIGN.md (the optimizer's output, the runtime's input), in memory.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "probe/error_measures.h"
+#include "probe/frame.h"
+#include "probe/pyramid.h"
+#include "probe/roughness.h"
+
+namespace probe {
+
+// quadratic: P = c0 + c1 theta^2 + c2 phi^2; constant: P = c0.
+enum class TableForm { constant, quadratic };
+TableForm parseTableForm(std::string_view name); // "const" or "quad"; throws ProbeError naming the value
+std::string_view tableFormName(TableForm form);
+inline int coefficientCount(TableForm form) { return form == TableForm::quadratic ? 3 : 1; }
+
+// One output level: the coefficients and what the fit achieved.
+struct TableLevel {
+    // Coefficient c of parameter p of tap t in frame f at
+    // ((f * taps + t) * kTapParameterCount + p) * coefficientCount + c.
+    std::vector<double> coefficients;
+    ImpulseError stratified;  // impulse L1 over the stratified output texels (what the fit sees)
+    ImpulseError all;         // over every output texel of all six faces; mean < 0 where not measured
+    double minWeightSum = 0.0; // smallest sum of tap weights over the output texels measured
+};
+
+struct TapTable {
+    int baseSize = 0;   // S_0
+    int levelCount = 0; // M output levels (roughnesses)
+    int taps = 0;       // N per frame, a multiple of 4
+    TableForm form = TableForm::quadratic;
+    RoughnessMapping mapping = RoughnessMapping::gltf;
+    PyramidSettings pyramid;
+    std::string solver;   // the solver settings, free text
+    double fitSeconds = 0.0;
+    std::vector<TableLevel> levels; // levelCount entries
+
+    int coefficientsPerLevel() const { return kFrameCount * taps * kTapParameterCount * coefficientCount(form); }
+    std::size_t offset(int frame, int tap, int parameter = 0) const {
+        return (static_cast<std::size_t>(frame * taps + tap) * kTapParameterCount + parameter) * coefficientCount(form);
+    }
+};
+
+// A table with zero coefficients and unmeasured errors; checks the sizes (ProbeError otherwise).
+TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping,
+                    PyramidSettings pyramid);
+
+// Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
+void validateTable(const TapTable& table, std::string_view what);
+
+// GGX alpha of output level m of the table (0: a copy of the source).
+inline double tableLevelAlpha(const TapTable& table, int level) {
+    return levelAlpha(table.mapping, level, table.levelCount);
+}
+
+} // namespace probe

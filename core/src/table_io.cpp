@@ -1,0 +1,312 @@
+#include "probe/table_io.h"
+
+#include <cctype>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "probe/error.h"
+
+namespace probe {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::string_view kFormatName = "probefilter-tap-table";
+constexpr int kFormatVersion = 1;
+
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ProbeError(fmt::format("{}: cannot open", path.string()));
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    return buffer.str();
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw ProbeError(fmt::format("{}: cannot write", path.string()));
+}
+
+json errorToJson(const ImpulseError& e) {
+    return {{"mean", e.mean}, {"max", e.max}, {"worst", {e.worst.face, e.worst.i, e.worst.j}}};
+}
+
+// Field access that names the file and the field in every error.
+struct Reader {
+    const std::filesystem::path& path;
+
+    const json& field(const json& object, std::string_view key) const {
+        if (!object.is_object())
+            throw ProbeError(fmt::format("{}: expected an object where '{}' should be", path.string(), key));
+        const auto it = object.find(key);
+        if (it == object.end()) throw ProbeError(fmt::format("{}: missing field '{}'", path.string(), key));
+        return *it;
+    }
+    template <typename T>
+    T get(const json& object, std::string_view key) const {
+        const json& value = field(object, key);
+        try {
+            return value.get<T>();
+        } catch (const json::exception&) {
+            throw ProbeError(fmt::format("{}: field '{}' has the wrong type", path.string(), key));
+        }
+    }
+    // Parsers of names throw ProbeError without the file; add it.
+    template <typename Parse>
+    auto name(const json& object, std::string_view key, Parse parse) const {
+        const std::string value = get<std::string>(object, key);
+        try {
+            return parse(value);
+        } catch (const ProbeError& e) {
+            throw ProbeError(fmt::format("{}: field '{}': {}", path.string(), key, e.what()));
+        }
+    }
+    ImpulseError error(const json& object, std::string_view key) const {
+        const json& e = field(object, key);
+        ImpulseError out;
+        out.mean = get<double>(e, "mean");
+        out.max = get<double>(e, "max");
+        const auto worst = get<std::vector<int>>(e, "worst");
+        if (worst.size() != 3) throw ProbeError(fmt::format("{}: field '{}.worst' is not [face, i, j]", path.string(), key));
+        out.worst = {worst[0], worst[1], worst[2]};
+        return out;
+    }
+};
+
+std::string floatList(const std::vector<float>& values, int perLine, std::string_view open, std::string_view close) {
+    std::string out;
+    for (std::size_t k = 0; k < values.size(); k += 4) {
+        if (k % (4 * static_cast<std::size_t>(perLine)) == 0) out += "\n   ";
+        out += fmt::format(" {}{:.9g}, {:.9g}, {:.9g}, {:.9g}{},", open, values[k], values[k + 1], values[k + 2],
+                           values[k + 3], close);
+    }
+    if (!out.empty()) out.pop_back();
+    return out;
+}
+
+std::vector<float> publishedLayout(const TapTable& table) {
+    std::vector<float> all;
+    for (int m = 0; m < table.levelCount; ++m) {
+        const std::vector<float> level = publishedLevelLayout(table, m);
+        all.insert(all.end(), level.begin(), level.end());
+    }
+    return all;
+}
+
+std::string commentBlock(const TapTable& table) {
+    std::string out;
+    for (const std::string& line : tableSummary(table)) out += "// " + line + "\n";
+    return out;
+}
+
+} // namespace
+
+std::string tableToJson(const TapTable& table) {
+    validateTable(table, "tap table");
+    json levels = json::array();
+    for (int m = 0; m < table.levelCount; ++m) {
+        const TableLevel& level = table.levels[m];
+        levels.push_back({{"level", m},
+                          {"alpha", tableLevelAlpha(table, m)},
+                          {"stratified", errorToJson(level.stratified)},
+                          {"all", errorToJson(level.all)},
+                          {"minWeightSum", level.minWeightSum},
+                          {"coefficients", level.coefficients}});
+    }
+    const json j = {{"format", kFormatName},
+                    {"version", kFormatVersion},
+                    {"layout", "coefficients[frame][tap][parameter: dir x, dir y, dir z, level, weight][coefficient]"},
+                    {"baseSize", table.baseSize},
+                    {"levelCount", table.levelCount},
+                    {"taps", table.taps},
+                    {"form", tableFormName(table.form)},
+                    {"mapping", roughnessMappingName(table.mapping)},
+                    {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)},
+                                 {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
+                    {"solver", table.solver},
+                    {"fitSeconds", table.fitSeconds},
+                    {"levels", levels}};
+    return j.dump(1) + "\n";
+}
+
+TapTable tableFromJson(std::string_view text, const std::filesystem::path& path) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw ProbeError(fmt::format("{}: not a complete table file (JSON error at byte {})", path.string(), e.byte));
+    }
+    const Reader r{path};
+    if (r.get<std::string>(j, "format") != kFormatName)
+        throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
+    if (r.get<int>(j, "version") != kFormatVersion)
+        throw ProbeError(fmt::format("{}: table format version {} (expected {})", path.string(), r.get<int>(j, "version"),
+                                     kFormatVersion));
+    const json& pyramid = r.field(j, "pyramid");
+    TapTable table;
+    try {
+        table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"),
+                           r.name(j, "form", parseTableForm), r.name(j, "mapping", parseRoughnessMapping),
+                           {r.name(pyramid, "kind", parsePyramidKind), r.name(pyramid, "weighting", parsePyramidWeighting)});
+    } catch (const ProbeError& e) {
+        const std::string message = e.what();
+        if (message.starts_with(path.string())) throw;
+        throw ProbeError(fmt::format("{}: {}", path.string(), message));
+    }
+    table.solver = r.get<std::string>(j, "solver");
+    table.fitSeconds = r.get<double>(j, "fitSeconds");
+    const json& levels = r.field(j, "levels");
+    if (!levels.is_array() || levels.size() != static_cast<std::size_t>(table.levelCount))
+        throw ProbeError(fmt::format("{}: 'levels' must list {} levels", path.string(), table.levelCount));
+    for (int m = 0; m < table.levelCount; ++m) {
+        const json& level = levels[static_cast<std::size_t>(m)];
+        if (r.get<int>(level, "level") != m)
+            throw ProbeError(fmt::format("{}: levels out of order at entry {}", path.string(), m));
+        TableLevel& out = table.levels[m];
+        out.coefficients = r.get<std::vector<double>>(level, "coefficients");
+        out.stratified = r.error(level, "stratified");
+        out.all = r.error(level, "all");
+        out.minWeightSum = r.get<double>(level, "minWeightSum");
+    }
+    validateTable(table, path.string());
+    return table;
+}
+
+TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readText(path), path); }
+
+void writeTable(const std::filesystem::path& path, const TapTable& table) { writeText(path, tableToJson(table)); }
+
+std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
+    const int k = coefficientCount(table.form);
+    const std::vector<double>& c = table.levels[level].coefficients;
+    std::vector<float> out;
+    out.reserve(c.size());
+    for (int p = 0; p < kTapParameterCount; ++p)
+        for (int coefficient = 0; coefficient < k; ++coefficient)
+            for (int frame = 0; frame < kFrameCount; ++frame)
+                for (int tap = 0; tap < table.taps; ++tap)
+                    out.push_back(static_cast<float>(c[table.offset(frame, tap, p) + coefficient]));
+    return out;
+}
+
+TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
+                              RoughnessMapping mapping, PyramidSettings pyramid) {
+    TapTable table = emptyTable(baseSize, levelCount, taps, form, mapping, pyramid);
+    const std::string text = readText(path);
+    std::vector<double> numbers;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const unsigned char ch = static_cast<unsigned char>(text[pos]);
+        if (std::isspace(ch) || ch == ',') {
+            ++pos;
+            continue;
+        }
+        double value = 0.0;
+        const auto [end, ec] = std::from_chars(text.data() + pos, text.data() + text.size(), value);
+        if (ec != std::errc() || end == text.data() + pos)
+            throw ProbeError(fmt::format("{}: not a number at byte {} ('{}')", path.string(), pos, text.substr(pos, 12)));
+        numbers.push_back(value);
+        pos = static_cast<std::size_t>(end - text.data());
+    }
+    const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
+    if (numbers.size() != perLevel * levelCount)
+        throw ProbeError(fmt::format("{}: {} numbers, expected {} ({} levels x {} taps x 3 frames x 5 x {})", path.string(),
+                                     numbers.size(), perLevel * levelCount, levelCount, taps, coefficientCount(form)));
+    const int k = coefficientCount(form);
+    std::size_t n = 0;
+    for (TableLevel& level : table.levels)
+        for (int p = 0; p < kTapParameterCount; ++p)
+            for (int coefficient = 0; coefficient < k; ++coefficient)
+                for (int frame = 0; frame < kFrameCount; ++frame)
+                    for (int tap = 0; tap < taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = numbers[n++];
+    table.solver = fmt::format("imported from {}", path.filename().string());
+    return table;
+}
+
+void writePublishedTable(const std::filesystem::path& path, const TapTable& table) {
+    validateTable(table, "tap table");
+    std::string text;
+    const std::vector<float> values = publishedLayout(table);
+    for (std::size_t k = 0; k < values.size(); k += 4)
+        text += fmt::format("{:.9g} {:.9g} {:.9g} {:.9g}\n", values[k], values[k + 1], values[k + 2], values[k + 3]);
+    writeText(path, text);
+}
+
+std::vector<std::string> tableSummary(const TapTable& table) {
+    std::vector<std::string> lines;
+    lines.push_back(fmt::format("base size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.baseSize,
+                                table.levelCount, table.taps, kFrameCount, tableFormName(table.form),
+                                roughnessMappingName(table.mapping)));
+    lines.push_back(fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind),
+                                pyramidWeightingName(table.pyramid.weighting)));
+    lines.push_back(fmt::format("solver: {}", table.solver));
+    lines.push_back(fmt::format("fit time {:.1f} s", table.fitSeconds));
+    lines.push_back("impulse-response L1 per level: stratified mean / max, all texels mean / max (worst texel "
+                    "face,i,j), min weight sum");
+    for (int m = 0; m < table.levelCount; ++m) {
+        const TableLevel& l = table.levels[m];
+        const double alpha = tableLevelAlpha(table, m);
+        if (alpha <= 0.0) {
+            lines.push_back(fmt::format("  level {} alpha 0: copy of the source", m));
+            continue;
+        }
+        const std::string all = l.all.mean < 0.0 ? std::string("not measured")
+                                                 : fmt::format("{:.5f} / {:.5f} ({},{},{})", l.all.mean, l.all.max,
+                                                               l.all.worst.face, l.all.worst.i, l.all.worst.j);
+        const std::string stratified = l.stratified.mean < 0.0
+                                           ? std::string("not measured")
+                                           : fmt::format("{:.5f} / {:.5f}", l.stratified.mean, l.stratified.max);
+        lines.push_back(fmt::format("  level {} alpha {:.5f}: {}, {}, {:.4f}", m, alpha, stratified, all, l.minWeightSum));
+    }
+    return lines;
+}
+
+std::string tableCppHeader(const TapTable& table, std::string_view name) {
+    validateTable(table, "tap table");
+    const std::vector<float> values = publishedLayout(table);
+    std::string out = "// Generated by probefit; do not edit.\n" + commentBlock(table);
+    out += "#pragma once\n\nnamespace probe_tables::" + std::string(name) + " {\n\n";
+    out += fmt::format("inline constexpr int kBaseSize = {};\n", table.baseSize);
+    out += fmt::format("inline constexpr int kLevelCount = {};\n", table.levelCount);
+    out += fmt::format("inline constexpr int kTaps = {}; // per frame\n", table.taps);
+    out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form),
+                       tableFormName(table.form));
+    out += fmt::format("inline constexpr const char* kForm = \"{}\";\n", tableFormName(table.form));
+    out += fmt::format("inline constexpr const char* kMapping = \"{}\";\n", roughnessMappingName(table.mapping));
+    out += fmt::format("inline constexpr const char* kPyramidKind = \"{}\";\n", pyramidKindName(table.pyramid.kind));
+    out += fmt::format("inline constexpr const char* kPyramidWeighting = \"{}\";\n",
+                       pyramidWeightingName(table.pyramid.weighting));
+    out += "// Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].\n";
+    out += fmt::format("inline constexpr float kCoefficients[{}] = {{{}\n}};\n", values.size(), floatList(values, 2, "", ""));
+    out += "\n} // namespace probe_tables::" + std::string(name) + "\n";
+    return out;
+}
+
+std::string tableGlslInclude(const TapTable& table, std::string_view name) {
+    validateTable(table, "tap table");
+    const std::vector<float> values = publishedLayout(table);
+    std::string guard = "PROBE_TABLE_" + std::string(name) + "_GLSL";
+    for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::string out = "// Generated by probefit; do not edit.\n" + commentBlock(table);
+    out += "#ifndef " + guard + "\n#define " + guard + "\n\n";
+    out += fmt::format("#define PROBE_TABLE_BASE_SIZE {}\n", table.baseSize);
+    out += fmt::format("#define PROBE_TABLE_LEVEL_COUNT {}\n", table.levelCount);
+    out += fmt::format("#define PROBE_TABLE_TAPS {}\n", table.taps);
+    out += fmt::format("#define PROBE_TABLE_COEFFICIENT_COUNT {}\n", coefficientCount(table.form));
+    out += "// vec4 index of (level, parameter, coefficient, frame, tap / 4):\n"
+           "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
+           "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";
+    out += fmt::format("const vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4,
+                       floatList(values, 2, "vec4(", ")"));
+    out += "\n#endif\n";
+    return out;
+}
+
+} // namespace probe
