@@ -14,14 +14,17 @@ layout(std430, set = 0, binding = 2) readonly buffer GeometryBuffer { vec4 geome
 // Pass 2's tap table, or the FIS sample directions.
 layout(std430, set = 0, binding = 3) readonly buffer TableBuffer { vec4 table[]; };
 
-// Index of the first texel of `level` in a packed cube whose level 0 has face size `baseSize`.
+// Index of the first texel of `level` in a packed cube whose level 0 has face size `baseSize` (a
+// power of two): 6 sum_{k < level} (S >> k)^2 = 8 (S^2 - (S >> level)^2).
 uint levelOffset(int baseSize, int level) {
-    uint offset = 0u;
-    for (int k = 0; k < level; ++k) {
-        uint s = uint(baseSize >> k);
-        offset += 6u * s * s;
-    }
-    return offset;
+    uint s0 = uint(baseSize), s = uint(baseSize >> level);
+    return 8u * (s0 * s0 - s * s);
+}
+
+// The linear invocation index of a dispatch of (x, y) workgroups: dispatches with more than 65535
+// workgroups are split over y (probe runtime's ComputePipeline::dispatch).
+uint invocationIndex() {
+    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
 }
 
 #endif

@@ -4,9 +4,8 @@
 // (the C++ sums rows in double). Faces wholly behind R (all four corners with R.l <= 0) are skipped.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "cube.glsl"
 #include "ggx.glsl"
-#include "buffers.glsl"
+#include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -26,14 +25,13 @@ bool faceBehind(vec3 R, int face) {
 
 void main() {
     int outSize = params.sourceSize >> params.outLevel;
-    uint texel = gl_GlobalInvocationID.x;
+    uint texel = invocationIndex();
     if (texel >= 6u * uint(outSize * outSize)) return;
     uint outIndex = levelOffset(params.sourceSize, params.outLevel) + texel;
     vec3 R = geometry[outIndex].xyz;
 
     if (params.alpha2 <= 0.0) {
-        ivec3 t = directionToTexel(R, params.sourceSize);
-        outputTexels[outIndex] = vec4(pyramid[texelIndex(t.x, t.y, t.z, params.sourceSize)].rgb, 1.0);
+        outputTexels[outIndex] = vec4(copyOfSource(R, params.sourceSize), 1.0);
         return;
     }
 

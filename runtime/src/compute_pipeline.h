@@ -15,6 +15,7 @@ namespace probe::gpu {
 inline constexpr uint32_t kBindingCount = 4;   // pyramid, output, geometry, table
 inline constexpr uint32_t kPushConstantBytes = 64;
 inline constexpr uint32_t kWorkgroupSize = 64; // local_size_x of every shader
+inline constexpr uint32_t kMaxGroupsX = 65535;  // per dispatch row
 
 // The layout and the one descriptor set that binds the four buffers.
 class PipelineLayout {
@@ -43,7 +44,8 @@ public:
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;
 
-    // Binds the pipeline, pushes `constants` and dispatches `groups` workgroups.
+    // Binds the pipeline, pushes `constants` and dispatches `groups` workgroups (split over y beyond
+    // kMaxGroupsX).
     void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const;
 
 private:

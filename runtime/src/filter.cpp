@@ -71,21 +71,38 @@ void checkTransferFormat(const Device& device) {
 
 Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
-    pyramidLevels = log2Exact(s.faceSize) + 1;
+    pyramidLevels = pyramidLevelCount(s.faceSize);
     pyramidOffsets = packedOffsets(s.faceSize, pyramidLevels);
     outputOffsets = packedOffsets(s.faceSize, s.levelCount);
+    for (int m = 0; m < s.levelCount; ++m)
+        if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) copyLevels |= 1u << m;
+
+    std::vector<float> tableData(4, 0.0f);
+    switch (s.method) {
+    case Method::table:
+        if (!s.table) throw ProbeError("method table: no tap table given");
+        checkTableFits(*s.table, s);
+        tableData = tableBufferData(*s.table);
+        tableTaps = s.table->taps;
+        tableCoefficientCount = coefficientCount(s.table->form);
+        break;
+    case Method::fis: tableData = importanceSamplingBufferData(s); break;
+    case Method::reference: break;
+    }
+    const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
 
     pyramid = Buffer(d, pyramidOffsets.back() * kTexelBytes, Buffer::Kind::storage);
     output = Buffer(d, outputOffsets.back() * kTexelBytes, Buffer::Kind::storage);
-    const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
-    table = Buffer(d, kTexelBytes, Buffer::Kind::storage);
+    table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
 
     layout = std::make_unique<PipelineLayout>(d.device(), std::array<const Buffer*, kBindingCount>{&pyramid, &output, &geometry, &table});
     switch (s.method) {
+    case Method::table: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv()); break;
+    case Method::fis: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, importanceSamplingSpirv()); break;
     case Method::reference: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, referenceSpirv()); break;
-    default: throw ProbeError(fmt::format("method {} is not available in this build", methodName(s.method)));
     }
+    if (s.method != Method::reference) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
     timer = std::make_unique<GpuTimer>(d, passNames(s.method));
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -95,11 +112,15 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     vkCheck(vkCreateFence(d.device(), &fenceInfo, nullptr, &fence), "vkCreateFence");
 
-    Buffer staging(d, geometry.bytes(), Buffer::Kind::staging);
+    Buffer staging(d, geometry.bytes() + table.bytes(), Buffer::Kind::staging);
     std::memcpy(staging.mapped(), geometryData.data(), geometry.bytes());
+    std::memcpy(static_cast<char*>(staging.mapped()) + geometry.bytes(), tableData.data(), table.bytes());
     VkCommandBuffer commandBuffer = begin();
-    copyBuffer(commandBuffer, staging, geometry, geometry.bytes());
+    const VkBufferCopy geometryRegion{0, 0, geometry.bytes()}, tableRegion{geometry.bytes(), 0, table.bytes()};
+    vkCmdCopyBuffer(commandBuffer, staging.handle(), geometry.handle(), 1, &geometryRegion);
+    vkCmdCopyBuffer(commandBuffer, staging.handle(), table.handle(), 1, &tableRegion);
     submitAndWait(commandBuffer);
+    vkFreeCommandBuffers(d.device(), commandPool, 1, &commandBuffer);
 }
 
 Filter::Impl::~Impl() {
@@ -136,9 +157,15 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
     layout->bind(commandBuffer);
     uint32_t boundary = 0;
     timer->boundary(commandBuffer, boundary++);
+    if (pass1) {
+        recordPyramidPass(*this, commandBuffer);
+        computeBarrier(commandBuffer);
+        timer->boundary(commandBuffer, boundary++);
+    }
     switch (settings.method) {
+    case Method::table: recordTablePass(*this, commandBuffer); break;
+    case Method::fis: recordImportanceSamplingPass(*this, commandBuffer); break;
     case Method::reference: recordReferencePass(*this, commandBuffer); break;
-    default: break;
     }
     computeBarrier(commandBuffer);
     timer->boundary(commandBuffer, boundary++);

@@ -28,6 +28,9 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> pass2; // table, fis or reference
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
+    uint32_t copyLevels = 0;       // bit m: output level m has alpha = 0, a copy of the source
+    int tableTaps = 0;             // table method: N per frame
+    int tableCoefficientCount = 0; // table method: 3 (quadratic) or 1 (constant)
 
     VkCommandPool commandPool = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
@@ -47,6 +50,21 @@ struct Filter::Impl {
 // importance_sampling_pass.cpp): each records its dispatches and appends them to impl.dispatches.
 std::span<const uint32_t> referenceSpirv();
 void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+
+std::span<const uint32_t> pyramidSpirv();
+void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+
+std::span<const uint32_t> tableSpirv();
+// Throws ProbeError with every reason why `table` cannot serve `settings`.
+void checkTableFits(const TapTable& table, const FilterSettings& settings);
+// The table buffer: every level in the published layout, level 0 first.
+std::vector<float> tableBufferData(const TapTable& table);
+void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+
+std::span<const uint32_t> importanceSamplingSpirv();
+// The table buffer for FIS: per output level, vec4(alpha^2, 0, 0, 0).
+std::vector<float> importanceSamplingBufferData(const FilterSettings& settings);
+void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
 // impl.dispatches.

@@ -21,7 +21,9 @@
 #include <vulkan/vulkan.h>
 
 #include "probe/cube_image.h"
+#include "probe/pyramid.h"
 #include "probe/roughness.h"
+#include "probe/tap_table.h"
 
 namespace probe::gpu {
 
@@ -88,6 +90,12 @@ struct FilterSettings {
     int faceSize = 128;   // S_0, a power of two: the source and output level 0
     int levelCount = 7;   // M output levels, face size S_0 >> m
     RoughnessMapping mapping = RoughnessMapping::gltf;
+    PyramidSettings pyramid; // pass 1 (table and fis)
+    int fisSamples = 32;     // N Hammersley samples per output texel (fis)
+    double fisBias = 0.0;    // added to each sample's level (fis); 0 is the accurate setting
+    // The tap table (table method; the caller keeps it alive while the Filter is built). Refused
+    // with the reason unless its base size, level count, mapping and pyramid equal the settings'.
+    const TapTable* table = nullptr;
 };
 
 // GPU time of one pass: the median over the repeats, from timestamp queries.

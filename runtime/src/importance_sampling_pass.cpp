@@ -1,0 +1,48 @@
+// Filtered importance sampling (shaders/importance_sampling.comp): alpha^2 per level in the table
+// buffer and one dispatch for all output levels.
+#include <cstdint>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <importance_sampling.spv.h>
+
+#include "filter_impl.h"
+#include "probe/error.h"
+
+namespace probe::gpu {
+
+namespace {
+
+struct ImportanceSamplingConstants {
+    int32_t baseSize;
+    int32_t pyramidLevels;
+    int32_t levelCount;
+    int32_t samples;
+    float bias;
+    float texelSolidAngle;
+    uint32_t copyLevels;
+};
+
+} // namespace
+
+std::span<const uint32_t> importanceSamplingSpirv() { return kImportanceSamplingSpv; }
+
+std::vector<float> importanceSamplingBufferData(const FilterSettings& s) {
+    if (s.fisSamples < 1) throw ProbeError(fmt::format("--samples {}: must be at least 1", s.fisSamples));
+    std::vector<float> data;
+    for (int m = 0; m < s.levelCount; ++m) {
+        const double alpha = levelAlpha(s.mapping, m, s.levelCount);
+        data.insert(data.end(), {static_cast<float>(alpha * alpha), 0.0f, 0.0f, 0.0f});
+    }
+    return data;
+}
+
+void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+    const FilterSettings& s = impl.settings;
+    const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * s.faceSize * s.faceSize);
+    const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, s.fisSamples,
+                                                static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle), impl.copyLevels};
+    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", -1, constants, groupsFor(impl.outputOffsets.back()));
+}
+
+} // namespace probe::gpu

@@ -1,0 +1,66 @@
+// Pass 2 with a tap table (Manson & Sloan), all output levels in one dispatch, mirroring core's
+// table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
+// time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
+// per constant level), each read trilinearly from the pyramid.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "frame.glsl"
+#include "tap_sum.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Params {
+    int baseSize;         // S_0
+    int pyramidLevels;    // log2(S_0) + 1
+    int levelCount;       // M output levels
+    int taps;             // N per frame, a multiple of 4
+    int coefficientCount; // 3: quadratic, 1: constant
+    uint copyLevels;      // bit m: output level m is a copy (alpha = 0)
+} params;
+
+// P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
+vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
+    uint groups = uint(3 * params.taps / 4);
+    uint first = levelFirst + uint(parameter * params.coefficientCount) * groups + group;
+    if (params.coefficientCount == 1) return table[first];
+    return table[first] + table[first + groups] * f.theta2 + table[first + 2u * groups] * f.phi2;
+}
+
+void main() {
+    uint index = invocationIndex();
+    if (index >= levelOffset(params.baseSize, params.levelCount)) return;
+    int level;
+    uint texel;
+    outputTexelOf(index, params.baseSize, params.levelCount, level, texel);
+    int size = params.baseSize >> level;
+    ivec3 t = texelOfIndex(texel, size);
+
+    vec3 result;
+    if ((params.copyLevels & (1u << uint(level))) != 0u) {
+        result = copyOfSource(geometry[index].xyz, params.baseSize);
+    } else {
+        vec3 d = faceUvToCubePoint(t.x, texelCentreUv(t.y, size), texelCentreUv(t.z, size));
+        uint levelFirst = uint(level) * uint(5 * params.coefficientCount * 3 * params.taps / 4);
+        vec3 sum = vec3(0.0);
+        float weightSum = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+            FrameSetup f = frameSetup(d, axis);
+            if (f.weight <= 0.0) continue;
+            for (int g = 0; g < params.taps / 4; ++g) {
+                uint group = uint(axis * params.taps / 4 + g);
+                vec4 px = polynomial(levelFirst, 0, group, f);
+                vec4 py = polynomial(levelFirst, 1, group, f);
+                vec4 pz = polynomial(levelFirst, 2, group, f);
+                vec4 pl = polynomial(levelFirst, 3, group, f);
+                vec4 pw = polynomial(levelFirst, 4, group, f);
+                for (int lane = 0; lane < 4; ++lane) {
+                    TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
+                    sum += s.weight * sampleTrilinear(params.baseSize, params.pyramidLevels, s.direction, s.level);
+                    weightSum += s.weight;
+                }
+            }
+        }
+        result = finishTapSum(sum, weightSum);
+    }
+    outputTexels[index] = vec4(result, 1.0);
+}
