@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     probefilter::addReferenceCommand(app);
     probefilter::addSynthCommand(app);
+    probefilter::addFilterCommand(app);
+    probefilter::addPlanCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
-#include "preview.h"
+#include "probe_outputs.h"
 #include "report.h"
 
 namespace probefilter {
@@ -21,11 +21,13 @@ struct ReferenceOptions {
     std::string mapping = "gltf";
     std::string out;
     bool repairPixels = false;
+    std::string ktx2 = "none";
 };
 
 void runReference(const ReferenceOptions& o) {
     const probe::RoughnessMapping mapping = probe::parseRoughnessMapping(o.mapping);
     const int levelCount = o.levels.value_or(probe::defaultLevelCount(o.size));
+    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     probe::validateSizeAndLevels(o.size, levelCount);
     probe::StagedOutput output(o.out);
 
@@ -42,12 +44,8 @@ void runReference(const ReferenceOptions& o) {
     });
     const double filterSeconds = filterTime.seconds();
 
-    for (int m = 0; m < levelCount; ++m)
-        probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
-
-    writeLevelsPreview(output.file("preview.png"), levels);
-
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
+    writeFilteredProbe(output, levels, mapping, ktx2, report);
     report["command"] = "reference";
     report["input"] = {{"path", o.input},
                        {"width", image.width},
@@ -73,6 +71,7 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--levels", options->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", options->mapping, "Roughness per level: gltf, authors, filament or unity");
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
+    cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");
     cmd->add_flag("--repair-pixels", options->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
     cmd->callback([options] { runReference(*options); });
 }

@@ -1,0 +1,24 @@
+// The files every filtering command writes for a filtered probe: level EXRs, optional KTX2, the
+// preview picture; what was written goes into the report.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "probe/cube_image.h"
+#include "probe/ktx2.h"
+#include "probe/probe_io.h"
+#include "probe/roughness.h"
+
+namespace probefilter {
+
+// "none", "rgba16f" or "rgba32f" (ProbeError otherwise).
+std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name);
+
+// level_<m>.exr for every level, probe.ktx2 when asked (clamping to the half range is counted in
+// the report and warned about on stderr), preview.png.
+void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, probe::RoughnessMapping mapping,
+                        std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report);
+
+} // namespace probefilter

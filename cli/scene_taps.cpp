@@ -1,0 +1,41 @@
+#include "scene_taps.h"
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+#include "probe/importance_sampling.h"
+#include "probe/table_filter.h"
+#include "probe/table_io.h"
+
+namespace probefilter {
+
+probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& p) {
+    if (!p.table)
+        throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
+                                            "(probefit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
+                                            scene.path.string(), p.name, p.faceSize, p.levelCount,
+                                            probe::roughnessMappingName(p.mapping), p.faceSize, p.levelCount,
+                                            probe::roughnessMappingName(p.mapping)));
+    probe::TapTable table = probe::readTable(*p.table);
+    if (table.baseSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
+        throw probe::ProbeError(fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",
+                                            p.table->string(), table.baseSize, table.levelCount,
+                                            probe::roughnessMappingName(table.mapping), p.name, scene.path.string(), p.faceSize,
+                                            p.levelCount, probe::roughnessMappingName(p.mapping)));
+    return table;
+}
+
+probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& p) {
+    switch (p.method) {
+    case probe::FilterMethod::table: return probe::tableTapGenerator(sceneProbeTable(scene, p));
+    case probe::FilterMethod::fis: {
+        probe::ImportanceSamplingSettings settings;
+        settings.samples = p.samples;
+        return probe::importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, settings);
+    }
+    case probe::FilterMethod::reference: break;
+    }
+    return {};
+}
+
+} // namespace probefilter

@@ -1,0 +1,50 @@
+// What a scene calls for, and nothing else: per probe the output levels its specular materials
+// read, the pyramid only as deep as those levels' taps reach, irradiance only for diffuse
+// materials; the split-sum DFG table only if some material is specular.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "probe/scene.h"
+#include "probe/tap_sum.h"
+
+namespace probe {
+
+// The output levels that a trilinear lookup at `roughness` reads under the mapping: floor and
+// ceil of the fractional level (one level when it is whole).
+std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughness, int levelCount);
+
+// The deepest pyramid level that the taps of the given output levels read (trilinear reads the
+// level above a fractional level too), clamped to the pyramid; 0 when no level has taps.
+int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels);
+
+struct ProbePlan {
+    std::string probe;
+    FilterMethod method = FilterMethod::table;
+    std::vector<int> levels;                      // output levels to compute, ascending
+    std::vector<std::vector<std::string>> levelReaders; // per entry of `levels`: the materials that read it
+    int pyramidLevels = 0;                        // pyramid levels to build below the source (0: none)
+    bool irradiance = false;
+    std::vector<std::string> diffuseMaterials;
+};
+
+struct Plan {
+    std::vector<ProbePlan> probes;
+    bool dfgTable = false;
+    std::vector<std::string> specularMaterials;
+
+    // The passes in execution order, one line each: "<probe>: <pass>", or "dfg-table". This is
+    // the list that a run's report.json records as the dispatches it ran.
+    std::vector<std::string> passes() const;
+    // passes() with the reason for each, for people.
+    std::vector<std::string> explain() const;
+};
+
+// The tap generator of a probe's method (empty for the reference, which reads no pyramid).
+using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
+
+Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor);
+
+} // namespace probe

@@ -1,0 +1,74 @@
+// Scene files: the probes a scene uses and the materials they light. A scene decides what is
+// computed: only the levels and effects its materials need (plan.h).
+//
+// {
+//   "probes": [{"name": "sunset", "image": "sunset.exr", "face_size": 128, "levels": 7,
+//               "mapping": "gltf", "method": "table", "samples": 32, "table": "t.json"}],
+//   "materials": [{"name": "chrome", "probe": "sunset", "roughness": 0.05, "metallic": 1,
+//                  "base_color": [0.95, 0.93, 0.88], "specular": 1}],
+//   "outputs": {"exr": true, "ktx2": "rgba16f", "spheres": true}
+// }
+// Only "name" and "image" of a probe and "name" and "roughness" of a material are required;
+// "probe" may be left out when there is one probe. Paths are relative to the scene file.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "probe/roughness.h"
+
+namespace probe {
+
+enum class FilterMethod { table, fis, reference };
+FilterMethod parseFilterMethod(std::string_view name); // "table", "fis", "reference"; throws ProbeError
+std::string_view filterMethodName(FilterMethod method);
+
+struct SceneProbe {
+    std::string name;
+    std::filesystem::path image; // resolved against the scene's folder
+    int faceSize = 128;
+    int levelCount = 0; // after parsing: the default for the face size when not given
+    RoughnessMapping mapping = RoughnessMapping::gltf;
+    FilterMethod method = FilterMethod::table;
+    int samples = 32;                    // FIS only
+    std::optional<std::filesystem::path> table; // table method: a table file instead of the built-in one
+};
+
+struct SceneMaterial {
+    std::string name;
+    std::string probe;
+    double roughness = 0.5; // perceptual, [0, 1]
+    double metallic = 0.0;  // [0, 1]
+    glm::dvec3 baseColor{0.8};
+    double specular = 1.0;  // dielectric specular strength (F0 = 0.04 specular), [0, 1]
+
+    // Lit by the prefiltered GGX levels (and the DFG table).
+    bool hasSpecular() const { return metallic > 0.0 || specular > 0.0; }
+    // Lit by irradiance.
+    bool hasDiffuse() const { return metallic < 1.0 && (baseColor.r > 0.0 || baseColor.g > 0.0 || baseColor.b > 0.0); }
+};
+
+enum class Ktx2Format { none, rgba16f, rgba32f };
+
+struct SceneOutputs {
+    bool exr = true;
+    Ktx2Format ktx2 = Ktx2Format::none;
+    bool spheres = false;
+};
+
+struct Scene {
+    std::filesystem::path path;
+    std::vector<SceneProbe> probes;
+    std::vector<SceneMaterial> materials;
+    SceneOutputs outputs;
+};
+
+// Reads and validates a scene. Throws ProbeError "<scene file>: <field>: <problem>" for a missing
+// image, an unknown field, a value out of range, a duplicate or dangling name.
+Scene readScene(const std::filesystem::path& path);
+
+} // namespace probe

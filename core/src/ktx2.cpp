@@ -1,0 +1,197 @@
+#include "probe/ktx2.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <fstream>
+#include <numeric>
+
+#include <Imath/half.h>
+#include <fmt/format.h>
+
+#include "probe/error.h"
+
+namespace probe {
+
+namespace {
+
+constexpr std::array<std::uint8_t, 12> kIdentifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109;
+constexpr float kHalfMax = 65504.0f;
+
+std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
+
+class ByteWriter {
+public:
+    std::vector<std::uint8_t> bytes;
+    template <typename T>
+    void put(T value) {
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&value);
+        bytes.insert(bytes.end(), p, p + sizeof(T));
+    }
+    void padTo(std::size_t alignment) { bytes.resize(align(bytes.size(), alignment), 0); }
+};
+
+// The basic data format descriptor of four float channels, R G B A (KDFG 1.3, section 5).
+std::vector<std::uint8_t> dataFormatDescriptor(std::uint32_t bytesPerChannel) {
+    ByteWriter w;
+    const std::uint32_t samples = 4, blockSize = 24 + 16 * samples;
+    w.put<std::uint32_t>(4 + blockSize);                // dfdTotalSize
+    w.put<std::uint32_t>(0);                            // vendorId 0 (Khronos), descriptorType 0 (basic)
+    w.put<std::uint32_t>(2u | (blockSize << 16));       // versionNumber 2, descriptorBlockSize
+    w.put<std::uint32_t>(1u | (1u << 8) | (1u << 16));  // colorModel RGBSDA, primaries BT709, transfer LINEAR, flags 0
+    w.put<std::uint32_t>(0);                            // texelBlockDimension 1x1x1x1 (stored minus one)
+    w.put<std::uint32_t>(4 * bytesPerChannel);          // bytesPlane0
+    w.put<std::uint32_t>(0);                            // bytesPlane4..7
+    const std::uint8_t channels[] = {0, 1, 2, 15};      // R, G, B, A
+    for (std::uint32_t c = 0; c < samples; ++c) {
+        const std::uint32_t bits = 8 * bytesPerChannel;
+        const std::uint32_t channelType = channels[c] | 0x80u | 0x40u; // FLOAT | SIGNED
+        w.put<std::uint32_t>((c * bits) | ((bits - 1) << 16) | (channelType << 24));
+        w.put<std::uint32_t>(0);          // sample position
+        w.put<std::uint32_t>(0xBF800000); // sampleLower -1.0f
+        w.put<std::uint32_t>(0x3F800000); // sampleUpper 1.0f
+    }
+    return w.bytes;
+}
+
+std::vector<std::uint8_t> keyValueData(KeyValues metadata) {
+    std::sort(metadata.begin(), metadata.end()); // the format requires keys in byte order
+    ByteWriter w;
+    for (const auto& [key, value] : metadata) {
+        w.put<std::uint32_t>(static_cast<std::uint32_t>(key.size() + 1 + value.size() + 1));
+        w.bytes.insert(w.bytes.end(), key.begin(), key.end());
+        w.put<std::uint8_t>(0);
+        w.bytes.insert(w.bytes.end(), value.begin(), value.end());
+        w.put<std::uint8_t>(0);
+        w.padTo(4);
+    }
+    return w.bytes;
+}
+
+std::vector<std::uint8_t> levelData(const CubeImage& level, Ktx2PixelFormat format, std::size_t& clamped) {
+    ByteWriter w;
+    for (std::size_t t = 0; t < texelCount(level.size); ++t) {
+        const glm::vec3 c = level.texel(t);
+        for (int k = 0; k < 4; ++k) {
+            float value = k < 3 ? c[k] : 1.0f;
+            if (format == Ktx2PixelFormat::rgba32f) {
+                w.put<float>(value);
+            } else {
+                if (value > kHalfMax) {
+                    value = kHalfMax;
+                    ++clamped;
+                }
+                w.put<std::uint16_t>(Imath::half(value).bits());
+            }
+        }
+    }
+    return w.bytes;
+}
+
+float halfBitsToFloat(std::uint16_t bits) {
+    Imath::half h;
+    h.setBits(bits);
+    return float(h);
+}
+
+template <typename T>
+T readAt(const std::vector<std::uint8_t>& bytes, std::size_t offset, const std::filesystem::path& path) {
+    if (offset + sizeof(T) > bytes.size()) throw ProbeError(fmt::format("{}: truncated KTX2 file", path.string()));
+    T value;
+    std::memcpy(&value, &bytes[offset], sizeof(T));
+    return value;
+}
+
+} // namespace
+
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format,
+                          const KeyValues& metadata) {
+    const bool half = format == Ktx2PixelFormat::rgba16f;
+    const std::uint32_t bytesPerChannel = half ? 2 : 4, texelBytes = 4 * bytesPerChannel;
+    const auto levelCount = static_cast<std::uint32_t>(levels.size());
+    const std::vector<std::uint8_t> dfd = dataFormatDescriptor(bytesPerChannel), kvd = keyValueData(metadata);
+
+    std::size_t clamped = 0;
+    std::vector<std::vector<std::uint8_t>> data;
+    for (const CubeImage& level : levels) data.push_back(levelData(level, format, clamped));
+
+    const std::size_t dfdOffset = 80 + 24 * levelCount, kvdOffset = dfdOffset + dfd.size();
+    // Level data, smallest level first, each aligned to lcm(texel size, 4).
+    std::vector<std::size_t> offsets(levelCount);
+    std::size_t end = kvdOffset + kvd.size();
+    for (std::uint32_t m = levelCount; m-- > 0;) {
+        offsets[m] = align(end, std::lcm<std::size_t>(texelBytes, 4));
+        end = offsets[m] + data[m].size();
+    }
+
+    ByteWriter w;
+    w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
+    for (std::uint32_t v : {half ? kVkFormatRgba16f : kVkFormatRgba32f, bytesPerChannel, std::uint32_t(levels[0].size),
+                            std::uint32_t(levels[0].size), 0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
+        w.put<std::uint32_t>(v);
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(kvdOffset));
+    w.put<std::uint32_t>(static_cast<std::uint32_t>(kvd.size()));
+    w.put<std::uint64_t>(0); // no supercompression global data
+    w.put<std::uint64_t>(0);
+    for (std::uint32_t m = 0; m < levelCount; ++m) {
+        w.put<std::uint64_t>(offsets[m]);
+        w.put<std::uint64_t>(data[m].size());
+        w.put<std::uint64_t>(data[m].size());
+    }
+    w.bytes.insert(w.bytes.end(), dfd.begin(), dfd.end());
+    w.bytes.insert(w.bytes.end(), kvd.begin(), kvd.end());
+    for (std::uint32_t m = levelCount; m-- > 0;) {
+        w.bytes.resize(offsets[m], 0);
+        w.bytes.insert(w.bytes.end(), data[m].begin(), data[m].end());
+    }
+
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(w.bytes.data()), static_cast<std::streamsize>(w.bytes.size()));
+    if (!out) throw ProbeError(fmt::format("{}: cannot write KTX2 file", path.string()));
+    return clamped;
+}
+
+Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ProbeError(fmt::format("{}: cannot open KTX2 file", path.string()));
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (bytes.size() < 80 || !std::equal(kIdentifier.begin(), kIdentifier.end(), bytes.begin()))
+        throw ProbeError(fmt::format("{}: not a KTX2 file", path.string()));
+    const auto vkFormat = readAt<std::uint32_t>(bytes, 12, path);
+    const auto width = readAt<std::uint32_t>(bytes, 20, path);
+    const auto faces = readAt<std::uint32_t>(bytes, 36, path);
+    const auto levelCount = readAt<std::uint32_t>(bytes, 40, path);
+    if ((vkFormat != kVkFormatRgba16f && vkFormat != kVkFormatRgba32f) || faces != 6)
+        throw ProbeError(fmt::format("{}: not an RGBA16F/RGBA32F cube", path.string()));
+    Ktx2Cube cube;
+    cube.format = vkFormat == kVkFormatRgba16f ? Ktx2PixelFormat::rgba16f : Ktx2PixelFormat::rgba32f;
+    for (std::uint32_t m = 0; m < levelCount; ++m) {
+        const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path);
+        CubeImage level(static_cast<int>(std::max(1u, width >> m)));
+        for (std::size_t t = 0; t < texelCount(level.size); ++t)
+            for (int k = 0; k < 3; ++k) {
+                const std::size_t channel = 4 * t + k;
+                level.rgb[3 * t + k] = cube.format == Ktx2PixelFormat::rgba32f
+                                           ? readAt<float>(bytes, offset + 4 * channel, path)
+                                           : halfBitsToFloat(readAt<std::uint16_t>(bytes, offset + 2 * channel, path));
+            }
+        cube.levels.push_back(std::move(level));
+    }
+    const auto kvdOffset = readAt<std::uint32_t>(bytes, 56, path), kvdLength = readAt<std::uint32_t>(bytes, 60, path);
+    for (std::size_t p = kvdOffset; p + 4 <= kvdOffset + kvdLength;) {
+        const auto length = readAt<std::uint32_t>(bytes, p, path);
+        if (p + 4 + length > bytes.size()) throw ProbeError(fmt::format("{}: truncated KTX2 metadata", path.string()));
+        const std::string entry(bytes.begin() + static_cast<std::ptrdiff_t>(p + 4), bytes.begin() + static_cast<std::ptrdiff_t>(p + 4 + length));
+        const std::size_t nul = entry.find('\0');
+        std::string value = entry.substr(nul + 1);
+        if (!value.empty() && value.back() == '\0') value.pop_back();
+        cube.metadata.emplace_back(entry.substr(0, nul), value);
+        p = align(p + 4 + length, 4);
+    }
+    return cube;
+}
+
+} // namespace probe

@@ -1,0 +1,108 @@
+#include "probe/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "probe/pyramid.h"
+
+namespace probe {
+
+std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughness, int levelCount) {
+    const double level = roughnessToLevel(mapping, roughness, levelCount);
+    const int lower = static_cast<int>(std::floor(level)), upper = static_cast<int>(std::ceil(level));
+    return lower == upper ? std::vector<int>{lower} : std::vector<int>{lower, upper};
+}
+
+int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels) {
+    const int maxLevel = pyramidLevelCount(baseSize) - 1;
+    int deepest = 0;
+    std::vector<Tap> taps;
+    for (int m : levels) {
+        const int size = baseSize >> m;
+        for (int f = 0; f < kFaceCount; ++f)
+            for (int j = 0; j < size; ++j)
+                for (int i = 0; i < size; ++i) {
+                    if (!generator(m, {f, i, j}, taps)) continue;
+                    for (const Tap& tap : taps) {
+                        if (tap.weight == 0.0) continue;
+                        const double level = std::clamp(tap.level, 0.0, double(maxLevel));
+                        deepest = std::max(deepest, static_cast<int>(std::ceil(level)));
+                    }
+                }
+    }
+    return deepest;
+}
+
+Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
+    Plan plan;
+    for (const SceneProbe& probe : scene.probes) {
+        ProbePlan p;
+        p.probe = probe.name;
+        p.method = probe.method;
+        std::map<int, std::vector<std::string>> readers;
+        for (const SceneMaterial& material : scene.materials) {
+            if (material.probe != probe.name) continue;
+            if (material.hasSpecular())
+                for (int level : levelsReadForRoughness(probe.mapping, material.roughness, probe.levelCount))
+                    readers[level].push_back(material.name);
+            if (material.hasDiffuse()) p.diffuseMaterials.push_back(material.name);
+        }
+        for (auto& [level, names] : readers) {
+            p.levels.push_back(level);
+            p.levelReaders.push_back(names);
+        }
+        p.irradiance = !p.diffuseMaterials.empty();
+        if (!p.levels.empty() && probe.method != FilterMethod::reference)
+            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
+        plan.probes.push_back(std::move(p));
+    }
+    for (const SceneMaterial& material : scene.materials)
+        if (material.hasSpecular()) plan.specularMaterials.push_back(material.name);
+    plan.dfgTable = !plan.specularMaterials.empty();
+    return plan;
+}
+
+namespace {
+
+struct Step {
+    std::string pass;
+    std::string reason;
+};
+
+std::vector<Step> steps(const Plan& plan) {
+    std::vector<Step> out;
+    for (const ProbePlan& p : plan.probes) {
+        if (p.levels.empty() && !p.irradiance) continue;
+        out.push_back({fmt::format("{}: load", p.probe), "the probe is read by some material"});
+        if (p.pyramidLevels > 0)
+            out.push_back({fmt::format("{}: pyramid 1..{}", p.probe, p.pyramidLevels),
+                           fmt::format("the taps of levels {} read down to pyramid level {}", fmt::join(p.levels, ", "), p.pyramidLevels)});
+        for (std::size_t k = 0; k < p.levels.size(); ++k)
+            out.push_back({fmt::format("{}: level {} ({})", p.probe, p.levels[k], filterMethodName(p.method)),
+                           fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
+        if (p.irradiance)
+            out.push_back({fmt::format("{}: sh-irradiance", p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
+    }
+    if (plan.dfgTable) out.push_back({"dfg-table", fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
+    return out;
+}
+
+} // namespace
+
+std::vector<std::string> Plan::passes() const {
+    std::vector<std::string> out;
+    for (const Step& s : steps(*this)) out.push_back(s.pass);
+    return out;
+}
+
+std::vector<std::string> Plan::explain() const {
+    std::vector<std::string> out;
+    for (const Step& s : steps(*this)) out.push_back(fmt::format("{:<32} because {}", s.pass, s.reason));
+    return out;
+}
+
+} // namespace probe

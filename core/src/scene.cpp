@@ -1,0 +1,196 @@
+#include "probe/scene.h"
+
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "probe/error.h"
+
+namespace probe {
+
+namespace {
+
+using nlohmann::json;
+
+// Reads one JSON object field by field, so that every error names the field and unknown fields
+// are refused.
+class FieldReader {
+public:
+    FieldReader(const std::filesystem::path& scene, std::string where, const json& object)
+        : scene_(scene), where_(std::move(where)), object_(object) {
+        if (!object_.is_object()) fail(where_, "must be an object");
+    }
+
+    [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+        throw ProbeError(fmt::format("{}: {}: {}", scene_.string(), field, problem));
+    }
+    std::string field(const std::string& key) const { return where_.empty() ? key : fmt::format("{}.{}", where_, key); }
+
+    template <typename T>
+    std::optional<T> optional(const std::string& key) {
+        seen_.insert(key);
+        const auto it = object_.find(key);
+        if (it == object_.end()) return std::nullopt;
+        try {
+            return it->template get<T>();
+        } catch (const json::exception&) {
+            fail(field(key), fmt::format("wrong type ({})", it->dump()));
+        }
+    }
+    template <typename T>
+    T required(const std::string& key) {
+        auto value = optional<T>(key);
+        if (!value) fail(field(key), "missing");
+        return *value;
+    }
+    // A number in [0, 1]; required when there is no fallback.
+    double unitInterval(const std::string& key, std::optional<double> fallback) {
+        const std::optional<double> read = optional<double>(key);
+        if (!read && !fallback) fail(field(key), "missing");
+        const double value = read ? *read : *fallback;
+        if (!(value >= 0.0 && value <= 1.0)) fail(field(key), fmt::format("{} is outside [0, 1]", value));
+        return value;
+    }
+    const json& child(const std::string& key) {
+        seen_.insert(key);
+        static const json empty = json::object();
+        const auto it = object_.find(key);
+        return it == object_.end() ? empty : *it;
+    }
+    // Call last: every key must have been read.
+    void refuseUnknown() const {
+        for (const auto& [key, value] : object_.items())
+            if (!seen_.count(key)) fail(field(key), "unknown field");
+    }
+
+private:
+    const std::filesystem::path& scene_;
+    std::string where_;
+    const json& object_;
+    std::set<std::string> seen_;
+};
+
+template <typename Parse>
+auto parseNamed(FieldReader& reader, const std::string& key, const std::string& value, Parse parse) {
+    try {
+        return parse(value);
+    } catch (const ProbeError& e) {
+        reader.fail(reader.field(key), e.what());
+    }
+}
+
+SceneProbe readProbe(const std::filesystem::path& scene, const std::string& where, const json& object) {
+    FieldReader r(scene, where, object);
+    SceneProbe p;
+    p.name = r.required<std::string>("name");
+    p.image = scene.parent_path() / r.required<std::string>("image");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p.image, ec)) r.fail(r.field("image"), fmt::format("no such file {}", p.image.string()));
+    p.faceSize = r.optional<int>("face_size").value_or(128);
+    if (log2Exact(p.faceSize) < 0) r.fail(r.field("face_size"), fmt::format("{} is not a power of two >= 1", p.faceSize));
+    p.levelCount = r.optional<int>("levels").value_or(defaultLevelCount(p.faceSize));
+    if (p.levelCount < 1 || p.levelCount > maxLevelCount(p.faceSize))
+        r.fail(r.field("levels"), fmt::format("{} is impossible for face size {} (1..{})", p.levelCount, p.faceSize, maxLevelCount(p.faceSize)));
+    p.mapping = parseNamed(r, "mapping", r.optional<std::string>("mapping").value_or("gltf"), parseRoughnessMapping);
+    p.method = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseFilterMethod);
+    p.samples = r.optional<int>("samples").value_or(32);
+    if (p.samples < 1) r.fail(r.field("samples"), fmt::format("{} is not a positive sample count", p.samples));
+    if (auto table = r.optional<std::string>("table")) p.table = scene.parent_path() / *table;
+    r.refuseUnknown();
+    return p;
+}
+
+SceneMaterial readMaterial(const std::filesystem::path& scene, const std::string& where, const json& object) {
+    FieldReader r(scene, where, object);
+    SceneMaterial m;
+    m.name = r.required<std::string>("name");
+    m.probe = r.optional<std::string>("probe").value_or("");
+    m.roughness = r.unitInterval("roughness", std::nullopt);
+    m.metallic = r.unitInterval("metallic", 0.0);
+    m.specular = r.unitInterval("specular", 1.0);
+    if (auto color = r.optional<std::vector<double>>("base_color")) {
+        if (color->size() != 3) r.fail(r.field("base_color"), "must hold 3 numbers");
+        for (double c : *color)
+            if (!(c >= 0.0 && c <= 1.0)) r.fail(r.field("base_color"), fmt::format("{} is outside [0, 1]", c));
+        m.baseColor = {(*color)[0], (*color)[1], (*color)[2]};
+    }
+    r.refuseUnknown();
+    return m;
+}
+
+SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object) {
+    FieldReader r(scene, "outputs", object);
+    SceneOutputs o;
+    o.exr = r.optional<bool>("exr").value_or(true);
+    o.spheres = r.optional<bool>("spheres").value_or(false);
+    const json& ktx2 = r.child("ktx2");
+    if (ktx2.is_boolean()) o.ktx2 = ktx2.get<bool>() ? Ktx2Format::rgba16f : Ktx2Format::none;
+    else if (ktx2 == "rgba16f") o.ktx2 = Ktx2Format::rgba16f;
+    else if (ktx2 == "rgba32f") o.ktx2 = Ktx2Format::rgba32f;
+    else if (!(ktx2.is_object() && ktx2.empty())) r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", ktx2.dump()));
+    r.refuseUnknown();
+    return o;
+}
+
+} // namespace
+
+FilterMethod parseFilterMethod(std::string_view name) {
+    if (name == "table") return FilterMethod::table;
+    if (name == "fis") return FilterMethod::fis;
+    if (name == "reference") return FilterMethod::reference;
+    throw ProbeError(fmt::format("unknown method '{}' (expected table, fis or reference)", name));
+}
+
+std::string_view filterMethodName(FilterMethod method) {
+    switch (method) {
+    case FilterMethod::table: return "table";
+    case FilterMethod::fis: return "fis";
+    case FilterMethod::reference: return "reference";
+    }
+    return "table";
+}
+
+Scene readScene(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw ProbeError(fmt::format("{}: cannot open scene file", path.string()));
+    json root;
+    try {
+        root = json::parse(in);
+    } catch (const json::parse_error& e) {
+        throw ProbeError(fmt::format("{}: not valid JSON ({})", path.string(), e.what()));
+    }
+    Scene scene;
+    scene.path = path;
+    FieldReader r(path, "", root);
+    const json& probes = r.child("probes");
+    const json& materials = r.child("materials");
+    if (!probes.is_array() || probes.empty()) r.fail("probes", "must be a non-empty array");
+    if (!materials.is_array()) r.fail("materials", "must be an array");
+    scene.outputs = readOutputs(path, r.child("outputs"));
+    r.refuseUnknown();
+
+    std::set<std::string> probeNames, materialNames;
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+        const std::string where = fmt::format("probes[{}]", k);
+        scene.probes.push_back(readProbe(path, where, probes[k]));
+        if (!probeNames.insert(scene.probes.back().name).second)
+            r.fail(where + ".name", fmt::format("duplicate probe name '{}'", scene.probes.back().name));
+    }
+    for (std::size_t k = 0; k < materials.size(); ++k) {
+        const std::string where = fmt::format("materials[{}]", k);
+        SceneMaterial m = readMaterial(path, where, materials[k]);
+        if (!materialNames.insert(m.name).second) r.fail(where + ".name", fmt::format("duplicate material name '{}'", m.name));
+        if (m.probe.empty()) {
+            if (scene.probes.size() != 1) r.fail(where + ".probe", "missing (the scene has several probes)");
+            m.probe = scene.probes.front().name;
+        } else if (!probeNames.count(m.probe)) {
+            r.fail(where + ".probe", fmt::format("no probe named '{}'", m.probe));
+        }
+        scene.materials.push_back(std::move(m));
+    }
+    return scene;
+}
+
+} // namespace probe

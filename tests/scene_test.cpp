@@ -1,0 +1,121 @@
+// Scenes and plans: exact passes for mirror-only, diffuse-only, mixed and empty scenes; bad scene
+// files name the file and the field.
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "probe/error.h"
+#include "probe/importance_sampling.h"
+#include "probe/plan.h"
+#include "probe/probe_io.h"
+#include "probe/pyramid.h"
+#include "probe/synthetic.h"
+
+using namespace probe;
+namespace fs = std::filesystem;
+
+namespace {
+
+class SceneTest : public ::testing::Test {
+protected:
+    fs::path dir = fs::temp_directory_path() / fmt::format("scene_test_{}_{}", ::getpid(),
+                                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    void SetUp() override {
+        fs::create_directories(dir);
+        writeExr(dir / "sky.exr", cubeToStrip(skyProbe(16)));
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    fs::path write(const std::string& json) {
+        const fs::path path = dir / "scene.json";
+        std::ofstream(path) << json;
+        return path;
+    }
+    static std::string scene(const std::string& materials) {
+        return fmt::format(R"({{"probes": [{{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "fis"}}],
+                               "materials": [{}]}})",
+                           materials);
+    }
+    Plan plan(const std::string& json) {
+        const Scene s = readScene(write(json));
+        return makePlan(s, [](const SceneProbe& p) {
+            return importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, ImportanceSamplingSettings{p.samples, 0.0, {}});
+        });
+    }
+    void expectRefused(const std::string& json, const std::string& field) {
+        try {
+            readScene(write(json));
+            FAIL() << "accepted: " << json;
+        } catch (const ProbeError& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find((dir / "scene.json").string()), std::string::npos) << message;
+            EXPECT_NE(message.find(field), std::string::npos) << message;
+        }
+    }
+};
+
+} // namespace
+
+TEST(Plan, LevelsReadForRoughness) {
+    // glTF, 7 levels: lod = 6 r.
+    EXPECT_EQ(levelsReadForRoughness(RoughnessMapping::gltf, 0.0, 7), (std::vector<int>{0}));
+    EXPECT_EQ(levelsReadForRoughness(RoughnessMapping::gltf, 0.5, 7), (std::vector<int>{3}));
+    EXPECT_EQ(levelsReadForRoughness(RoughnessMapping::gltf, 0.3, 7), (std::vector<int>{1, 2}));
+    EXPECT_EQ(levelsReadForRoughness(RoughnessMapping::gltf, 1.0, 7), (std::vector<int>{6}));
+    // Every mapping inverts its own roughness per level.
+    for (const std::string& name : roughnessMappingNames())
+        for (int m = 0; m < 7; ++m) {
+            const RoughnessMapping mapping = parseRoughnessMapping(name);
+            EXPECT_NEAR(roughnessToLevel(mapping, levelRoughness(mapping, m, 7), 7), m, 1e-9) << name;
+        }
+}
+
+TEST_F(SceneTest, MirrorOnly) {
+    const Plan p = plan(scene(R"({"name": "chrome", "roughness": 0, "metallic": 1, "base_color": [1, 1, 1]})"));
+    EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", "sky: level 0 (fis)", "dfg-table"}));
+}
+
+TEST_F(SceneTest, DiffuseOnly) {
+    const Plan p = plan(scene(R"({"name": "chalk", "roughness": 1, "metallic": 0, "specular": 0})"));
+    EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", "sky: sh-irradiance"}));
+}
+
+TEST_F(SceneTest, Mixed) {
+    // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
+    const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));
+    const int deepest = p.probes[0].pyramidLevels;
+    const ImportanceSamplingSettings fis{32, 0.0, {}};
+    EXPECT_EQ(deepest, deepestPyramidLevelRead(importanceSampleTapGenerator(16, 4, RoughnessMapping::gltf, fis), 16, {1, 2}));
+    EXPECT_GT(deepest, 0);
+    EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: pyramid 1..{}", deepest), "sky: level 0 (fis)",
+                                                    "sky: level 1 (fis)", "sky: level 2 (fis)", "sky: sh-irradiance", "dfg-table"}));
+}
+
+TEST_F(SceneTest, Empty) {
+    const Plan p = plan(scene(""));
+    EXPECT_TRUE(p.passes().empty());
+}
+
+TEST_F(SceneTest, ReferenceMethodReadsNoPyramid) {
+    const Plan p = plan(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "reference"}],
+                           "materials": [{"name": "plastic", "roughness": 0.5}]})");
+    EXPECT_EQ(p.probes[0].pyramidLevels, 0);
+}
+
+TEST_F(SceneTest, BadScenesNameTheField) {
+    expectRefused(R"({"probes": [{"name": "sky", "image": "missing.exr"}], "materials": []})", "probes[0].image");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5, "shininess": 3})"), "materials[0].shininess");
+    expectRefused(scene(R"({"name": "a", "roughness": 1.5})"), "materials[0].roughness");
+    expectRefused(scene(R"({"name": "a", "roughness": -0.1})"), "materials[0].roughness");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5}, {"name": "a", "roughness": 0.1})"), "materials[1].name");
+    expectRefused(scene(R"({"name": "a"})"), "materials[0].roughness");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5, "probe": "nope"})"), "materials[0].probe");
+    expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 12}], "materials": []})", "probes[0].face_size");
+    expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr", "mapping": "x"}], "materials": []})", "probes[0].mapping");
+    expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr"}], "materials": [], "extra": 1})", "extra");
+    expectRefused(R"({"probes": [], "materials": []})", "probes");
+    expectRefused("{not json", "not valid JSON");
+}
