@@ -7,6 +7,7 @@ namespace probefilter {
 
 void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
+void addFilterCommand(CLI::App& app);
 void addPlanCommand(CLI::App& app);
 
 } // namespace probefilter

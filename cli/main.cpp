@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     probefilter::addReferenceCommand(app);
     probefilter::addSynthCommand(app);
+    probefilter::addFilterCommand(app);
     probefilter::addPlanCommand(app);
     try {
         app.parse(argc, argv);

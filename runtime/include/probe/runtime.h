@@ -146,6 +146,15 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// A tap table compiled into this build: tables/<name>.json as probefit writes it (beside the
+// generated <name>.h and <name>.glsl), with its inputs and recorded errors.
+struct CompiledTable {
+    std::string name;
+    TapTable table;
+};
+// Every compiled-in table, in name order (empty when tables/ holds none).
+const std::vector<CompiledTable>& compiledTables();
+
 std::string_view methodName(Method method);
 // "table", "fis" or "reference"; ProbeError otherwise.
 Method parseMethod(std::string_view name);

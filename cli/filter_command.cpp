@@ -1,0 +1,200 @@
+// probefilter filter IN --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
+//   [--levels M] [--mapping NAME] [--repeat K] [--against-reference] [--device X] --out DIR
+#include <algorithm>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "probe/error.h"
+#include "probe/error_measures.h"
+#include "probe/probe_io.h"
+#include "probe/reference.h"
+#include "probe/runtime.h"
+#include "probe/table_io.h"
+#include "report.h"
+
+namespace probefilter {
+
+namespace {
+
+struct FilterOptions {
+    std::string input;
+    std::string method = "table";
+    std::string table;       // a table file (project JSON or published text) or a compiled-in table's name
+    int tableTaps = 0;       // published text layout: taps per frame
+    std::string tableForm;   // published text layout: const or quad
+    int samples = 32;
+    double fisBias = 0.0;
+    std::string pyramid = "bspline";
+    std::string weighting = "solid-angle";
+    int size = 128;
+    int levels = 0; // 0: the default for the size
+    std::string mapping = "gltf";
+    int repeat = 1;
+    bool againstReference = false;
+    std::string device;
+    bool validate = false;
+    bool repairPixels = false;
+    std::string out;
+};
+
+bool looksLikeJson(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    char c = 0;
+    while (in.get(c))
+        if (!std::isspace(static_cast<unsigned char>(c))) return c == '{';
+    return false;
+}
+
+std::string probefitCommand(const probe::gpu::FilterSettings& s) {
+    return fmt::format("probefit --size {} --levels {} --taps 8 --form quad --mapping {} --pyramid {} --weighting {} --out tables/<name>",
+                       s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(s.pyramid.kind),
+                       probe::pyramidWeightingName(s.pyramid.weighting));
+}
+
+// The table that --table names (a compiled-in table or a file), or else the compiled-in table for
+// the settings (quad with 8 taps preferred). Fit is checked by the runtime.
+probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSettings& s) {
+    const std::vector<probe::gpu::CompiledTable>& compiled = probe::gpu::compiledTables();
+    if (!o.table.empty()) {
+        for (const probe::gpu::CompiledTable& c : compiled)
+            if (c.name == o.table) return c.table;
+        const std::filesystem::path path(o.table);
+        if (!std::filesystem::exists(path))
+            throw probe::ProbeError(fmt::format("--table {}: no such file and no compiled-in table of that name", o.table));
+        if (looksLikeJson(path)) return probe::readTable(path);
+        if (o.tableTaps <= 0 || o.tableForm.empty())
+            throw probe::ProbeError(fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
+        return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping, s.pyramid);
+    }
+    const probe::gpu::CompiledTable* best = nullptr;
+    for (const probe::gpu::CompiledTable& c : compiled) {
+        const probe::TapTable& t = c.table;
+        if (t.baseSize != s.faceSize || t.levelCount != s.levelCount || t.mapping != s.mapping || !(t.pyramid == s.pyramid)) continue;
+        const bool preferred = t.taps == 8 && t.form == probe::TableForm::quadratic;
+        if (!best || preferred) best = &c;
+        if (preferred) break;
+    }
+    if (!best)
+        throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
+                                            "and pass --table tables/<name>.json (or rebuild to compile it in)",
+                                            s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping),
+                                            probe::pyramidKindName(s.pyramid.kind), probe::pyramidWeightingName(s.pyramid.weighting),
+                                            probefitCommand(s)));
+    return best->table;
+}
+
+nlohmann::json describeTable(const probe::TapTable& t) {
+    return {{"taps_per_frame", t.taps},
+            {"form", std::string(probe::tableFormName(t.form))},
+            {"base_size", t.baseSize},
+            {"level_count", t.levelCount},
+            {"mapping", std::string(probe::roughnessMappingName(t.mapping))},
+            {"solver", t.solver}};
+}
+
+void runFilter(const FilterOptions& o) {
+    probe::gpu::FilterSettings s;
+    s.method = probe::gpu::parseMethod(o.method);
+    s.mapping = probe::parseRoughnessMapping(o.mapping);
+    s.faceSize = o.size;
+    s.levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
+    probe::validateSizeAndLevels(s.faceSize, s.levelCount);
+    s.pyramid = {probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
+    s.fisSamples = o.samples;
+    s.fisBias = o.fisBias;
+    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
+    if (s.method == probe::gpu::Method::fis && o.samples < 1)
+        throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
+
+    probe::TapTable table;
+    if (s.method == probe::gpu::Method::table) {
+        table = chooseTable(o, s);
+        s.table = &table;
+    }
+    probe::StagedOutput output(o.out);
+    const probe::CubeImage source =
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+
+    probe::gpu::DeviceOptions deviceOptions;
+    deviceOptions.choice = o.device;
+    deviceOptions.validation = o.validate;
+    probe::gpu::Device device(deviceOptions);
+    probe::gpu::Filter filter(device, s);
+    const probe::CubeLevels levels = filter.run(source, o.repeat);
+    const std::vector<std::string> messages = device.validationMessages();
+    if (!messages.empty())
+        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+
+    nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
+    report["command"] = "filter";
+    report["input"] = o.input;
+    report["method"] = std::string(probe::gpu::methodName(s.method));
+    if (s.method != probe::gpu::Method::reference)
+        report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(s.pyramid.kind))},
+                             {"weighting", std::string(probe::pyramidWeightingName(s.pyramid.weighting))}};
+    if (s.method == probe::gpu::Method::fis) report["fis"] = {{"samples", s.fisSamples}, {"bias", s.fisBias}};
+    if (s.method == probe::gpu::Method::table) report["table"] = describeTable(table);
+    const probe::gpu::DeviceInfo& info = device.info();
+    report["device"] = {{"kind", "vulkan"}, {"index", info.index}, {"name", info.name}, {"driver", info.driver}, {"type", info.type},
+                        {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(info.apiVersion), VK_API_VERSION_MINOR(info.apiVersion),
+                                            VK_API_VERSION_PATCH(info.apiVersion))},
+                        {"validation", o.validate}};
+    nlohmann::json dispatches = nlohmann::json::array();
+    for (const probe::gpu::Dispatch& d : filter.dispatches())
+        dispatches.push_back({{"pass", d.pass}, {"level", d.level < 0 ? nlohmann::json("all") : nlohmann::json(d.level)}, {"workgroups", d.groups}});
+    report["dispatches"] = dispatches;
+    report["repeat"] = o.repeat;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const probe::gpu::PassTime& p : filter.timings())
+        passes.push_back({{"name", p.name}, {"gpu_ms_median", p.medianMs}, {"gpu_ms_runs", p.runsMs}});
+    report["passes"] = passes;
+
+    if (o.againstReference) {
+        const probe::CubeLevels reference = probe::referenceFilter(source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) {
+            printProgress("reference", done, total);
+        });
+        nlohmann::json errors = nlohmann::json::array();
+        for (int m = 0; m < s.levelCount; ++m) errors.push_back({{"level", m}, {"image_l1", probe::imageL1(levels[m], reference[m])}});
+        report["errors_against_reference"] = errors;
+    }
+
+    for (int m = 0; m < s.levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
+    writeJson(output.file("report.json"), report);
+    output.commit();
+
+    double total = 0.0;
+    for (const probe::gpu::PassTime& p : filter.timings())
+        if (p.name == "total") total = p.medianMs;
+    fmt::print("filter: {} on {} ({}): {} levels of {}^2, GPU {:.3f} ms (median of {}) -> {}\n", o.method, info.name, info.driver,
+               s.levelCount, s.faceSize, total, o.repeat, o.out);
+}
+
+} // namespace
+
+void addFilterCommand(CLI::App& app) {
+    auto o = std::make_shared<FilterOptions>();
+    CLI::App* cmd = app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
+    cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
+    cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
+    cmd->add_option("--table", o->table, "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
+    cmd->add_option("--table-taps", o->tableTaps, "Published text layout: taps per frame");
+    cmd->add_option("--table-form", o->tableForm, "Published text layout: const or quad");
+    cmd->add_option("--samples", o->samples, "fis: samples per output texel")->capture_default_str();
+    cmd->add_option("--fis-bias", o->fisBias, "fis: added to each sample's pyramid level (0 is the accurate setting, Filament uses 1)")->capture_default_str();
+    cmd->add_option("--pyramid", o->pyramid, "Pass 1 pyramid: bspline or box")->capture_default_str();
+    cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")->capture_default_str();
+    cmd->add_option("--size", o->size, "Output face size S_0 (a power of two)")->required();
+    cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
+    cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
+    cmd->add_option("--repeat", o->repeat, "Run the passes K times; GPU times are the median")->capture_default_str();
+    cmd->add_flag("--against-reference", o->againstReference, "Also run the CPU reference and report the image L1 error per level");
+    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
+    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
+    cmd->add_option("--out", o->out, "Output folder: level_<m>.exr and report.json")->required();
+    cmd->callback([o] { runFilter(*o); });
+}
+
+} // namespace probefilter

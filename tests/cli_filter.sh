@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# probefilter filter on lavapipe with the validation layer: the three methods write every level
+# and a report naming the device, the dispatches, GPU times and errors; a table file and the same
+# table in the published text layout give the same output; a table that does not fit, a missing
+# table and an unknown device are refused (exit 2, reason on stderr, nothing written).
+set -euo pipefail
+: "${PROBEFILTER:?}"
+fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$PROBEFILTER" synth sky --size 16 --out sky.exr >/dev/null
+
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --repeat 3 \
+    --against-reference --validate --out table >/dev/null 2>&1 || fail "table method"
+for m in 0 1 2 3; do [[ -f table/level_$m.exr ]] || fail "table: level_$m.exr missing"; done
+python3 - table/report.json <<'PY' || fail "table: report.json"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["method"] == "table" and r["device"]["name"] and r["device"]["driver"], r["device"]
+assert [p["name"] for p in r["passes"]] == ["pyramid", "table", "total"], r["passes"]
+assert all(len(p["gpu_ms_runs"]) == 3 and p["gpu_ms_median"] > 0 for p in r["passes"]), r["passes"]
+assert [d["pass"] for d in r["dispatches"]] == ["pyramid"] * 4 + ["table"], r["dispatches"]
+errors = r["errors_against_reference"]
+assert len(errors) == 4 and errors[0]["image_l1"] == 0 and all(0 < e["image_l1"] < 0.2 for e in errors[1:]), errors
+PY
+
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.txt" --table-taps 4 --table-form quad \
+    --size 16 --validate --out published >/dev/null 2>&1 || fail "published layout"
+for m in 0 1 2 3; do cmp -s table/level_$m.exr published/level_$m.exr || fail "published layout differs at level $m"; done
+
+for method in fis reference; do
+    "$PROBEFILTER" filter sky.exr --method $method --samples 64 --size 16 --validate --out $method >/dev/null 2>&1 || fail "$method"
+    [[ -f $method/level_3.exr && -f $method/report.json ]] || fail "$method: output missing"
+done
+
+refused() { # expected stderr fragment, then the arguments
+    local expect="$1"; shift
+    local rc=0
+    "$PROBEFILTER" filter sky.exr "$@" --out refused 2>err.txt >/dev/null || rc=$?
+    [[ $rc == 2 ]] || fail "$* exited $rc, expected 2"
+    grep -q -- "$expect" err.txt || fail "$*: stderr lacks '$expect': $(cat err.txt)"
+    [[ ! -e refused ]] || fail "$*: wrote output"
+}
+refused "it is for base size 16, not 32" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 32
+refused "for the gltf roughness mapping, not authors" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
+refused "fitted over the bspline solid-angle pyramid, not box" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --pyramid box
+refused "make one with \`probefit --size 16" --method table --size 16
+refused "needs --table-taps" --method table --table "$fixtures/table_16_quad4_gltf.txt" --size 16
+refused "no Vulkan device of that name" --method fis --device no-such-device --size 16
+refused "--samples 0" --method fis --samples 0 --size 16
+echo "cli_filter: ok"
