@@ -1,0 +1,97 @@
+// Impulse responses measured on the GPU: one run per source texel and channel (an impulse probe)
+// gives every output texel's weights over the source texels, hence the impulse-response L1 of
+// DESIGN.md against the reference lobe, level by level. It must equal what the CPU model says
+// (core's table and FIS impulse forms), so that what the optimizer minimizes is what the shader does.
+#include <fmt/format.h>
+
+#include "gpu_test_support.h"
+#include "probe/error_measures.h"
+#include "probe/importance_sampling.h"
+#include "probe/reference.h"
+#include "probe/table_filter.h"
+#include "probe/table_io.h"
+
+using namespace probe;
+using probetest::GpuTest;
+
+namespace {
+
+constexpr int kSize = 16;
+
+// weights[m][outputTexel][sourceTexel] from GPU runs on impulse probes, three impulses per run
+// (one per channel: the filters are linear and act on channels independently).
+std::vector<std::vector<std::vector<double>>> gpuImpulseResponses(gpu::Filter& filter, int levels) {
+    const std::size_t sources = texelCount(kSize);
+    std::vector<std::vector<std::vector<double>>> weights(static_cast<std::size_t>(levels));
+    for (int m = 0; m < levels; ++m) weights[m].assign(texelCount(kSize >> m), std::vector<double>(sources, 0.0));
+    for (std::size_t first = 0; first < sources; first += 3) {
+        CubeImage probe(kSize);
+        for (std::size_t c = 0; c < 3 && first + c < sources; ++c) probe.rgb[3 * (first + c) + c] = 1.0f;
+        const CubeLevels out = filter.run(probe);
+        for (int m = 0; m < levels; ++m)
+            for (std::size_t t = 0; t < texelCount(kSize >> m); ++t)
+                for (std::size_t c = 0; c < 3 && first + c < sources; ++c) weights[m][t][first + c] = out[m].rgb[3 * t + c];
+    }
+    return weights;
+}
+
+using ModelResponse = std::function<std::vector<double>(int level, const Texel& texel)>;
+
+// Per filtered level, the mean impulse L1 over every output texel, measured on the GPU and by the
+// CPU model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
+void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const ModelResponse& model,
+                            const std::string& what) {
+    const auto gpuWeights = gpuImpulseResponses(filter, levels);
+    for (int m = 0; m < levels; ++m) {
+        const double alpha = levelAlpha(mapping, m, levels);
+        if (alpha <= 0.0) continue;
+        const int size = kSize >> m;
+        const CubeGeometry geometry(size);
+        ImpulseErrorAccumulator gpuError, cpuError;
+        for (std::size_t t = 0; t < texelCount(size); ++t) {
+            const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
+            const std::vector<double> reference = referenceKernel(geometry.directions[t], kSize, alpha);
+            gpuError.add(texel, geometry.solidAngles[t], impulseL1(gpuWeights[m][t], reference));
+            cpuError.add(texel, geometry.solidAngles[t], impulseL1(model(m, texel), reference));
+        }
+        const ImpulseError g = gpuError.result(), c = cpuError.result();
+        ::testing::Test::RecordProperty(fmt::format("{} level {} L1 gpu/cpu", what, m), fmt::format("{:.5f}/{:.5f}", g.mean, c.mean));
+        EXPECT_NEAR(g.mean, c.mean, 1e-3) << what << ", level " << m;
+        EXPECT_NEAR(g.max, c.max, 1e-3) << what << ", level " << m << " (worst texel)";
+    }
+}
+
+} // namespace
+
+TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
+    const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
+    gpu::FilterSettings s;
+    s.method = gpu::Method::table;
+    s.faceSize = kSize;
+    s.levelCount = table.levelCount;
+    s.mapping = table.mapping;
+    s.pyramid = table.pyramid;
+    s.table = &table;
+    gpu::Filter filter(probetest::testDevice(), s);
+    const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, table.pyramid);
+    expectImpulseL1Matches(filter, table.levelCount, table.mapping,
+                           [&](int level, const Texel& texel) { return tableImpulseResponse(table, operators, level, texel); },
+                           "table fixture");
+}
+
+TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
+    const int levels = defaultLevelCount(kSize);
+    gpu::FilterSettings s;
+    s.method = gpu::Method::fis;
+    s.faceSize = kSize;
+    s.levelCount = levels;
+    s.fisSamples = 32;
+    gpu::Filter filter(probetest::testDevice(), s);
+    const ImportanceSamplingSettings cpu{32, 0.0, s.pyramid};
+    const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.pyramid);
+    expectImpulseL1Matches(filter, levels, s.mapping,
+                           [&](int level, const Texel& texel) {
+                               return importanceSampleImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel);
+                           },
+                           "fis 32");
+}
