@@ -12,6 +12,7 @@
 #include "probe/reference.h"
 #include "probe/runtime.h"
 #include "probe/table_io.h"
+#include "probe_outputs.h"
 #include "report.h"
 
 namespace probefilter {
@@ -36,6 +37,7 @@ struct FilterOptions {
     std::string device;
     bool validate = false;
     bool repairPixels = false;
+    std::string ktx2 = "none";
     std::string out;
 };
 
@@ -104,6 +106,7 @@ void runFilter(const FilterOptions& o) {
     s.pyramid = {probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     s.fisSamples = o.samples;
     s.fisBias = o.fisBias;
+    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
     if (s.method == probe::gpu::Method::fis && o.samples < 1)
         throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
@@ -160,7 +163,7 @@ void runFilter(const FilterOptions& o) {
         report["errors_against_reference"] = errors;
     }
 
-    for (int m = 0; m < s.levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
+    writeFilteredProbe(output, levels, s.mapping, ktx2, report);
     writeJson(output.file("report.json"), report);
     output.commit();
 
@@ -193,7 +196,8 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
-    cmd->add_option("--out", o->out, "Output folder: level_<m>.exr and report.json")->required();
+    cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
+    cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
     cmd->callback([o] { runFilter(*o); });
 }
 

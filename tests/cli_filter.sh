@@ -32,6 +32,13 @@ PY
     --size 16 --validate --out published >/dev/null 2>&1 || fail "published layout"
 for m in 0 1 2 3; do cmp -s table/level_$m.exr published/level_$m.exr || fail "published layout differs at level $m"; done
 
+# Without --table, the compiled-in table for the settings (tables/*.json), quad 8 taps preferred.
+if [[ -f "$fixtures/../../tables/gltf16_quad8.json" ]]; then
+    "$PROBEFILTER" filter sky.exr --method table --size 16 --validate --out compiled >/dev/null 2>&1 || fail "compiled-in table"
+    python3 -c "import json,sys; t=json.load(open('compiled/report.json'))['table']; sys.exit(not (t['taps_per_frame'] == 8 and t['form'] == 'quad'))" \
+        || fail "compiled-in table: not the quad 8 table"
+fi
+
 for method in fis reference; do
     "$PROBEFILTER" filter sky.exr --method $method --samples 64 --size 16 --validate --out $method >/dev/null 2>&1 || fail "$method"
     [[ -f $method/level_3.exr && -f $method/report.json ]] || fail "$method: output missing"
@@ -48,7 +55,7 @@ refused() { # expected stderr fragment, then the arguments
 refused "it is for base size 16, not 32" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 32
 refused "for the gltf roughness mapping, not authors" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
 refused "fitted over the bspline solid-angle pyramid, not box" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --pyramid box
-refused "make one with \`probefit --size 16" --method table --size 16
+refused "make one with \`probefit --size 16 --levels 3" --method table --size 16 --levels 3
 refused "needs --table-taps" --method table --table "$fixtures/table_16_quad4_gltf.txt" --size 16
 refused "no Vulkan device of that name" --method fis --device no-such-device --size 16
 refused "--samples 0" --method fis --samples 0 --size 16
