@@ -128,7 +128,11 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMap
 }
 
 std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha) {
-    const CubeGeometry geometry(sourceSize);
+    return referenceKernel(R, CubeGeometry(sourceSize), alpha);
+}
+
+std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& geometry, double alpha) {
+    const int sourceSize = geometry.size;
     std::vector<double> weights(texelCount(sourceSize), 0.0);
     const glm::dvec3 r = glm::normalize(R);
     if (alpha <= 0.0) {

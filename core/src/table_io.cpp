@@ -80,12 +80,19 @@ struct Reader {
     }
 };
 
+// A float literal that round-trips float32 and is a float in both C++ and GLSL ("1.0f", "2.5e-05f").
+std::string floatLiteral(float value) {
+    std::string text = fmt::format("{:.9g}", value);
+    if (text.find_first_of(".e") == std::string::npos) text += ".0";
+    return text + "f";
+}
+
 std::string floatList(const std::vector<float>& values, int perLine, std::string_view open, std::string_view close) {
     std::string out;
     for (std::size_t k = 0; k < values.size(); k += 4) {
         if (k % (4 * static_cast<std::size_t>(perLine)) == 0) out += "\n   ";
-        out += fmt::format(" {}{:.9g}, {:.9g}, {:.9g}, {:.9g}{},", open, values[k], values[k + 1], values[k + 2],
-                           values[k + 3], close);
+        out += fmt::format(" {}{}, {}, {}, {}{},", open, floatLiteral(values[k]), floatLiteral(values[k + 1]),
+                           floatLiteral(values[k + 2]), floatLiteral(values[k + 3]), close);
     }
     if (!out.empty()) out.pop_back();
     return out;
@@ -131,6 +138,7 @@ std::string tableToJson(const TapTable& table) {
                     {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)},
                                  {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
                     {"solver", table.solver},
+                    {"stratifiedBudget", table.stratifiedBudget},
                     {"fitSeconds", table.fitSeconds},
                     {"levels", levels}};
     return j.dump(1) + "\n";
@@ -161,6 +169,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
         throw ProbeError(fmt::format("{}: {}", path.string(), message));
     }
     table.solver = r.get<std::string>(j, "solver");
+    table.stratifiedBudget = r.get<int>(j, "stratifiedBudget");
     table.fitSeconds = r.get<double>(j, "fitSeconds");
     const json& levels = r.field(j, "levels");
     if (!levels.is_array() || levels.size() != static_cast<std::size_t>(table.levelCount))
@@ -246,7 +255,8 @@ std::vector<std::string> tableSummary(const TapTable& table) {
                                 roughnessMappingName(table.mapping)));
     lines.push_back(fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind),
                                 pyramidWeightingName(table.pyramid.weighting)));
-    lines.push_back(fmt::format("solver: {}", table.solver));
+    lines.push_back(fmt::format("solver: {}; stratified texels: budget {} per level", table.solver,
+                                table.stratifiedBudget));
     lines.push_back(fmt::format("fit time {:.1f} s", table.fitSeconds));
     lines.push_back("impulse-response L1 per level: stratified mean / max, all texels mean / max (worst texel "
                     "face,i,j), min weight sum");

@@ -28,6 +28,8 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMap
 // source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on
 // the texel that contains R.
 std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha);
+// The same with the source geometry computed once by the caller (for many output texels).
+std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& source, double alpha);
 
 // The exact cosine convolution E(n) = sum_t L(t) max(n.l_t, 0) dOmega_t / pi at every texel centre
 // of a level of `outSize` (so a constant radiance L gives E = L).

@@ -37,6 +37,7 @@ struct TapTable {
     RoughnessMapping mapping = RoughnessMapping::gltf;
     PyramidSettings pyramid;
     std::string solver;   // the solver settings, free text
+    int stratifiedBudget = 512; // texel budget per level of the stratified set (stratified_texels.h)
     double fitSeconds = 0.0;
     std::vector<TableLevel> levels; // levelCount entries
 

@@ -1,0 +1,29 @@
+// The analyzer beside the optimizer: a table's impulse-response L1 per level over all output
+// texels or the stratified set, and its smallest weight sum.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "impulse_model.h"
+
+namespace probefit {
+
+struct LevelEvaluation {
+    probe::ImpulseError error; // solid-angle (stratum) weighted mean, worst texel
+    double minWeightSum = 0.0;
+};
+
+enum class TexelSet { all, stratified };
+
+// The texels a level is measured on (the stratified set with the table's budget).
+std::vector<probe::WeightedTexel> levelTexels(const probe::TapTable& table, int level, TexelSet set);
+
+// One level (alpha = 0 levels are copies, error 0), all cores; kernels are computed on the fly.
+LevelEvaluation evaluateLevel(const probe::TapTable& table, int level, TexelSet set);
+
+// The same from prepared texels and coefficient blocks (what the fit uses).
+LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks,
+                                 const std::vector<OutputTexel>& texels);
+
+} // namespace probefit

@@ -1,0 +1,74 @@
+// The impulse-response L1 of one output texel under a table's taps, with its gradient: exactly the
+// runtime's model from probecore (frames, taps, trilinear footprints, the transposed pyramid),
+// against the reference lobe. The gradient uses the adjoint: d e / d(weight on pyramid texel p) is
+// the pyramid (pulled up through the same operators) of sign(w - k) over base texels.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "probe/frame.h"
+#include "probe/pyramid.h"
+#include "probe/stratified_texels.h"
+#include "probe/tap_table.h"
+
+namespace probefit {
+
+// An output texel with everything that does not depend on the coefficients.
+struct OutputTexel {
+    probe::Texel texel;
+    double weight = 0.0; // weight of its error in the level's mean
+    glm::dvec3 cubeVector{0.0};
+    std::array<probe::FrameSetup, probe::kFrameCount> frames;
+    std::vector<float> kernel; // reference k(R, t) over base texels, sum 1
+};
+
+// One texel of output level m (alpha > 0), its kernel included; `geometry` is that of the base.
+OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level,
+                            double alpha);
+
+// All of them at once, all cores (for the fit, which revisits them every iteration).
+std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level,
+                                       double alpha);
+
+class ImpulseModel {
+public:
+    ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form);
+
+    int taps() const { return taps_; }
+    int blockSize() const { return probe::kTapParameterCount * probe::coefficientCount(form_); }
+    int blockCount() const { return probe::kFrameCount * taps_; }
+
+    // Per-thread scratch.
+    struct Workspace {
+        std::vector<std::vector<double>> weights, adjoint; // per pyramid level
+    };
+    Workspace workspace() const;
+
+    struct Result {
+        double error = 0.0;     // e(R) in [0, 2]
+        double weightSum = 0.0; // sum of tap weights (frame weights included), before normalization
+    };
+
+    // e(R) with coefficients in blocks[frame * taps + tap] (kTapParameterCount * coefficientCount
+    // values each). With `gradient` (blockCount * blockSize values, overwritten) also d e / d coefficient
+    // and, with `weightSumGradient` (same size), d weightSum / d coefficient.
+    Result evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient = nullptr,
+                    double* weightSumGradient = nullptr) const;
+
+private:
+    template <int K>
+    Result evaluateForm(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
+                        double* weightSumGradient) const;
+
+    int baseSize_;
+    int pyramidLevels_;
+    int taps_;
+    probe::TableForm form_;
+    std::vector<probe::DownsampleOperator> operators_;
+};
+
+// Block pointers into one level's coefficients of a table.
+std::vector<const double*> levelBlocks(const probe::TapTable& table, int level);
+
+} // namespace probefit

@@ -1,0 +1,82 @@
+#include "initial_layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace probefit {
+
+using namespace probe;
+
+double lobeAngle(double alpha) { return std::min(2.0 * std::atan(alpha), 0.9); }
+
+namespace {
+
+void setConstant(TapTable& table, int level, int frame, int tap, int parameter, double value) {
+    double* c = &table.levels[level].coefficients[table.offset(frame, tap, parameter)];
+    c[0] = value;
+    for (int k = 1; k < coefficientCount(table.form); ++k) c[k] = 0.0;
+}
+
+} // namespace
+
+void lobeLayout(TapTable& table, int level, double alpha) {
+    const double angle = lobeAngle(alpha);
+    const double texelAngle = 2.0 / table.baseSize; // at a face centre; the model adds the cube's distortion
+    const int ring = table.taps - 1;
+    const int inner = table.taps < 8 ? 0 : ring / 2, outer = ring - inner;
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < table.taps; ++t) {
+            double radius = 0.0, phi = 0.0, spacing = 0.7 * angle, weight = 1.0;
+            if (t > 0 && t <= inner) {
+                radius = 0.5 * angle;
+                phi = 2.0 * std::numbers::pi * (t - 1) / inner;
+                spacing = 2.0 * std::numbers::pi * std::sin(radius) / inner;
+            } else if (t > inner) {
+                radius = (inner > 0 ? 1.1 : 0.8) * angle;
+                phi = 2.0 * std::numbers::pi * (t - inner - 0.5) / outer;
+                spacing = 2.0 * std::numbers::pi * std::sin(radius) / outer;
+                weight = inner > 0 ? 0.6 : 1.0;
+            }
+            setConstant(table, level, frame, t, tapDirX, std::tan(radius) * std::cos(phi));
+            setConstant(table, level, frame, t, tapDirY, std::tan(radius) * std::sin(phi));
+            setConstant(table, level, frame, t, tapDirZ, 1.0);
+            setConstant(table, level, frame, t, tapLevel, std::log2(std::max(spacing, 1e-6) / texelAngle));
+            setConstant(table, level, frame, t, tapWeight, weight);
+        }
+}
+
+void warmStartFromLevel(TapTable& table, int level, int from) {
+    const double a = lobeAngle(tableLevelAlpha(table, level)), b = lobeAngle(tableLevelAlpha(table, from));
+    const double widen = std::tan(a) / std::tan(b);
+    const int k = coefficientCount(table.form);
+    table.levels[level].coefficients = table.levels[from].coefficients;
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < table.taps; ++t) {
+            double* c = &table.levels[level].coefficients[table.offset(frame, t)];
+            for (int q = 0; q < k; ++q) {
+                c[tapDirX * k + q] *= widen;
+                c[tapDirY * k + q] *= widen;
+            }
+            c[tapLevel * k] += std::log2(a / b);
+        }
+}
+
+void startFromTable(TapTable& table, int level, const TapTable& init) {
+    const int k = coefficientCount(table.form), kInit = coefficientCount(init.form);
+    const bool split = init.taps * 2 == table.taps;
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < table.taps; ++t) {
+            const int source = split ? t % init.taps : t;
+            const double* from = &init.levels[level].coefficients[init.offset(frame, source)];
+            double* to = &table.levels[level].coefficients[table.offset(frame, t)];
+            for (int p = 0; p < kTapParameterCount; ++p)
+                for (int q = 0; q < k; ++q) to[p * k + q] = q < kInit ? from[p * kInit + q] : 0.0;
+            if (!split) continue;
+            for (int q = 0; q < k; ++q) to[tapWeight * k + q] *= 0.5;
+            // Second copies move apart slightly so the two halves can separate.
+            if (t >= init.taps) to[tapDirX * k] += 1e-3 * (1 + source % 3);
+        }
+}
+
+} // namespace probefit

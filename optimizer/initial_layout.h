@@ -1,0 +1,25 @@
+// Where the fit starts: a lobe-shaped layout, the neighbouring level's solution, or another table.
+#pragma once
+
+#include "probe/tap_table.h"
+
+namespace probefit {
+
+// The angle (radians) the taps of a lobe of GGX alpha are spread over: 2 atan(alpha), the median
+// angle of the reflected direction, capped at 0.9.
+double lobeAngle(double alpha);
+
+// Every frame gets one tap on the lobe axis and the others on one ring (N < 8) or two rings, with
+// levels whose texels match the spacing of the taps; quadratic terms 0.
+void lobeLayout(probe::TapTable& table, int level, double alpha);
+
+// Level `level` from the already fitted level `from`: directions widened and levels raised by the
+// ratio of the two lobes.
+void warmStartFromLevel(probe::TapTable& table, int level, int from);
+
+// Level `level` from the same level of `init` (same base size; N or N/2 taps; either form). With
+// N/2 taps each tap is split into two with half the weight, slightly apart, so the start filters
+// exactly as `init` does (up to the split) and the fit can only improve on it.
+void startFromTable(probe::TapTable& table, int level, const probe::TapTable& init);
+
+} // namespace probefit

@@ -1,0 +1,157 @@
+// probefit: fits tap tables (Manson & Sloan) for a base face size, level count and tap count, and
+// evaluates tables. Bad input: one line naming the option or file, exit code 2, nothing written.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "evaluate.h"
+#include "fit.h"
+#include "probe/error.h"
+#include "probe/table_io.h"
+#include "table_outputs.h"
+
+namespace {
+
+using namespace probe;
+using probefit::TexelSet;
+
+template <typename Parse>
+auto parseOption(std::string_view option, const std::string& value, Parse parse) {
+    try {
+        return parse(value);
+    } catch (const ProbeError& e) {
+        throw ProbeError(fmt::format("{}: {}", option, e.what()));
+    }
+}
+
+int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping,
+           const std::string& pyramid, const std::string& weighting, const std::string& init, const std::string& out) {
+    settings.form = parseOption("--form", form, parseTableForm);
+    settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
+    settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind),
+                        parseOption("--weighting", weighting, parsePyramidWeighting)};
+    if (log2Exact(settings.baseSize) < 1)
+        throw ProbeError(fmt::format("--size: face size {} is not a power of two >= 2", settings.baseSize));
+    if (settings.levelCount == 0) settings.levelCount = defaultLevelCount(settings.baseSize);
+    if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
+        throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount,
+                                     settings.baseSize, maxLevelCount(settings.baseSize)));
+    if (settings.taps < 4 || settings.taps % 4 != 0)
+        throw ProbeError(fmt::format("--taps: {} is not a positive multiple of 4", settings.taps));
+    if (settings.stratifiedBudget < 24)
+        throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
+    if (!init.empty()) {
+        settings.init = readTable(init);
+        const TapTable& t = *settings.init;
+        if (t.baseSize != settings.baseSize || t.levelCount != settings.levelCount ||
+            (t.taps != settings.taps && 2 * t.taps != settings.taps))
+            throw ProbeError(fmt::format("--init {}: table is for size {}, {} levels, {} taps; this fit is size {}, {} "
+                                         "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
+                                         init, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount,
+                                         settings.taps));
+    }
+    probefit::checkWritable(out);
+
+    fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level\n",
+               settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting,
+               settings.stratifiedBudget);
+    const TapTable table = probefit::fitTable(settings, [](const probefit::FitProgress& p) {
+        if (p.stage == "iteration")
+            fmt::print("  level {} iteration {:3d}  L1 {:.5f}  {:7.1f} s\n", p.level, p.iteration, p.l1, p.seconds);
+        else
+            fmt::print("level {} {}: L1 {:.5f}  {:7.1f} s\n", p.level, p.stage, p.l1, p.seconds);
+        std::fflush(stdout);
+    });
+    probefit::writeTableOutputs(out, table);
+    for (const std::string& line : tableSummary(table)) fmt::print("{}\n", line);
+    fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", out);
+    return 0;
+}
+
+// Prints the L1 per level; with a tolerance, exits 1 where it differs from the recorded value.
+int runEval(const std::string& path, const std::string& texels, double tolerance) {
+    const TapTable table = readTable(path);
+    if (texels != "all" && texels != "stratified")
+        throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
+    const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
+    fmt::print("{}: impulse-response L1 over {} texels\n", path, texels);
+    bool mismatch = false;
+    for (int m = 0; m < table.levelCount; ++m) {
+        if (tableLevelAlpha(table, m) <= 0.0) {
+            fmt::print("level {} copy of the source\n", m);
+            continue;
+        }
+        const probefit::LevelEvaluation e = probefit::evaluateLevel(table, m, set);
+        const ImpulseError& recorded = set == TexelSet::all ? table.levels[m].all : table.levels[m].stratified;
+        std::string comparison = "not recorded";
+        if (recorded.mean >= 0.0) {
+            const double difference = std::max(std::abs(e.error.mean - recorded.mean), std::abs(e.error.max - recorded.max));
+            comparison = fmt::format("recorded {:.6f} / {:.6f}, difference {:.2e}", recorded.mean, recorded.max, difference);
+            if (tolerance >= 0.0 && difference > tolerance) mismatch = true;
+        }
+        fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m,
+                   e.error.mean, e.error.max, e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum,
+                   comparison);
+    }
+    if (mismatch) fmt::print(stderr, "probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance);
+    return mismatch ? 1 : 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
+    app.require_subcommand(0, 1);
+    probefit::FitSettings settings;
+    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", init, out;
+    app.add_option("--size", settings.baseSize, "base face size S_0 (power of two)");
+    app.add_option("--levels", settings.levelCount, "output levels M (default max(1, log2 S_0))");
+    app.add_option("--taps", settings.taps, "taps per frame N (multiple of 4)");
+    app.add_option("--form", form, "const or quad");
+    app.add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
+    app.add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
+    app.add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
+    app.add_option("--init", init, "table file to start from (same size and levels, N or N/2 taps)");
+    app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
+    app.add_option("--iterations", settings.maxIterations, "solver iterations per level")->capture_default_str();
+    app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
+    app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
+
+    CLI::App* eval = app.add_subcommand("eval", "impulse-response L1 of a table per level");
+    std::string table, texels = "all";
+    double tolerance = -1.0;
+    eval->add_option("table", table, "table file")->required();
+    eval->add_option("--texels", texels, "all or stratified")->capture_default_str();
+    eval->add_option("--check", tolerance, "exit 1 where the L1 differs from the recorded one by more than this");
+
+    CLI::App* exportTable = app.add_subcommand("export", "rewrite PREFIX.json, PREFIX.h, PREFIX.glsl from a table file");
+    std::string exportSource, exportOut;
+    exportTable->add_option("table", exportSource, "table file")->required();
+    exportTable->add_option("--out", exportOut, "output prefix")->required();
+
+    try {
+        app.parse(argc, argv);
+        if (eval->parsed()) return runEval(table, texels, tolerance);
+        if (exportTable->parsed()) {
+            const TapTable t = readTable(exportSource);
+            probefit::checkWritable(exportOut);
+            probefit::writeTableOutputs(exportOut, t);
+            return 0;
+        }
+        for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.baseSize == 0},
+                                            {"--taps", settings.taps == 0}, {"--form", form.empty()}, {"--out", out.empty()}})
+            if (missing) throw ProbeError(fmt::format("{} is required", name));
+        return runFit(settings, form, mapping, pyramid, weighting, init, out);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        fmt::print(stderr, "probefit: {}\n", e.what());
+        return 2;
+    } catch (const ProbeError& e) {
+        fmt::print(stderr, "probefit: {}\n", e.what());
+        return 2;
+    }
+}

@@ -1,0 +1,55 @@
+// Every committed table under tables/: the table file parses, its name says what it records
+// (mapping, size, form, taps), and the generated header and GLSL include are exactly what the table
+// file generates (so they carry the same sizes, levels, mapping, pyramid and coefficients). The
+// headers also compile: committed_table_headers.cpp includes them all.
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "probe/table_io.h"
+#include "table_outputs.h"
+
+namespace {
+
+using namespace probe;
+
+std::string readFile(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
+    int count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(PROBE_TABLES_DIR)) {
+        if (entry.path().extension() != ".json") continue;
+        ++count;
+        const std::filesystem::path prefix = entry.path().parent_path() / entry.path().stem();
+        SCOPED_TRACE(prefix.string());
+        const TapTable table = readTable(entry.path());
+        std::smatch m;
+        const std::string stem = entry.path().stem().string();
+        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors)([0-9]+)_(const|quad)([0-9]+)")));
+        EXPECT_EQ(roughnessMappingName(table.mapping), m[1].str());
+        EXPECT_EQ(table.baseSize, std::stoi(m[2].str()));
+        EXPECT_EQ(tableFormName(table.form), m[3].str());
+        EXPECT_EQ(table.taps, std::stoi(m[4].str()));
+        EXPECT_EQ(table.levelCount, table.mapping == RoughnessMapping::authors ? 7 : defaultLevelCount(table.baseSize));
+        EXPECT_EQ(table.pyramid, (PyramidSettings{PyramidKind::bspline, PyramidWeighting::solidAngle}));
+        for (int level = 0; level < table.levelCount; ++level)
+            if (tableLevelAlpha(table, level) > 0.0) {
+                EXPECT_GE(table.levels[level].stratified.mean, 0.0) << "level " << level << " has no recorded L1";
+                EXPECT_GT(table.levels[level].minWeightSum, 0.0) << "level " << level;
+            }
+        const std::string name = probefit::tableIdentifier(prefix);
+        EXPECT_EQ(readFile(prefix.string() + ".h"), tableCppHeader(table, name));
+        EXPECT_EQ(readFile(prefix.string() + ".glsl"), tableGlslInclude(table, name));
+    }
+    EXPECT_GT(count, 0);
+}
+
+} // namespace
