@@ -9,5 +9,6 @@ void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);
 void addPlanCommand(CLI::App& app);
+void addSweepCommand(CLI::App& app);
 
 } // namespace probefilter

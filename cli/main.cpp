@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     probefilter::addSynthCommand(app);
     probefilter::addFilterCommand(app);
     probefilter::addPlanCommand(app);
+    probefilter::addSweepCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

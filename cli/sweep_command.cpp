@@ -1,0 +1,177 @@
+// probefilter sweep: what accuracy costs in time. One run on one device: for every probe and
+// every method (each compiled-in table of the size, FIS over samples x bias x pyramid), the image
+// L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time
+// (median of --repeat runs). Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it.
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "commands.h"
+#include "probe/error.h"
+#include "probe/impulse_error.h"
+#include "probe/importance_sampling.h"
+#include "probe/probe_io.h"
+#include "probe/reference.h"
+#include "probe/runtime.h"
+#include "probe/synthetic.h"
+#include "probe/table_filter.h"
+#include "report.h"
+#include "sweep_summary.h"
+
+namespace probefilter {
+
+namespace {
+
+struct SweepOptions {
+    int size = 128;
+    std::vector<std::string> synthetic{"impulse-centre", "impulse-edge", "impulse-corner", "sunsky", "room", "checker"};
+    std::string hdriDir;
+    std::vector<int> samples{8, 16, 32, 64, 128, 256, 1024};
+    std::vector<double> biases{0.0, 0.5, 1.0};
+    std::vector<std::string> pyramids{"bspline", "box"};
+    int repeat = 5;
+    int texelBudget = 384;
+    std::string device;
+    std::string out;
+};
+
+struct NamedProbe {
+    std::string name;
+    probe::CubeImage cube;
+};
+
+std::vector<NamedProbe> sweepProbes(const SweepOptions& o) {
+    std::vector<NamedProbe> probes;
+    const int s = o.size, mid = s / 2;
+    for (const std::string& name : o.synthetic) {
+        if (name == "impulse-centre") probes.push_back({name, probe::impulseProbe(s, {4, mid, mid})});
+        else if (name == "impulse-edge") probes.push_back({name, probe::impulseProbe(s, {4, s - 1, mid})});
+        else if (name == "impulse-corner") probes.push_back({name, probe::impulseProbe(s, {4, s - 1, s - 1})});
+        else probes.push_back({name, probe::syntheticProbe(name, s)});
+    }
+    if (!o.hdriDir.empty() && std::filesystem::is_directory(o.hdriDir)) {
+        std::vector<std::filesystem::path> files;
+        for (const auto& entry : std::filesystem::directory_iterator(o.hdriDir))
+            if (entry.path().extension() == ".exr") files.push_back(entry.path());
+        std::sort(files.begin(), files.end());
+        for (const auto& file : files) {
+            probe::Image image = probe::readImage(file);
+            const probe::ProbeLayout layout = probe::detectLayout(image, file);
+            probe::checkPixels(image, file, probe::BadPixelPolicy::repair);
+            probes.push_back({file.stem().stem().string(), probe::imageToCube(image, layout, s)});
+        }
+    }
+    return probes;
+}
+
+struct Method {
+    SweepMethod description;
+    probe::gpu::FilterSettings settings;
+    probe::TapGenerator taps;
+};
+
+std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
+    std::vector<Method> methods;
+    for (const probe::gpu::CompiledTable& t : probe::gpu::compiledTables()) {
+        if (t.table.baseSize != o.size || t.table.levelCount != levelCount || t.table.mapping != probe::RoughnessMapping::gltf) continue;
+        Method m;
+        m.description = {t.name, "table", t.table.taps, 0.0, std::string(probe::pyramidKindName(t.table.pyramid.kind)),
+                         std::string(probe::tableFormName(t.table.form))};
+        m.settings.method = probe::gpu::Method::table;
+        m.settings.pyramid = t.table.pyramid;
+        m.settings.table = &t.table;
+        m.taps = probe::tableTapGenerator(t.table);
+        methods.push_back(std::move(m));
+    }
+    for (const std::string& pyramid : o.pyramids)
+        for (double bias : o.biases)
+            for (int samples : o.samples) {
+                Method m;
+                probe::ImportanceSamplingSettings fis;
+                fis.samples = samples;
+                fis.bias = bias;
+                fis.pyramid.kind = probe::parsePyramidKind(pyramid);
+                m.description = {fmt::format("fis{}-bias{}-{}", samples, bias, pyramid), "fis", samples, bias, pyramid, ""};
+                m.settings.method = probe::gpu::Method::fis;
+                m.settings.pyramid = fis.pyramid;
+                m.settings.fisSamples = samples;
+                m.settings.fisBias = bias;
+                m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                methods.push_back(std::move(m));
+            }
+    return methods;
+}
+
+void runSweep(const SweepOptions& o) {
+    const int levelCount = probe::defaultLevelCount(o.size);
+    probe::validateSizeAndLevels(o.size, levelCount);
+    probe::StagedOutput output(o.out);
+    probe::gpu::DeviceOptions deviceOptions;
+    deviceOptions.choice = o.device;
+    const probe::gpu::Device device(deviceOptions);
+    const std::vector<NamedProbe> probes = sweepProbes(o);
+    std::vector<Method> methods = sweepMethods(o, levelCount);
+    fmt::print(stderr, "sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size, levelCount,
+               device.info().name);
+
+    std::vector<probe::CubeLevels> references;
+    for (std::size_t p = 0; p < probes.size(); ++p) {
+        references.push_back(probe::referenceFilter(probes[p].cube, levelCount, probe::RoughnessMapping::gltf));
+        printProgress("reference", p + 1, probes.size());
+    }
+
+    std::vector<SweepRow> rows;
+    std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>> operators;
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+        Method& method = methods[k];
+        method.settings.faceSize = o.size;
+        method.settings.levelCount = levelCount;
+        probe::gpu::Filter filter(device, method.settings);
+        auto& ops = operators[method.settings.pyramid.kind];
+        if (ops.empty()) ops = probe::pyramidOperators(o.size, method.settings.pyramid);
+        std::vector<probe::ImpulseError> impulse;
+        for (int m = 0; m < levelCount; ++m)
+            impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m,
+                                                  probe::stratifiedTexels(o.size >> m, o.texelBudget)));
+        for (std::size_t p = 0; p < probes.size(); ++p) {
+            const probe::CubeLevels out = filter.run(probes[p].cube, o.repeat);
+            double totalMs = 0.0;
+            for (const probe::gpu::PassTime& t : filter.timings())
+                if (t.name == "total") totalMs = t.medianMs;
+            for (int m = 0; m < levelCount; ++m)
+                rows.push_back({method.description, probes[p].name, m, probe::imageL1(out[m], references[p][m]), impulse[m].mean,
+                                impulse[m].max, totalMs});
+        }
+        printProgress("methods", k + 1, methods.size());
+    }
+
+    writeSweepCsv(output.file("sweep.csv"), rows);
+    const SweepSummary summary = summarizeSweep(rows);
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows, device.info().name + " (" + device.info().driver + ")", o.size, levelCount);
+    writeJson(output.file("report.json"), sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount));
+    output.commit();
+    fmt::print("{}", formatSummary(summary));
+}
+
+} // namespace
+
+void addSweepCommand(CLI::App& app) {
+    auto o = std::make_shared<SweepOptions>();
+    CLI::App* cmd = app.add_subcommand("sweep", "Error against time for every table and FIS setting on a probe set (one device, one run)");
+    cmd->add_option("--size", o->size, "Face size S_0");
+    cmd->add_option("--synthetic", o->synthetic, "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
+    cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");
+    cmd->add_option("--samples", o->samples, "FIS sample counts");
+    cmd->add_option("--bias", o->biases, "FIS level biases");
+    cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
+    cmd->add_option("--repeat", o->repeat, "Timed runs per probe and method (median)");
+    cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
+    cmd->add_option("--device", o->device, "Vulkan device: index or name substring");
+    cmd->add_option("--out", o->out, "Output folder")->required();
+    cmd->callback([o] { runSweep(*o); });
+}
+
+} // namespace probefilter

@@ -1,0 +1,198 @@
+#include "sweep_summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+
+namespace probefilter {
+
+namespace {
+
+bool isImpulse(const std::string& probe) { return probe.rfind("impulse", 0) == 0; }
+
+std::string fisSetting(const SweepMethod& m) { return fmt::format("bias {}, {}", m.bias, m.pyramid); }
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses) {
+    struct Sums {
+        SweepMethod method;
+        double image = 0.0, impulse = 0.0;
+        int count = 0;
+        std::map<std::string, double> times;
+    };
+    std::map<std::string, Sums> byMethod;
+    std::vector<std::string> order;
+    for (const SweepRow& r : rows) {
+        if (isImpulse(r.probe) != impulses) continue;
+        if (!byMethod.count(r.method.name)) order.push_back(r.method.name);
+        Sums& s = byMethod[r.method.name];
+        s.method = r.method;
+        s.times[r.probe] = r.gpuMs;
+        if (r.level == 0) continue; // the mirror level is a copy for every method
+        s.image += r.imageL1;
+        s.impulse += r.impulseL1Mean;
+        ++s.count;
+    }
+    std::vector<MethodScore> scores;
+    for (const std::string& name : order) {
+        const Sums& s = byMethod[name];
+        std::vector<double> times;
+        for (const auto& [probe, ms] : s.times) times.push_back(ms);
+        scores.push_back({s.method, s.count ? s.image / s.count : 0.0, s.count ? s.impulse / s.count : 0.0, median(times)});
+    }
+    return scores;
+}
+
+double errorOf(const MethodScore& s, bool impulse) { return impulse ? s.impulseL1 : s.imageL1; }
+
+// FIS at one setting, ascending in samples.
+std::vector<MethodScore> fisCurve(const std::vector<MethodScore>& scores, const std::string& setting) {
+    std::vector<MethodScore> curve;
+    for (const MethodScore& s : scores)
+        if (s.method.family == "fis" && fisSetting(s.method) == setting) curve.push_back(s);
+    std::sort(curve.begin(), curve.end(), [](const MethodScore& a, const MethodScore& b) { return a.method.count < b.method.count; });
+    return curve;
+}
+
+std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::string& setting, bool impulse) {
+    const std::vector<MethodScore> curve = fisCurve(scores, setting);
+    const auto fis32 = std::find_if(curve.begin(), curve.end(), [](const MethodScore& s) { return s.method.count == 32; });
+    if (fis32 == curve.end()) return std::nullopt;
+    // The table compared: the most accurate table no slower than FIS-32, else the fastest table.
+    const MethodScore* table = nullptr;
+    for (const MethodScore& s : scores)
+        if (s.method.family == "table" && s.gpuMs <= fis32->gpuMs && (!table || errorOf(s, impulse) < errorOf(*table, impulse)))
+            table = &s;
+    for (const MethodScore& s : scores)
+        if (!table && s.method.family == "table") table = &s;
+        else if (s.method.family == "table" && table->gpuMs > fis32->gpuMs && s.gpuMs < table->gpuMs) table = &s;
+    if (!table) return std::nullopt;
+    Ratios r;
+    r.fisSetting = setting;
+    r.tableName = table->method.name;
+    r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis32, impulse);
+    r.fisMaxSamples = curve.back().method.count;
+    // FIS's time at the table's error, interpolated in log N (errors and times in log too).
+    const double target = errorOf(*table, impulse);
+    for (std::size_t k = 0; k < curve.size(); ++k) {
+        if (errorOf(curve[k], impulse) > target) continue;
+        if (k == 0) {
+            r.timeAtTableError = curve[0].gpuMs / table->gpuMs;
+        } else {
+            const double e0 = std::log(errorOf(curve[k - 1], impulse)), e1 = std::log(errorOf(curve[k], impulse));
+            const double t = e0 == e1 ? 1.0 : (e0 - std::log(target)) / (e0 - e1);
+            const double logTime = std::log(curve[k - 1].gpuMs) + t * (std::log(curve[k].gpuMs) - std::log(curve[k - 1].gpuMs));
+            r.timeAtTableError = std::exp(logTime) / table->gpuMs;
+        }
+        break;
+    }
+    return r;
+}
+
+std::string formatRatios(const std::optional<Ratios>& r, const std::string& label) {
+    if (!r) return fmt::format("{}: not measured (no table or no FIS-32 in the sweep)\n", label);
+    const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError)
+                                                 : fmt::format("> FIS-{} (never reaches it)", r->fisMaxSamples);
+    return fmt::format("{} (FIS {}; table {}): at FIS-32's time, table error / FIS-32 error = {:.3f}; "
+                       "at the table's error, FIS time / table time = {}\n",
+                       label, r->fisSetting, r->tableName, r->errorAtFis32Time, time);
+}
+
+nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
+    if (!r) return nullptr;
+    return {{"fis_setting", r->fisSetting},
+            {"table", r->tableName},
+            {"error_at_fis32_time", r->errorAtFis32Time},
+            {"fis_time_at_table_error", r->timeAtTableError ? nlohmann::json(*r->timeAtTableError) : nlohmann::json(nullptr)},
+            {"fis_max_samples", r->fisMaxSamples}};
+}
+
+} // namespace
+
+SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
+    SweepSummary summary;
+    summary.images = score(rows, false);
+    summary.impulses = score(rows, true);
+    // The best single FIS setting over the image probes: lowest geometric mean error over N.
+    std::map<std::string, std::pair<double, int>> logSums;
+    for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
+        if (s.method.family == "fis") {
+            auto& [sum, n] = logSums[fisSetting(s.method)];
+            sum += std::log(std::max(errorOf(s, summary.images.empty()), 1e-12));
+            ++n;
+        }
+    double best = 1e300;
+    for (const auto& [setting, sum] : logSums)
+        if (sum.first / sum.second < best) {
+            best = sum.first / sum.second;
+            summary.bestFisSetting = setting;
+        }
+    if (!summary.images.empty()) {
+        summary.best = ratios(summary.images, summary.bestFisSetting, false);
+        summary.paper = ratios(summary.images, "bias 1, box", false);
+    }
+    if (!summary.impulses.empty()) summary.impulseBest = ratios(summary.impulses, summary.bestFisSetting, true);
+    return summary;
+}
+
+void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows) {
+    std::ofstream out(path);
+    out << "method,family,count,bias,pyramid,form,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms\n";
+    for (const SweepRow& r : rows)
+        out << fmt::format("{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family, r.method.count,
+                           r.method.bias, r.method.pyramid, r.method.form, r.probe, r.level, r.imageL1, r.impulseL1Mean,
+                           r.impulseL1Max, r.gpuMs);
+    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+}
+
+std::string formatSummary(const SweepSummary& summary) {
+    std::string s = fmt::format("best FIS setting over the image probes: {}\n", summary.bestFisSetting);
+    s += formatRatios(summary.best, "images, best FIS");
+    s += formatRatios(summary.paper, "images, paper's FIS");
+    s += formatRatios(summary.impulseBest, "impulses, best FIS");
+    return s;
+}
+
+void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
+                        const std::string& device, int size, int levelCount) {
+    std::ofstream out(path);
+    out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
+    out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
+           "impulse L1 over stratified output texels; GPU time is the median over probes of the median of the repeats, all "
+           "levels.\n\n";
+    out << "```\n" << formatSummary(summary) << "```\n\n";
+    out << "| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
+    for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
+        out << fmt::format("| {} | {} | {} | {} | {} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family, s.method.count,
+                           s.method.family == "fis" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1,
+                           s.impulseL1, s.gpuMs);
+    out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
+    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+}
+
+nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,
+                                int levelCount) {
+    nlohmann::json methods = nlohmann::json::array();
+    for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
+        methods.push_back({{"method", s.method.name}, {"image_l1", s.imageL1}, {"impulse_l1", s.impulseL1}, {"gpu_ms", s.gpuMs}});
+    return {{"command", "sweep"},
+            {"device", {{"name", device}, {"driver", driver}}},
+            {"face_size", size},
+            {"level_count", levelCount},
+            {"best_fis_setting", summary.bestFisSetting},
+            {"images_best_fis", ratiosJson(summary.best)},
+            {"images_paper_fis", ratiosJson(summary.paper)},
+            {"impulses_best_fis", ratiosJson(summary.impulseBest)},
+            {"methods", methods}};
+}
+
+} // namespace probefilter

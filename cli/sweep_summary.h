@@ -1,0 +1,68 @@
+// The sweep's numbers: rows per (method, probe, level), and the summary that answers "what does
+// accuracy cost in time": per method the mean errors and the median time, FIS at its best single
+// setting and at the paper's (bias 1, box), and the two ratios of issue 6.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace probefilter {
+
+struct SweepMethod {
+    std::string name;
+    std::string family; // "table" or "fis"
+    int count = 0;      // taps per frame or samples
+    double bias = 0.0;
+    std::string pyramid;
+    std::string form; // tables: "quad" or "const"
+};
+
+struct SweepRow {
+    SweepMethod method;
+    std::string probe;
+    int level = 0;
+    double imageL1 = 0.0;
+    double impulseL1Mean = 0.0;
+    double impulseL1Max = 0.0;
+    double gpuMs = 0.0; // all levels of the probe, median of the repeats
+};
+
+// One method over a probe set: image L1 averaged over probes and levels >= 1, impulse L1 averaged
+// over levels >= 1, median GPU time over probes.
+struct MethodScore {
+    SweepMethod method;
+    double imageL1 = 0.0;
+    double impulseL1 = 0.0;
+    double gpuMs = 0.0;
+};
+
+// The two ratios against one FIS setting, on one error measure.
+struct Ratios {
+    std::string fisSetting;    // e.g. "bias 0, bspline"
+    std::string tableName;     // the table compared: the most accurate one no slower than FIS-32
+    double errorAtFis32Time = 0.0; // table error / FIS-32 error
+    std::optional<double> timeAtTableError; // FIS time / table time at the table's error; empty: FIS never gets there
+    int fisMaxSamples = 0;
+};
+
+struct SweepSummary {
+    std::vector<MethodScore> images;   // over the non-impulse probes
+    std::vector<MethodScore> impulses; // over the impulse probes
+    std::string bestFisSetting;        // the best single (bias, pyramid) over the image probes
+    std::optional<Ratios> best, paper, impulseBest;
+};
+
+SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);
+
+void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows);
+void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
+                        const std::string& device, int size, int levelCount);
+nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,
+                                int levelCount);
+std::string formatSummary(const SweepSummary& summary);
+
+} // namespace probefilter

@@ -1,0 +1,19 @@
+// The impulse-response L1 of DESIGN.md for any method given as taps (a table or FIS): e(R) of its
+// normalized weights over base texels against the reference kernel, over a set of output texels.
+#pragma once
+
+#include <vector>
+
+#include "probe/error_measures.h"
+#include "probe/roughness.h"
+#include "probe/stratified_texels.h"
+#include "probe/tap_sum.h"
+
+namespace probe {
+
+// Mean (weighted as the texel set says) and worst e(R) over `texels` of output level m; all cores.
+// A copy level (alpha = 0) is compared with the reference's copy.
+ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize,
+                          int levelCount, RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels);
+
+} // namespace probe
