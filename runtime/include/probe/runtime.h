@@ -108,7 +108,7 @@ struct PassTime {
 // One vkCmdDispatch of a run.
 struct Dispatch {
     std::string pass;
-    int level = 0;          // output or pyramid level it writes
+    int level = 0;          // the pyramid or output level it writes; -1: every output level at once
     uint32_t groups = 0;    // workgroups (x; y = z = 1)
 };
 
