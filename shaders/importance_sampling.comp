@@ -18,6 +18,8 @@ layout(push_constant) uniform Params {
     float bias;            // added to every sample's level
     float texelSolidAngle; // 4 pi / (6 S_0^2)
     uint copyLevels;       // bit m: output level m is a copy (alpha = 0)
+    uint firstTexel;      // the packed output texels [firstTexel, endTexel) of this dispatch
+    uint endTexel;
 } params;
 // table[m].x: alpha^2 of output level m.
 
@@ -31,8 +33,8 @@ float radicalInverse2(uint bits) {
 }
 
 void main() {
-    uint index = invocationIndex();
-    if (index >= levelOffset(params.baseSize, params.levelCount)) return;
+    uint index = params.firstTexel + invocationIndex();
+    if (index >= params.endTexel) return;
     int level;
     uint texel;
     outputTexelOf(index, params.baseSize, params.levelCount, level, texel);

@@ -1,4 +1,4 @@
-// Pass 2 with a tap table (Manson & Sloan), all output levels in one dispatch, mirroring core's
+// Pass 2 with a tap table (Manson & Sloan), a range of packed output texels per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
 // per constant level), each read trilinearly from the pyramid.
@@ -16,6 +16,8 @@ layout(push_constant) uniform Params {
     int taps;             // N per frame, a multiple of 4
     int coefficientCount; // 3: quadratic, 1: constant
     uint copyLevels;      // bit m: output level m is a copy (alpha = 0)
+    uint firstTexel;      // the packed output texels [firstTexel, endTexel) of this dispatch
+    uint endTexel;
 } params;
 
 // P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
@@ -27,8 +29,8 @@ vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
 }
 
 void main() {
-    uint index = invocationIndex();
-    if (index >= levelOffset(params.baseSize, params.levelCount)) return;
+    uint index = params.firstTexel + invocationIndex();
+    if (index >= params.endTexel) return;
     int level;
     uint texel;
     outputTexelOf(index, params.baseSize, params.levelCount, level, texel);

@@ -1,7 +1,8 @@
 // Pass 2's common core, mirroring core's probe/tap_sum.h: an output texel is
 // sum_i w_i trilinear(pyramid, d_i, level_i) / sum_i w_i, clamped to >= 0 (black when the weights
 // sum to 0); a level with alpha = 0 is a copy of the source texel containing the texel's centre.
-// All output levels run in one dispatch: the invocation finds its level from the packed offsets.
+// A dispatch covers a range of packed output texels (every level, or one level): the invocation
+// finds its level from the packed offsets.
 #ifndef PROBE_TAP_SUM_GLSL
 #define PROBE_TAP_SUM_GLSL
 

@@ -17,6 +17,13 @@ std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughne
     return lower == upper ? std::vector<int>{lower} : std::vector<int>{lower, upper};
 }
 
+namespace {
+
+// Far above the float rounding of a tap level (~1e-6), far below any tap spacing that matters.
+constexpr double kLevelMargin = 1e-3;
+
+} // namespace
+
 int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels) {
     const int maxLevel = pyramidLevelCount(baseSize) - 1;
     int deepest = 0;
@@ -29,8 +36,13 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const s
                     if (!generator(m, {f, i, j}, taps)) continue;
                     for (const Tap& tap : taps) {
                         if (tap.weight == 0.0) continue;
+                        // A level clamped to an end of the pyramid is exact in float too; elsewhere
+                        // the GPU's float level may land just above a whole level that the double
+                        // lands on (or just below), and then reads the next level with a tiny weight.
                         const double level = std::clamp(tap.level, 0.0, double(maxLevel));
-                        deepest = std::max(deepest, static_cast<int>(std::ceil(level)));
+                        const int reads = level == 0.0 || level == maxLevel ? static_cast<int>(level)
+                                                                             : static_cast<int>(std::floor(level + kLevelMargin)) + 1;
+                        deepest = std::max(deepest, std::min(reads, maxLevel));
                     }
                 }
     }

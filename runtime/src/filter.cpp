@@ -41,14 +41,14 @@ std::vector<float> geometryTexels(int baseSize, int levels) {
     return texels;
 }
 
-// The levels of a packed RGBA cube (see packedOffsets), RGB only.
-CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, int levels) {
-    CubeLevels result;
-    for (int m = 0; m < levels; ++m) {
-        CubeImage level(baseSize >> m);
+// The levels of a packed RGBA cube (see packedOffsets), RGB only; the levels not in `wanted` empty.
+CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, const std::vector<int>& wanted) {
+    CubeLevels result(offsets.size() - 1);
+    for (int m : wanted) {
+        CubeImage& level = result[m];
+        level = CubeImage(baseSize >> m);
         const float* first = texels + 4 * std::size_t(offsets[m]);
         for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
-        result.push_back(std::move(level));
     }
     return result;
 }
@@ -72,6 +72,18 @@ void checkTransferFormat(const Device& device) {
 Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
     pyramidLevels = pyramidLevelCount(s.faceSize);
+    pyramidDepth = s.pyramidDepth < 0 ? pyramidLevels - 1 : s.pyramidDepth;
+    if (pyramidDepth > pyramidLevels - 1)
+        throw ProbeError(fmt::format("pyramid depth {}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth, s.faceSize,
+                                     pyramidLevels - 1));
+    for (int m = 0; m < s.levelCount; ++m) levels.push_back(m);
+    if (!s.levels.empty()) {
+        for (std::size_t k = 0; k < s.levels.size(); ++k)
+            if (s.levels[k] < 0 || s.levels[k] >= s.levelCount || (k > 0 && s.levels[k] <= s.levels[k - 1]))
+                throw ProbeError(fmt::format("output levels: {} is not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
+        levels = s.levels;
+        allLevels = false;
+    }
     pyramidOffsets = packedOffsets(s.faceSize, pyramidLevels);
     outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
@@ -150,6 +162,13 @@ void Filter::Impl::submitAndWait(VkCommandBuffer commandBuffer, bool end) {
     vkCheck(vkWaitForFences(device.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
 }
 
+std::vector<Filter::Impl::OutputRange> Filter::Impl::outputRanges() const {
+    if (allLevels) return {{-1, 0, outputOffsets.back()}};
+    std::vector<OutputRange> ranges;
+    for (int m : levels) ranges.push_back({m, outputOffsets[m], outputOffsets[m + 1]});
+    return ranges;
+}
+
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
     dispatches.clear();
     timer->reset(commandBuffer);
@@ -204,7 +223,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     VkCommandBuffer download = f.begin();
     copyBuffer(download, f.output, staging, f.output.bytes());
     f.submitAndWait(download);
-    CubeLevels levels = unpackLevels(texels, f.outputOffsets, f.settings.faceSize, f.settings.levelCount);
+    CubeLevels levels = unpackLevels(texels, f.outputOffsets, f.settings.faceSize, f.levels);
     vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &passes);
     vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &upload);
     vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
@@ -221,7 +240,7 @@ void Filter::record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage o
     vkCmdCopyImageToBuffer(commandBuffer, sourceCube, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, f.pyramid.handle(), 1, &in);
     f.recordPasses(commandBuffer);
     std::vector<VkBufferImageCopy> out;
-    for (int m = 0; m < f.settings.levelCount; ++m) {
+    for (int m : f.levels) {
         VkBufferImageCopy region{};
         region.bufferOffset = f.outputOffsets[m] * kTexelBytes;
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, static_cast<uint32_t>(m), 0, kFaceCount};
@@ -249,7 +268,11 @@ CubeLevels Filter::downloadPyramid() const {
     copyBuffer(download, f.pyramid, staging, f.pyramid.bytes());
     f.submitAndWait(download);
     vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
-    return unpackLevels(static_cast<const float*>(staging.mapped()), f.pyramidOffsets, f.settings.faceSize, f.pyramidLevels);
+    std::vector<int> built;
+    for (int k = 0; k <= f.pyramidDepth; ++k) built.push_back(k);
+    CubeLevels pyramid = unpackLevels(static_cast<const float*>(staging.mapped()), f.pyramidOffsets, f.settings.faceSize, built);
+    pyramid.resize(built.size());
+    return pyramid;
 }
 
 std::string_view methodName(Method method) {

@@ -16,6 +16,9 @@ struct Filter::Impl {
     const Device& device;
     FilterSettings settings;
     int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
+    int pyramidDepth = 0;                 // pass 1 builds levels 1..pyramidDepth
+    std::vector<int> levels;              // the output levels computed, ascending
+    bool allLevels = true;                // levels are every output level (one pass-2 dispatch)
     std::vector<uint32_t> pyramidOffsets; // first texel of each pyramid level, and the total
     std::vector<uint32_t> outputOffsets;  // first texel of each output level, and the total
 
@@ -37,6 +40,14 @@ struct Filter::Impl {
 
     Impl(const Device& d, const FilterSettings& s);
     ~Impl();
+
+    // The packed output texels that pass 2 dispatches cover: one range of every level (level -1)
+    // when allLevels, else one range per computed level.
+    struct OutputRange {
+        int level;
+        uint32_t first, end;
+    };
+    std::vector<OutputRange> outputRanges() const;
 
     // Timer reset, boundary 0, the passes with barriers, a boundary after each pass.
     void recordPasses(VkCommandBuffer commandBuffer);

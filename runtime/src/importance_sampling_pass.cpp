@@ -1,5 +1,5 @@
 // Filtered importance sampling (shaders/importance_sampling.comp): alpha^2 per level in the table
-// buffer and one dispatch for all output levels.
+// buffer and one dispatch for all output levels (or one per level computed).
 #include <cstdint>
 #include <numbers>
 
@@ -21,6 +21,8 @@ struct ImportanceSamplingConstants {
     float bias;
     float texelSolidAngle;
     uint32_t copyLevels;
+    uint32_t firstTexel;
+    uint32_t endTexel;
 };
 
 } // namespace
@@ -40,9 +42,12 @@ std::vector<float> importanceSamplingBufferData(const FilterSettings& s) {
 void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * s.faceSize * s.faceSize);
-    const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, s.fisSamples,
-                                                static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle), impl.copyLevels};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", -1, constants, groupsFor(impl.outputOffsets.back()));
+    for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
+        const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, s.fisSamples,
+                                                    static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle),
+                                                    impl.copyLevels, r.first, r.end};
+        dispatchPass(impl, commandBuffer, *impl.pass2, "fis", r.level, constants, groupsFor(r.end - r.first));
+    }
 }
 
 } // namespace probe::gpu

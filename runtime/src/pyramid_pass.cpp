@@ -1,4 +1,5 @@
-// Pass 1 (shaders/pyramid.comp): one dispatch per pyramid level, each from the level before it.
+// Pass 1 (shaders/pyramid.comp): one dispatch per pyramid level down to the depth, each from the
+// level before it.
 #include <cstdint>
 
 #include <pyramid.spv.h>
@@ -22,7 +23,7 @@ std::span<const uint32_t> pyramidSpirv() { return kPyramidSpv; }
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    for (int fine = 0; fine + 1 < impl.pyramidLevels; ++fine) {
+    for (int fine = 0; fine < impl.pyramidDepth; ++fine) {
         if (fine > 0) computeBarrier(commandBuffer);
         const PyramidConstants constants{s.faceSize, fine, s.pyramid.kind == PyramidKind::box ? 1 : 0,
                                          s.pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};

@@ -1,4 +1,4 @@
-// The exact reference on the GPU (shaders/reference.comp): one dispatch per output level.
+// The exact reference on the GPU (shaders/reference.comp): one dispatch per output level computed.
 #include <cstdint>
 
 #include <reference.spv.h>
@@ -21,7 +21,7 @@ std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
 
 void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    for (int m = 0; m < s.levelCount; ++m) {
+    for (int m : impl.levels) {
         const double alpha = levelAlpha(s.mapping, m, s.levelCount);
         const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
         dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));

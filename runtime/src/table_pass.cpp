@@ -1,5 +1,5 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
-// upload in the published layout, and one dispatch for all output levels.
+// upload in the published layout, and one dispatch for all output levels (or one per level computed).
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -20,6 +20,8 @@ struct TableConstants {
     int32_t taps;
     int32_t coefficientCount;
     uint32_t copyLevels;
+    uint32_t firstTexel;
+    uint32_t endTexel;
 };
 
 } // namespace
@@ -55,8 +57,11 @@ std::vector<float> tableBufferData(const TapTable& table) {
 
 void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, impl.tableTaps, impl.tableCoefficientCount, impl.copyLevels};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "table", -1, constants, groupsFor(impl.outputOffsets.back()));
+    for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
+        const TableConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, impl.tableTaps, impl.tableCoefficientCount,
+                                       impl.copyLevels, r.first, r.end};
+        dispatchPass(impl, commandBuffer, *impl.pass2, "table", r.level, constants, groupsFor(r.end - r.first));
+    }
 }
 
 } // namespace probe::gpu

@@ -17,7 +17,9 @@ namespace probe {
 std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughness, int levelCount);
 
 // The deepest pyramid level that the taps of the given output levels read (trilinear reads the
-// level above a fractional level too), clamped to the pyramid; 0 when no level has taps.
+// level above a fractional level too), clamped to the pyramid; 0 when no level has taps. A tap
+// level within 1e-3 below or at a whole level k counts as reading k + 1, so that the GPU's float
+// tap levels read no deeper either.
 int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels);
 
 struct ProbePlan {

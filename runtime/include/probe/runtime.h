@@ -96,6 +96,15 @@ struct FilterSettings {
     // The tap table (table method; the caller keeps it alive while the Filter is built). Refused
     // with the reason unless its base size, level count, mapping and pyramid equal the settings'.
     const TapTable* table = nullptr;
+    // Only these output levels (ascending, each in [0, M)); empty: every level. Levels left out are
+    // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
+    // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
+    // of every level.
+    std::vector<int> levels;
+    // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis).
+    // The levels computed must read no deeper: probe::deepestPyramidLevelRead of their taps
+    // (probe/plan.h) is the depth they need.
+    int pyramidDepth = -1;
 };
 
 // GPU time of one pass: the median over the repeats, from timestamp queries.
@@ -109,6 +118,7 @@ struct PassTime {
 struct Dispatch {
     std::string pass;
     int level = 0;          // the pyramid or output level it writes; -1: every output level at once
+                            // (table and fis without FilterSettings::levels; with them, one per level)
     uint32_t groups = 0;    // workgroups (x; y = z = 1)
 };
 
@@ -122,14 +132,14 @@ public:
     Filter& operator=(const Filter&) = delete;
 
     // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time) and
-    // returns the M output levels.
+    // returns the M output levels (those outside FilterSettings::levels empty).
     CubeLevels run(const CubeImage& source, int repeat = 1);
 
     // Engines: records the passes into `commandBuffer`: copies mip 0 of `sourceCube` (RGBA32F, 6
     // layers of S_0^2, layout TRANSFER_SRC_OPTIMAL, usage TRANSFER_SRC) into the pyramid and writes
     // mips 0..M-1 of `outputCube` (RGBA32F, 6 layers, layout TRANSFER_DST_OPTIMAL, usage
-    // TRANSFER_DST). The caller orders it against its own work. timings() reads the timestamps
-    // once the caller's submission has completed.
+    // TRANSFER_DST; only the mips of FilterSettings::levels). The caller orders it against its own
+    // work. timings() reads the timestamps once the caller's submission has completed.
     void record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube);
 
     // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
@@ -137,7 +147,8 @@ public:
     std::vector<PassTime> timings() const;
     // The dispatches of one run.
     const std::vector<Dispatch>& dispatches() const;
-    // The pyramid of the last run (levels 0..log2(S_0)); empty for the reference method.
+    // The pyramid of the last run (levels 0..pyramidDepth, log2(S_0) by default); empty for the
+    // reference method.
     CubeLevels downloadPyramid() const;
 
     struct Impl;
