@@ -167,8 +167,8 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
     std::ofstream out(path);
     out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
     out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
-           "impulse L1 over stratified output texels; GPU time is the median over probes of the median of the repeats, all "
-           "levels.\n\n";
+           "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
+           "on one probe (it does not depend on the content).\n\n";
     out << "```\n" << formatSummary(summary) << "```\n\n";
     out << "| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
