@@ -70,14 +70,7 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
             throw probe::ProbeError(fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
         return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping, s.pyramid);
     }
-    const probe::gpu::CompiledTable* best = nullptr;
-    for (const probe::gpu::CompiledTable& c : compiled) {
-        const probe::TapTable& t = c.table;
-        if (t.baseSize != s.faceSize || t.levelCount != s.levelCount || t.mapping != s.mapping || !(t.pyramid == s.pyramid)) continue;
-        const bool preferred = t.taps == 8 && t.form == probe::TableForm::quadratic;
-        if (!best || preferred) best = &c;
-        if (preferred) break;
-    }
+    const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, s.pyramid);
     if (!best)
         throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
                                             "and pass --table tables/<name>.json (or rebuild to compile it in)",

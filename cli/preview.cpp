@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "probe/cube_sampling.h"
 #include "probe/error.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -22,7 +21,8 @@ std::uint8_t encodeSrgb(float linear) {
     return static_cast<std::uint8_t>(std::lround(s * 255.0f));
 }
 
-// Exposure that maps the level's log-average luminance to middle grey.
+} // namespace
+
 float autoExposure(const probe::CubeImage& level) {
     double logSum = 0.0;
     const std::size_t n = probe::texelCount(level.size);
@@ -33,12 +33,23 @@ float autoExposure(const probe::CubeImage& level) {
     return static_cast<float>(0.18 / std::exp(logSum / static_cast<double>(n)));
 }
 
-} // namespace
+std::vector<std::uint8_t> tonemap(const probe::Image& linear, float exposure) {
+    std::vector<std::uint8_t> pixels(linear.rgb.size());
+    for (std::size_t k = 0; k < linear.rgb.size(); ++k) {
+        const float c = linear.rgb[k] * exposure;
+        pixels[k] = encodeSrgb(c / (1.0f + c)); // Reinhard
+    }
+    return pixels;
+}
+
+void writePng(const std::filesystem::path& png, int width, int height, const std::vector<std::uint8_t>& pixels) {
+    if (!stbi_write_png(png.c_str(), width, height, 3, pixels.data(), width * 3))
+        throw probe::ProbeError(fmt::format("{}: cannot write PNG", png.string()));
+}
 
 void writeLevelsPreview(const std::filesystem::path& png, const probe::CubeLevels& levels) {
     const int width = 512, height = 256;
-    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(width) * height * 3 * levels.size());
-    const float exposure = autoExposure(levels.front());
+    probe::Image panoramas{width, static_cast<int>(height * levels.size()), std::vector<float>(std::size_t(width) * height * 3 * levels.size())};
     for (std::size_t m = 0; m < levels.size(); ++m)
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
@@ -47,12 +58,11 @@ void writeLevelsPreview(const std::filesystem::path& png, const probe::CubeLevel
                 const double theta = (y + 0.5) / height * std::numbers::pi;
                 const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
                 const probe::CubeImage& level = levels[m];
-                const glm::vec3 c = glm::vec3(probe::sampleBilinear(level, d)) * exposure;
-                std::uint8_t* p = &pixels[((m * height + y) * width + x) * 3];
-                for (int k = 0; k < 3; ++k) p[k] = encodeSrgb(c[k] / (1.0f + c[k])); // Reinhard
+                const glm::vec3 c = level.texel(probe::texelIndex(probe::directionToTexel(d, level.size), level.size));
+                float* p = &panoramas.rgb[((m * height + y) * width + x) * 3];
+                for (int k = 0; k < 3; ++k) p[k] = c[k];
             }
-    if (!stbi_write_png(png.c_str(), width, static_cast<int>(height * levels.size()), 3, pixels.data(), width * 3))
-        throw probe::ProbeError(fmt::format("{}: cannot write PNG", png.string()));
+    writePng(png, panoramas.width, panoramas.height, tonemap(panoramas, autoExposure(levels.front())));
 }
 
 } // namespace probefilter

@@ -4,18 +4,22 @@
 
 #include "probe/error.h"
 #include "probe/importance_sampling.h"
+#include "probe/runtime.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
 
 namespace probefilter {
 
 probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& p) {
-    if (!p.table)
+    if (!p.table) {
+        if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}))
+            return compiled->table;
         throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
                                             "(probefit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
                                             scene.path.string(), p.name, p.faceSize, p.levelCount,
                                             probe::roughnessMappingName(p.mapping), p.faceSize, p.levelCount,
                                             probe::roughnessMappingName(p.mapping)));
+    }
     probe::TapTable table = probe::readTable(*p.table);
     if (table.baseSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
         throw probe::ProbeError(fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",

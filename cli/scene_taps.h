@@ -8,7 +8,8 @@
 namespace probefilter {
 
 // The table a probe filters with: its "table" file, checked against the probe's size, levels and
-// mapping. Throws ProbeError naming the scene file and the problem.
+// mapping, else the compiled-in table for them. Throws ProbeError naming the scene file and the
+// problem.
 probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& probe);
 
 probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& probe);

@@ -9,19 +9,6 @@
 
 namespace probe {
 
-namespace {
-
-double radicalInverse2(std::uint32_t bits) {
-    bits = (bits << 16u) | (bits >> 16u);
-    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
-    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
-    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
-    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-    return static_cast<double>(bits) * 0x1p-32;
-}
-
-} // namespace
-
 void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
                           std::vector<Tap>& taps) {
     taps.clear();
@@ -31,10 +18,8 @@ void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * baseSize * baseSize);
     for (int i = 0; i < settings.samples; ++i) {
         const double e1 = static_cast<double>(i) / settings.samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
-        const double cosTheta = std::sqrt((1.0 - e1) / (1.0 + (alpha2 - 1.0) * e1));
-        const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
-        const double phi = 2.0 * std::numbers::pi * e2;
-        const glm::dvec3 h = tx * (sinTheta * std::cos(phi)) + ty * (sinTheta * std::sin(phi)) + R * cosTheta;
+        const glm::dvec3 local = ggxHalfVector(e1, e2, alpha2);
+        const glm::dvec3 h = tx * local.x + ty * local.y + R * local.z;
         const glm::dvec3 l = 2.0 * glm::dot(R, h) * h - R;
         const double nl = glm::dot(R, l);
         if (nl <= 0.0) continue;

@@ -78,6 +78,13 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
     return plan;
 }
 
+std::string loadPass(const std::string& probe) { return fmt::format("{}: load", probe); }
+std::string pyramidPass(const std::string& probe, int depth) { return fmt::format("{}: pyramid 1..{}", probe, depth); }
+std::string levelPass(const std::string& probe, int level, FilterMethod method) {
+    return fmt::format("{}: level {} ({})", probe, level, filterMethodName(method));
+}
+std::string irradiancePass(const std::string& probe) { return fmt::format("{}: sh-irradiance", probe); }
+
 namespace {
 
 struct Step {
@@ -89,17 +96,17 @@ std::vector<Step> steps(const Plan& plan) {
     std::vector<Step> out;
     for (const ProbePlan& p : plan.probes) {
         if (p.levels.empty() && !p.irradiance) continue;
-        out.push_back({fmt::format("{}: load", p.probe), "the probe is read by some material"});
+        out.push_back({loadPass(p.probe), "the probe is read by some material"});
         if (p.pyramidLevels > 0)
-            out.push_back({fmt::format("{}: pyramid 1..{}", p.probe, p.pyramidLevels),
+            out.push_back({pyramidPass(p.probe, p.pyramidLevels),
                            fmt::format("the taps of levels {} read down to pyramid level {}", fmt::join(p.levels, ", "), p.pyramidLevels)});
         for (std::size_t k = 0; k < p.levels.size(); ++k)
-            out.push_back({fmt::format("{}: level {} ({})", p.probe, p.levels[k], filterMethodName(p.method)),
+            out.push_back({levelPass(p.probe, p.levels[k], p.method),
                            fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
         if (p.irradiance)
-            out.push_back({fmt::format("{}: sh-irradiance", p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
+            out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
     }
-    if (plan.dfgTable) out.push_back({"dfg-table", fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
+    if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
     return out;
 }
 

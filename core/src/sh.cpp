@@ -2,12 +2,12 @@
 
 #include <numbers>
 
+#include "probe/shared_constants.h"
+
 namespace probe {
 
 std::array<double, kShCount> shBasis(const glm::dvec3& n) {
-    // sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi), sqrt(15/16pi)
-    constexpr double c0 = 0.28209479177387814, c1 = 0.4886025119029199, c2 = 1.0925484305920792;
-    constexpr double c20 = 0.31539156525252005, c22 = 0.5462742152960396;
+    constexpr double c0 = PROBE_SH_C0, c1 = PROBE_SH_C1, c2 = PROBE_SH_C2, c20 = PROBE_SH_C20, c22 = PROBE_SH_C22;
     return {c0, c1 * n.y, c1 * n.z, c1 * n.x, c2 * n.x * n.y, c2 * n.y * n.z, c20 * (3.0 * n.z * n.z - 1.0), c2 * n.x * n.z,
             c22 * (n.x * n.x - n.y * n.y)};
 }

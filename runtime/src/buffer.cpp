@@ -65,4 +65,14 @@ void Buffer::release() {
     mapped_ = nullptr;
 }
 
+std::vector<float> rgbaTexels(const CubeImage& level) {
+    std::vector<float> texels;
+    texels.reserve(4 * texelCount(level.size));
+    for (std::size_t t = 0; t < texelCount(level.size); ++t) {
+        const glm::vec3 c = level.texel(t);
+        texels.insert(texels.end(), {c.r, c.g, c.b, 1.0f});
+    }
+    return texels;
+}
+
 } // namespace probe::gpu

@@ -1,6 +1,8 @@
 // A VkBuffer with its own memory: device-local storage, or host-visible staging (mapped).
 #pragma once
 
+#include <vector>
+
 #include <vulkan/vulkan.h>
 
 #include "probe/runtime.h"
@@ -34,5 +36,8 @@ private:
     VkDeviceSize bytes_ = 0;
     void* mapped_ = nullptr;
 };
+
+// The texels of a cube level in the storage buffers' layout: RGBA32F, alpha 1, in texelIndex order.
+std::vector<float> rgbaTexels(const CubeImage& level);
 
 } // namespace probe::gpu

@@ -32,4 +32,15 @@ const std::vector<CompiledTable>& compiledTables() {
     return tables;
 }
 
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, RoughnessMapping mapping, const PyramidSettings& pyramid) {
+    const CompiledTable* best = nullptr;
+    for (const CompiledTable& c : compiledTables()) {
+        const TapTable& t = c.table;
+        if (t.baseSize != faceSize || t.levelCount != levelCount || t.mapping != mapping || !(t.pyramid == pyramid)) continue;
+        if (t.taps == 8 && t.form == TableForm::quadratic) return &c;
+        if (!best) best = &c;
+    }
+    return best;
+}
+
 } // namespace probe::gpu

@@ -1,6 +1,4 @@
 // Filter: buffers, pipelines, the order of the passes, upload and read-back, the engine path.
-#include <cstring>
-
 #include <fmt/format.h>
 
 #include "device.h"
@@ -51,11 +49,6 @@ CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offset
         for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
     }
     return result;
-}
-
-void copyBuffer(VkCommandBuffer commandBuffer, const Buffer& from, const Buffer& to, VkDeviceSize bytes) {
-    const VkBufferCopy region{0, 0, bytes};
-    vkCmdCopyBuffer(commandBuffer, from.handle(), to.handle(), 1, &region);
 }
 
 void checkTransferFormat(const Device& device) {
@@ -117,49 +110,9 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     if (s.method != Method::reference) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
     timer = std::make_unique<GpuTimer>(d, passNames(s.method));
 
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = d.queueFamily();
-    vkCheck(vkCreateCommandPool(d.device(), &poolInfo, nullptr, &commandPool), "vkCreateCommandPool");
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    vkCheck(vkCreateFence(d.device(), &fenceInfo, nullptr, &fence), "vkCreateFence");
-
-    Buffer staging(d, geometry.bytes() + table.bytes(), Buffer::Kind::staging);
-    std::memcpy(staging.mapped(), geometryData.data(), geometry.bytes());
-    std::memcpy(static_cast<char*>(staging.mapped()) + geometry.bytes(), tableData.data(), table.bytes());
-    VkCommandBuffer commandBuffer = begin();
-    const VkBufferCopy geometryRegion{0, 0, geometry.bytes()}, tableRegion{geometry.bytes(), 0, table.bytes()};
-    vkCmdCopyBuffer(commandBuffer, staging.handle(), geometry.handle(), 1, &geometryRegion);
-    vkCmdCopyBuffer(commandBuffer, staging.handle(), table.handle(), 1, &tableRegion);
-    submitAndWait(commandBuffer);
-    vkFreeCommandBuffers(d.device(), commandPool, 1, &commandBuffer);
-}
-
-Filter::Impl::~Impl() {
-    if (fence) vkDestroyFence(device.device(), fence, nullptr);
-    if (commandPool) vkDestroyCommandPool(device.device(), commandPool, nullptr);
-}
-
-VkCommandBuffer Filter::Impl::begin() {
-    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    allocate.commandPool = commandPool;
-    allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    allocate.commandBufferCount = 1;
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-    vkCheck(vkAllocateCommandBuffers(device.device(), &allocate, &commandBuffer), "vkAllocateCommandBuffers");
-    VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    vkCheck(vkBeginCommandBuffer(commandBuffer, &beginInfo), "vkBeginCommandBuffer");
-    return commandBuffer;
-}
-
-void Filter::Impl::submitAndWait(VkCommandBuffer commandBuffer, bool end) {
-    if (end) vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &commandBuffer;
-    vkCheck(vkResetFences(device.device(), 1, &fence), "vkResetFences");
-    vkCheck(vkQueueSubmit(device.queue(), 1, &submit, fence), "vkQueueSubmit");
-    vkCheck(vkWaitForFences(device.device(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    submission = std::make_unique<Submission>(d);
+    submission->upload(geometry, geometryData.data(), geometry.bytes());
+    submission->upload(table, tableData.data(), table.bytes());
 }
 
 std::vector<Filter::Impl::OutputRange> Filter::Impl::outputRanges() const {
@@ -199,35 +152,22 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
         throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
     if (repeat < 1) throw ProbeError(fmt::format("--repeat {}: must be at least 1", repeat));
 
-    const VkDeviceSize sourceBytes = texelCount(source.size) * kTexelBytes;
-    Buffer staging(f.device, std::max(sourceBytes, f.output.bytes()), Buffer::Kind::staging);
-    auto* texels = static_cast<float*>(staging.mapped());
-    for (std::size_t t = 0; t < texelCount(source.size); ++t) {
-        const glm::vec3 c = source.texel(t);
-        const float rgba[4] = {c.r, c.g, c.b, 1.0f};
-        std::memcpy(texels + 4 * t, rgba, sizeof(rgba));
-    }
-    VkCommandBuffer upload = f.begin();
-    copyBuffer(upload, staging, f.pyramid, sourceBytes);
-    f.submitAndWait(upload);
+    const std::vector<float> texels = rgbaTexels(source);
+    f.submission->upload(f.pyramid, texels.data(), texels.size() * sizeof(float));
 
-    VkCommandBuffer passes = f.begin();
+    VkCommandBuffer passes = f.submission->begin();
     f.recordPasses(passes);
     vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
     f.timer->clear();
     for (int k = 0; k < repeat; ++k) {
-        f.submitAndWait(passes, false);
+        f.submission->submitAndWait(passes, false);
         f.timer->collect();
     }
+    f.submission->release(passes);
 
-    VkCommandBuffer download = f.begin();
-    copyBuffer(download, f.output, staging, f.output.bytes());
-    f.submitAndWait(download);
-    CubeLevels levels = unpackLevels(texels, f.outputOffsets, f.settings.faceSize, f.levels);
-    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &passes);
-    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &upload);
-    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
-    return levels;
+    std::vector<float> output(f.output.bytes() / sizeof(float));
+    f.submission->download(f.output, output.data(), f.output.bytes());
+    return unpackLevels(output.data(), f.outputOffsets, f.settings.faceSize, f.levels);
 }
 
 void Filter::record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube) {
@@ -263,14 +203,11 @@ const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatch
 CubeLevels Filter::downloadPyramid() const {
     Impl& f = *impl_;
     if (!f.pass1) return {};
-    Buffer staging(f.device, f.pyramid.bytes(), Buffer::Kind::staging);
-    VkCommandBuffer download = f.begin();
-    copyBuffer(download, f.pyramid, staging, f.pyramid.bytes());
-    f.submitAndWait(download);
-    vkFreeCommandBuffers(f.device.device(), f.commandPool, 1, &download);
+    std::vector<float> texels(f.pyramid.bytes() / sizeof(float));
+    f.submission->download(f.pyramid, texels.data(), f.pyramid.bytes());
     std::vector<int> built;
     for (int k = 0; k <= f.pyramidDepth; ++k) built.push_back(k);
-    CubeLevels pyramid = unpackLevels(static_cast<const float*>(staging.mapped()), f.pyramidOffsets, f.settings.faceSize, built);
+    CubeLevels pyramid = unpackLevels(texels.data(), f.pyramidOffsets, f.settings.faceSize, built);
     pyramid.resize(built.size());
     return pyramid;
 }

@@ -8,6 +8,7 @@
 #include "buffer.h"
 #include "compute_pipeline.h"
 #include "gpu_timer.h"
+#include "submission.h"
 #include "probe/runtime.h"
 
 namespace probe::gpu {
@@ -35,11 +36,9 @@ struct Filter::Impl {
     int tableTaps = 0;             // table method: N per frame
     int tableCoefficientCount = 0; // table method: 3 (quadratic) or 1 (constant)
 
-    VkCommandPool commandPool = VK_NULL_HANDLE;
-    VkFence fence = VK_NULL_HANDLE;
+    std::unique_ptr<Submission> submission;
 
     Impl(const Device& d, const FilterSettings& s);
-    ~Impl();
 
     // The packed output texels that pass 2 dispatches cover: one range of every level (level -1)
     // when allLevels, else one range per computed level.
@@ -51,10 +50,6 @@ struct Filter::Impl {
 
     // Timer reset, boundary 0, the passes with barriers, a boundary after each pass.
     void recordPasses(VkCommandBuffer commandBuffer);
-    // A primary command buffer from the filter's pool, begun.
-    VkCommandBuffer begin();
-    // Ends `commandBuffer` if `end`, submits it to the device's queue and waits for it.
-    void submitAndWait(VkCommandBuffer commandBuffer, bool end = true);
 };
 
 // Pass recorders, one per file (reference_pass.cpp, pyramid_pass.cpp, table_pass.cpp,

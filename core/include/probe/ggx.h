@@ -1,7 +1,11 @@
 // The GGX lobe of DESIGN.md in a form that stays accurate in float32 for tiny alpha.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <numbers>
+
+#include <glm/vec3.hpp>
 
 namespace probe {
 
@@ -26,6 +30,27 @@ inline T ggxKernel(T cosRL, T distanceSquared, T alpha2) {
 template <typename T>
 inline T ggxReflectedPdf(T cosRL, T distanceSquared, T alpha2) {
     return ggxD(cosRL, distanceSquared, alpha2) * T(0.25);
+}
+
+// The base-2 radical inverse (van der Corput) of i: the second coordinate of Hammersley point i,
+// (i / N, radicalInverse2(i)).
+inline double radicalInverse2(std::uint32_t bits) {
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    return static_cast<double>(bits) * 0x1p-32;
+}
+
+// A GGX-distributed half vector for the uniform point (e1, e2) in [0, 1)^2, in the tangent frame of
+// the normal (normal = +z): cos^2(theta) = (1 - e1) / (1 + (alpha^2 - 1) e1), phi = 2 pi e2. Its
+// density is D(n.h) (n.h) over half vectors, so the reflected direction has pdf D (n.h) / (4 v.h).
+inline glm::dvec3 ggxHalfVector(double e1, double e2, double alpha2) {
+    const double cosTheta = std::sqrt((1.0 - e1) / (1.0 + (alpha2 - 1.0) * e1));
+    const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
+    const double phi = 2.0 * std::numbers::pi * e2;
+    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
 
 } // namespace probe

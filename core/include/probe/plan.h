@@ -44,6 +44,13 @@ struct Plan {
     std::vector<std::string> explain() const;
 };
 
+// The name of each pass, as Plan::passes() lists it and a run records what it ran.
+std::string loadPass(const std::string& probe);
+std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 1..depth
+std::string levelPass(const std::string& probe, int level, FilterMethod method);
+std::string irradiancePass(const std::string& probe);
+inline constexpr const char* kDfgPass = "dfg-table";
+
 // The tap generator of a probe's method (empty for the reference, which reads no pyramid).
 using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
 

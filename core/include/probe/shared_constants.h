@@ -21,4 +21,12 @@
 #define PROBE_PYRAMID_JACOBIAN_SHARE 0.5
 #define PROBE_PYRAMID_BASE_WEIGHT 0.125
 
+// Order-2 real SH basis (probe/sh.h): sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi),
+// sqrt(15/16pi).
+#define PROBE_SH_C0 0.28209479177387814
+#define PROBE_SH_C1 0.4886025119029199
+#define PROBE_SH_C2 1.0925484305920792
+#define PROBE_SH_C20 0.31539156525252005
+#define PROBE_SH_C22 0.5462742152960396
+
 #endif

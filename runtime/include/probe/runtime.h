@@ -23,6 +23,7 @@
 #include "probe/cube_image.h"
 #include "probe/pyramid.h"
 #include "probe/roughness.h"
+#include "probe/sh.h"
 #include "probe/tap_table.h"
 
 namespace probe::gpu {
@@ -117,7 +118,8 @@ struct PassTime {
 // One vkCmdDispatch of a run.
 struct Dispatch {
     std::string pass;
-    int level = 0;          // the pyramid or output level it writes; -1: every output level at once
+    int level = 0;          // the pyramid or output level it writes; -1: every output level at once;
+                            // "sh": the summation stage (0 projects the source)
                             // (table and fis without FilterSettings::levels; with them, one per level)
     uint32_t groups = 0;    // workgroups (x; y = z = 1)
 };
@@ -157,6 +159,55 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// Order-2 SH projection of a probe on the GPU (shaders/sh_projection.comp): the 9 radiance
+// coefficients per channel in the basis, order and signs of probe/sh.h,
+// L_lm = sum_t L(t) Y_lm(l_t) dOmega_t over the texels, accumulated in float in a fixed order
+// (16 texels per invocation, then trees over workgroups), so every run gives the same bits. The
+// diffuse irradiance is probe::radianceToIrradiance of the result.
+class ShProjector {
+public:
+    ShProjector(const Device& device, int faceSize);
+    ~ShProjector();
+    ShProjector(const ShProjector&) = delete;
+    ShProjector& operator=(const ShProjector&) = delete;
+
+    // Uploads `source` (the face size built for) and returns its radiance coefficients.
+    ShCoefficients project(const CubeImage& source);
+    // GPU time of the last project(): "sh" and "total". Empty when the queue has no timestamps.
+    std::vector<PassTime> timings() const;
+    // The dispatches of the last project(): pass "sh", level = summation stage.
+    const std::vector<Dispatch>& dispatches() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+// A material as the sphere renderer shades it.
+struct SphereMaterial {
+    glm::vec3 baseColor{0.8f};
+    float metallic = 0.0f;
+    float specular = 1.0f;   // dielectric F0 = 0.04 specular
+    float roughness = 0.5f;  // perceptual: the row of the DFG table
+    float level = 0.0f;      // the filtered level it reads: probe::roughnessToLevel(mapping, roughness, M)
+    bool hasSpecular = true; // false: no specular term (probe::SceneMaterial::hasSpecular)
+};
+
+struct SphereScene {
+    const CubeLevels* prefiltered = nullptr; // levels 0..M-1 from S_0; the levels no material reads may be empty
+    const CubeImage* background = nullptr;    // drawn behind the spheres (nearest texel)
+    ShCoefficients irradiance{};             // probe::radianceToIrradiance of the probe's coefficients
+    const Image* dfg = nullptr;               // probe::dfgTable (square); unused when no material is specular
+    std::vector<SphereMaterial> materials;
+    int cellSize = 128;                       // pixels per sphere, cells left to right
+};
+
+// One sphere per material lit by the probe with the split-sum approximation (shaders/spheres.comp:
+// prefiltered(R, level) * (F0 A + B) + base (1 - metallic) E(N)), each in its own square cell seen
+// from +Z, over the background. Returns linear RGB, cellSize * materials wide, cellSize high.
+Image renderSpheres(const Device& device, const SphereScene& scene);
+
 // A tap table compiled into this build: tables/<name>.json as probefit writes it (beside the
 // generated <name>.h and <name>.glsl), with its inputs and recorded errors.
 struct CompiledTable {
@@ -165,6 +216,9 @@ struct CompiledTable {
 };
 // Every compiled-in table, in name order (empty when tables/ holds none).
 const std::vector<CompiledTable>& compiledTables();
+// The compiled-in table for these settings (the quadratic 8-tap one when there are several), or
+// null.
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, RoughnessMapping mapping, const PyramidSettings& pyramid);
 
 std::string_view methodName(Method method);
 // "table", "fis" or "reference"; ProbeError otherwise.

@@ -1,0 +1,109 @@
+// The sphere renderer (shaders/spheres.comp): packs the filtered levels, the background, the DFG
+// table, the irradiance and the materials into the four storage buffers and runs one dispatch.
+#include <cstdint>
+
+#include <fmt/format.h>
+#include <spheres.spv.h>
+
+#include "compute_pipeline.h"
+#include "probe/error.h"
+#include "submission.h"
+
+namespace probe::gpu {
+
+namespace {
+
+struct SphereConstants {
+    int32_t cellSize;
+    int32_t materialCount;
+    int32_t baseSize;
+    int32_t levelCount;
+    int32_t backgroundSize;
+    int32_t dfgSize;
+    float tanHalfFov;
+    float distance;
+};
+
+// The unit sphere seen from 4 units away fills about 80% of its cell.
+constexpr float kCameraDistance = 4.0f;
+constexpr float kTanHalfFov = 0.32f;
+
+// The filtered levels packed from S_0, the empty ones as zeros (no material reads them).
+std::vector<float> packedLevels(const CubeLevels& levels, int baseSize) {
+    std::vector<float> texels;
+    for (std::size_t m = 0; m < levels.size(); ++m) {
+        const int size = baseSize >> m;
+        if (levels[m].size == 0) {
+            texels.resize(texels.size() + 4 * texelCount(size), 0.0f);
+            continue;
+        }
+        if (levels[m].size != size) throw ProbeError(fmt::format("sphere renderer: level {} has face size {}, not {}", m, levels[m].size, size));
+        const std::vector<float> level = rgbaTexels(levels[m]);
+        texels.insert(texels.end(), level.begin(), level.end());
+    }
+    return texels;
+}
+
+} // namespace
+
+Image renderSpheres(const Device& device, const SphereScene& scene) {
+    if (!scene.prefiltered || scene.prefiltered->empty() || !scene.background || scene.materials.empty() || scene.cellSize < 1)
+        throw ProbeError("sphere renderer: needs the filtered levels, a background, at least one material and a cell size");
+    const CubeLevels& levels = *scene.prefiltered;
+    // S_0 from the first level computed; with none (diffuse materials only), the smallest S_0 that
+    // has this many levels.
+    int baseSize = 1 << (levels.size() - 1);
+    for (std::size_t m = levels.size(); m-- > 0;)
+        if (levels[m].size) baseSize = levels[m].size << m;
+    const std::vector<float> filtered = packedLevels(levels, baseSize);
+
+    std::vector<float> lookup = rgbaTexels(*scene.background);
+    const int dfgSize = scene.dfg ? scene.dfg->width : 1;
+    if (scene.dfg) {
+        if (scene.dfg->height != dfgSize) throw ProbeError("sphere renderer: the DFG table must be square");
+        for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3) lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
+    } else {
+        lookup.insert(lookup.end(), {0.0f, 0.0f, 0.0f, 0.0f});
+    }
+
+    std::vector<float> parameters;
+    for (const glm::dvec3& c : scene.irradiance)
+        parameters.insert(parameters.end(), {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b), 0.0f});
+    for (const SphereMaterial& m : scene.materials) {
+        if (m.hasSpecular && !scene.dfg) throw ProbeError("sphere renderer: a specular material needs the DFG table");
+        parameters.insert(parameters.end(), {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.specular, m.roughness, m.level,
+                                             m.hasSpecular ? 1.0f : 0.0f});
+    }
+
+    const int width = scene.cellSize * static_cast<int>(scene.materials.size()), height = scene.cellSize;
+    const std::size_t pixels = static_cast<std::size_t>(width) * height;
+    Buffer levelBuffer(device, filtered.size() * sizeof(float), Buffer::Kind::storage);
+    Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
+    Buffer lookupBuffer(device, lookup.size() * sizeof(float), Buffer::Kind::storage);
+    Buffer parameterBuffer(device, parameters.size() * sizeof(float), Buffer::Kind::storage);
+    PipelineLayout layout(device.device(), {&levelBuffer, &image, &lookupBuffer, &parameterBuffer});
+    ComputePipeline pipeline(device.device(), layout, kSpheresSpv);
+    Submission submission(device);
+    submission.upload(levelBuffer, filtered.data(), levelBuffer.bytes());
+    submission.upload(lookupBuffer, lookup.data(), lookupBuffer.bytes());
+    submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
+
+    const SphereConstants constants{scene.cellSize, static_cast<int32_t>(scene.materials.size()), baseSize,
+                                    static_cast<int32_t>(levels.size()), scene.background->size, dfgSize, kTanHalfFov, kCameraDistance};
+    VkCommandBuffer commandBuffer = submission.begin();
+    computeBarrier(commandBuffer);
+    layout.bind(commandBuffer);
+    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groupsFor(pixels));
+    computeBarrier(commandBuffer);
+    submission.submitAndWait(commandBuffer);
+    submission.release(commandBuffer);
+
+    std::vector<float> rgba(pixels * 4);
+    submission.download(image, rgba.data(), image.bytes());
+    Image out{width, height, std::vector<float>(pixels * 3)};
+    for (std::size_t p = 0; p < pixels; ++p)
+        for (int k = 0; k < 3; ++k) out.rgb[3 * p + k] = rgba[4 * p + k];
+    return out;
+}
+
+} // namespace probe::gpu

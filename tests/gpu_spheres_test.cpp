@@ -1,0 +1,55 @@
+// The sphere renderer: in a constant environment L, a white diffuse sphere is L everywhere (SH
+// irradiance of a constant is the constant), a white metal sphere is L times the DFG albedo
+// A + B (at most 1, 1 where it faces the camera and is smooth), and the background is L.
+#include <cmath>
+
+#include "gpu_test_support.h"
+#include "probe/dfg.h"
+#include "probe/sh.h"
+#include "probe/synthetic.h"
+
+using namespace probe;
+using probetest::GpuTest;
+
+class GpuSpheres : public GpuTest {};
+
+TEST_F(GpuSpheres, ConstantEnvironment) {
+    const float radiance = 3.0f;
+    const CubeImage constant = constantProbe(16, glm::vec3(radiance));
+    CubeLevels prefiltered;
+    for (int m = 0; m < 4; ++m) prefiltered.push_back(constantProbe(16 >> m, glm::vec3(radiance)));
+    const Image dfg = dfgTable(32, 256);
+
+    gpu::SphereScene scene;
+    scene.prefiltered = &prefiltered;
+    scene.background = &constant;
+    scene.irradiance = radianceToIrradiance(projectRadiance(constant));
+    scene.dfg = &dfg;
+    gpu::SphereMaterial chalk;
+    chalk.baseColor = glm::vec3(1.0f);
+    chalk.specular = 0.0f;
+    chalk.hasSpecular = false;
+    gpu::SphereMaterial mirror;
+    mirror.baseColor = glm::vec3(1.0f);
+    mirror.metallic = 1.0f;
+    mirror.roughness = 0.0f;
+    mirror.level = 0.0f;
+    gpu::SphereMaterial rough = mirror;
+    rough.roughness = 1.0f;
+    rough.level = 3.0f;
+    scene.materials = {chalk, mirror, rough};
+    scene.cellSize = 32;
+    const Image image = gpu::renderSpheres(probetest::testDevice(), scene);
+    ASSERT_EQ(image.width, 96);
+    ASSERT_EQ(image.height, 32);
+
+    // Corners of every cell: background. Cell centres: the sphere facing the camera.
+    for (int cell = 0; cell < 3; ++cell) EXPECT_FLOAT_EQ(image.pixel(32 * cell, 0).r, radiance);
+    EXPECT_NEAR(image.pixel(16, 16).g, radiance, 1e-5 * radiance) << "white diffuse sphere";
+    const glm::dvec2 smooth = dfgIntegral(1.0, 0.0, 1);
+    EXPECT_NEAR(image.pixel(48, 16).r, radiance * (smooth.x + smooth.y), 2e-3 * radiance) << "smooth metal at normal incidence";
+    const float roughCentre = image.pixel(80, 16).r;
+    EXPECT_LT(roughCentre, 0.8f * radiance) << "a rough metal loses energy (single scattering)";
+    EXPECT_GT(roughCentre, 0.2f * radiance);
+    for (float v : image.rgb) EXPECT_LE(v, radiance * 1.001f);
+}
