@@ -24,6 +24,20 @@ nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapp
             {"levels", levels}};
 }
 
+nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {
+    return {{"kind", "vulkan"}, {"index", info.index}, {"name", info.name}, {"driver", info.driver}, {"type", info.type},
+            {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(info.apiVersion), VK_API_VERSION_MINOR(info.apiVersion),
+                                VK_API_VERSION_PATCH(info.apiVersion))},
+            {"validation", validation}};
+}
+
+nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const probe::gpu::Dispatch& d : dispatches)
+        list.push_back({{"pass", d.pass}, {"level", d.level < 0 ? nlohmann::json("all") : nlohmann::json(d.level)}, {"workgroups", d.groups}});
+    return list;
+}
+
 static double now() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -39,8 +53,12 @@ void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
 }
 
 void printProgress(const std::string& label, std::size_t done, std::size_t total) {
-    // Redrawn in place on a terminal; in logs only the final line.
-    if (!::isatty(STDERR_FILENO) && done < total) return;
+    // Redrawn in place on a terminal; in logs one line per tenth of the work.
+    if (!::isatty(STDERR_FILENO)) {
+        if (total && done > 0 && done * 10 / total != (done - 1) * 10 / total)
+            fmt::print(stderr, "{:<12} {:3}% ({}/{})\n", label, 100 * done / total, done, total);
+        return;
+    }
     const int width = 30;
     const int filled = total ? static_cast<int>(width * done / total) : width;
     fmt::print(stderr, "\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
