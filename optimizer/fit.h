@@ -1,14 +1,18 @@
 // The fit: per output level, Ceres minimizes the impulse-response L1 of the table over the
-// stratified texels, one residual per texel.
+// stratified texels (BFGS on the L1 itself, or Levenberg-Marquardt with one residual per texel).
 #pragma once
 
 #include <functional>
 #include <optional>
+#include <cstddef>
 #include <string>
 
 #include "probe/tap_table.h"
 
 namespace probefit {
+
+// bfgs: BFGS only; lm: Levenberg-Marquardt only; lm-bfgs: lmIterations of Levenberg-Marquardt, then BFGS.
+enum class FitSolver { lmBfgs, bfgs, lm };
 
 struct FitSettings {
     int baseSize = 0;
@@ -18,7 +22,13 @@ struct FitSettings {
     probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
     probe::PyramidSettings pyramid;
     int stratifiedBudget = 512; // texels per level
-    int maxIterations = 60;     // Levenberg-Marquardt iterations per level
+    FitSolver solver = FitSolver::lmBfgs;
+    int lmIterations = 20; // the Levenberg-Marquardt part of lm-bfgs (scaled like maxIterations)
+    // Solver iterations for a level with the full budget of stratified texels; a level with fewer
+    // texels (the rough ones: 24 at a 2x2 face) costs less per iteration and gets proportionally
+    // more, at most roughIterationFactor times as many.
+    int maxIterations = 60;
+    int roughIterationFactor = 4;
     bool measureAll = true;     // also measure every output texel after the fit (recorded in the table)
     std::optional<probe::TapTable> init;
 };
@@ -29,7 +39,17 @@ struct FitProgress {
     double l1 = 0.0; // stratified mean impulse L1 (plus the weight-sum penalty where it is active)
     double seconds = 0.0;
     std::string stage; // "start <candidate>", "iteration", "done", "all texels"
+    // With "done": where the level's time went.
+    double kernelSeconds = 0.0;     // reference kernels of the stratified texels
+    double evaluationSeconds = 0.0; // the model: L1 and its gradient (or Jacobian) inside the solver
+    double solverSeconds = 0.0;     // the rest of the solver (BFGS updates, line search, or LM linear algebra)
+    int evaluations = 0;            // model evaluations over all stratified texels
 };
+
+// The iteration limit of a level with `texels` stratified texels, for `iterations` at the full budget.
+int levelIterations(const FitSettings& settings, int iterations, std::size_t texels);
+
+FitSolver parseFitSolver(const std::string& name);
 
 // Fits every level with alpha > 0; deterministic for given settings. Throws ProbeError for bad settings.
 probe::TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress);

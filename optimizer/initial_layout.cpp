@@ -62,7 +62,7 @@ void warmStartFromLevel(TapTable& table, int level, int from) {
         }
 }
 
-void startFromTable(TapTable& table, int level, const TapTable& init) {
+void startFromTable(TapTable& table, int level, const TapTable& init, double spread) {
     const int k = coefficientCount(table.form), kInit = coefficientCount(init.form);
     const bool split = init.taps * 2 == table.taps;
     for (int frame = 0; frame < kFrameCount; ++frame)
@@ -73,9 +73,18 @@ void startFromTable(TapTable& table, int level, const TapTable& init) {
             for (int p = 0; p < kTapParameterCount; ++p)
                 for (int q = 0; q < k; ++q) to[p * k + q] = q < kInit ? from[p * kInit + q] : 0.0;
             if (!split) continue;
+            const bool second = t >= init.taps;
+            if (spread <= 0.0) {
+                // Same place, weights 0.6 : 0.4 of the tap's own: the filter is exactly init's.
+                for (int q = 0; q < k; ++q) to[tapWeight * k + q] *= second ? 0.4 : 0.6;
+                continue;
+            }
+            // Half the weight each, moved apart by +-spread texels of the tap's own pyramid level, across
+            // the frame's x or y (alternating), relative to the length of the tap's direction vector.
             for (int q = 0; q < k; ++q) to[tapWeight * k + q] *= 0.5;
-            // Second copies move apart slightly so the two halves can separate.
-            if (t >= init.taps) to[tapDirX * k] += 1e-3 * (1 + source % 3);
+            const double length = std::hypot(to[tapDirX * k], to[tapDirY * k], to[tapDirZ * k]);
+            const double texelAngle = 2.0 / table.baseSize * std::exp2(std::clamp(to[tapLevel * k], 0.0, 12.0));
+            to[(source % 2 == 0 ? tapDirX : tapDirY) * k] += (second ? -1.0 : 1.0) * spread * texelAngle * length;
         }
 }
 

@@ -18,8 +18,10 @@ void lobeLayout(probe::TapTable& table, int level, double alpha);
 void warmStartFromLevel(probe::TapTable& table, int level, int from);
 
 // Level `level` from the same level of `init` (same base size; N or N/2 taps; either form). With
-// N/2 taps each tap is split into two with half the weight, slightly apart, so the start filters
-// exactly as `init` does (up to the split) and the fit can only improve on it.
-void startFromTable(probe::TapTable& table, int level, const probe::TapTable& init);
+// N/2 taps each tap is split into two. spread 0: at the same place with weights 0.6 and 0.4 of its
+// own, so the start filters exactly as `init` does. spread > 0: half the weight each, moved apart by
+// +-spread texels of the tap's pyramid level, so that a converged init does not hold the fit at its
+// stationary point (the fit keeps the exact split where it cannot beat it).
+void startFromTable(probe::TapTable& table, int level, const probe::TapTable& init, double spread = 0.0);
 
 } // namespace probefit

@@ -28,8 +28,10 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
 }
 
 int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping,
-           const std::string& pyramid, const std::string& weighting, const std::string& init, const std::string& out) {
+           const std::string& pyramid, const std::string& weighting, const std::string& solver, const std::string& init,
+           const std::string& out) {
     settings.form = parseOption("--form", form, parseTableForm);
+    settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind),
                         parseOption("--weighting", weighting, parsePyramidWeighting)};
@@ -41,6 +43,12 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                                      settings.baseSize, maxLevelCount(settings.baseSize)));
     if (settings.taps < 4 || settings.taps % 4 != 0)
         throw ProbeError(fmt::format("--taps: {} is not a positive multiple of 4", settings.taps));
+    if (settings.maxIterations < 1)
+        throw ProbeError(fmt::format("--iterations: {} is not a positive count", settings.maxIterations));
+    if (settings.lmIterations < 0)
+        throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
+    if (settings.roughIterationFactor < 1)
+        throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
     if (!init.empty()) {
@@ -55,16 +63,34 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     }
     probefit::checkWritable(out);
 
-    fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level\n",
+    fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
+               "solver {}\n",
                settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting,
-               settings.stratifiedBudget);
-    const TapTable table = probefit::fitTable(settings, [](const probefit::FitProgress& p) {
+               settings.stratifiedBudget, solver);
+    // Where the time goes, summed over levels: reference kernels, the model inside the solver, the
+    // solver's own work, and everything else (start candidates, the measurement over all texels).
+    double kernels = 0.0, evaluation = 0.0, solverOwn = 0.0;
+    int evaluations = 0;
+    const TapTable table = probefit::fitTable(settings, [&](const probefit::FitProgress& p) {
         if (p.stage == "iteration")
             fmt::print("  level {} iteration {:3d}  L1 {:.5f}  {:7.1f} s\n", p.level, p.iteration, p.l1, p.seconds);
-        else
+        else if (p.stage == "done") {
+            fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
+                       "evaluations, solver {:.1f} s)\n",
+                       p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations,
+                       p.solverSeconds);
+            kernels += p.kernelSeconds;
+            evaluation += p.evaluationSeconds;
+            solverOwn += p.solverSeconds;
+            evaluations += p.evaluations;
+        } else
             fmt::print("level {} {}: L1 {:.5f}  {:7.1f} s\n", p.level, p.stage, p.l1, p.seconds);
         std::fflush(stdout);
     });
+    fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
+               "solver's own work {:.1f} s, other (start candidates, measuring all texels) {:.1f} s\n",
+               table.fitSeconds, kernels, evaluation, evaluations, solverOwn,
+               table.fitSeconds - kernels - evaluation - solverOwn);
     probefit::writeTableOutputs(out, table);
     for (const std::string& line : tableSummary(table)) fmt::print("{}\n", line);
     fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", out);
@@ -106,7 +132,7 @@ int main(int argc, char** argv) {
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
     app.require_subcommand(0, 1);
     probefit::FitSettings settings;
-    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", init, out;
+    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", init, out;
     app.add_option("--size", settings.baseSize, "base face size S_0 (power of two)");
     app.add_option("--levels", settings.levelCount, "output levels M (default max(1, log2 S_0))");
     app.add_option("--taps", settings.taps, "taps per frame N (multiple of 4)");
@@ -116,7 +142,15 @@ int main(int argc, char** argv) {
     app.add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
     app.add_option("--init", init, "table file to start from (same size and levels, N or N/2 taps)");
     app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
-    app.add_option("--iterations", settings.maxIterations, "solver iterations per level")->capture_default_str();
+    app.add_option("--solver", solver,
+                   "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
+    app.add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")
+        ->capture_default_str();
+    app.add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")
+        ->capture_default_str();
+    app.add_option("--rough-factor", settings.roughIterationFactor,
+                   "levels with fewer stratified texels get up to this many times the iterations")
+        ->capture_default_str();
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
     app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
@@ -144,7 +178,7 @@ int main(int argc, char** argv) {
         for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.baseSize == 0},
                                             {"--taps", settings.taps == 0}, {"--form", form.empty()}, {"--out", out.empty()}})
             if (missing) throw ProbeError(fmt::format("{} is required", name));
-        return runFit(settings, form, mapping, pyramid, weighting, init, out);
+        return runFit(settings, form, mapping, pyramid, weighting, solver, init, out);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {

@@ -15,6 +15,21 @@ for f in small.json small.h small.glsl; do [[ -s $work/$f ]] || fail "small fit:
 # The fitted levels are far better than the lobe-shaped start (0.29 to 0.6 at this size).
 awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" || fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
 
+# The same inputs give the same table, whatever the number of threads.
+OMP_NUM_THREADS=1 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/single" >/dev/null || fail "single-thread fit"
+cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/single.json") ||
+    fail "the fit with 1 thread differs from the fit with the default threads"
+
+# More taps are never worse: 8 taps from the 4-tap table (--init) reach at most its L1 at every level.
+"$PROBEFIT" --size 16 --levels 4 --taps 8 --form quad --init "$work/small.json" --iterations 10 --no-full-eval \
+    --out "$work/eight" >/dev/null || fail "8-tap fit from --init"
+"$PROBEFIT" eval "$work/small.json" --texels stratified >"$work/eval4.log"
+"$PROBEFIT" eval "$work/eight.json" --texels stratified >"$work/eval8.log"
+paste -d' ' <(grep '^level [1-3] mean' "$work/eval4.log") <(grep '^level [1-3] mean' "$work/eval8.log") >"$work/pairs.log"
+[[ $(wc -l <"$work/pairs.log") -eq 3 ]] || fail "--init comparison: missing levels"
+awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(n + 4) " > 4 taps " $4; bad = 1 } } END { exit bad }' \
+    "$work/pairs.log" || fail "8 taps worse than the 4-tap --init table: $(cat "$work/pairs.log")"
+
 head -c 300 "$work/small.json" >"$work/truncated.json"
 "$PROBEFIT" --size 32 --levels 4 --taps 4 --form const --iterations 1 --no-full-eval --out "$work/other" >/dev/null || fail "other fit"
 
@@ -39,6 +54,8 @@ expect_refused taps            "--taps"                 --size 16 --taps 6 --for
 expect_refused form            "--form"                 --size 16 --taps 4 --form cubic --out "$work/out"
 expect_refused mapping         "--mapping"              $(fit --size 16 --mapping bogus)
 expect_refused pyramid         "--pyramid"              $(fit --size 16 --pyramid gauss)
+expect_refused solver          "--solver"               $(fit --size 16 --solver newton)
+expect_refused iterations      "--iterations"           $(fit --size 16 --iterations 0)
 expect_refused missing-out     "--out"                  --size 16 --taps 4 --form quad
 expect_refused unwritable-out  "--out"                  --size 16 --taps 4 --form quad --out "$work/no/such/dir/out"
 expect_refused truncated-init  "$work/truncated.json"   $(fit --size 16 --levels 4 --init "$work/truncated.json")
