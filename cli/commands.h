@@ -9,6 +9,8 @@ void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);
 void addPlanCommand(CLI::App& app);
+void addRunCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 void addSweepCommand(CLI::App& app);
 
 } // namespace probefilter

@@ -133,14 +133,8 @@ void runFilter(const FilterOptions& o) {
     if (s.method == probe::gpu::Method::fis) report["fis"] = {{"samples", s.fisSamples}, {"bias", s.fisBias}};
     if (s.method == probe::gpu::Method::table) report["table"] = describeTable(table);
     const probe::gpu::DeviceInfo& info = device.info();
-    report["device"] = {{"kind", "vulkan"}, {"index", info.index}, {"name", info.name}, {"driver", info.driver}, {"type", info.type},
-                        {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(info.apiVersion), VK_API_VERSION_MINOR(info.apiVersion),
-                                            VK_API_VERSION_PATCH(info.apiVersion))},
-                        {"validation", o.validate}};
-    nlohmann::json dispatches = nlohmann::json::array();
-    for (const probe::gpu::Dispatch& d : filter.dispatches())
-        dispatches.push_back({{"pass", d.pass}, {"level", d.level < 0 ? nlohmann::json("all") : nlohmann::json(d.level)}, {"workgroups", d.groups}});
-    report["dispatches"] = dispatches;
+    report["device"] = describeDevice(info, o.validate);
+    report["dispatches"] = describeDispatches(filter.dispatches());
     report["repeat"] = o.repeat;
     nlohmann::json passes = nlohmann::json::array();
     for (const probe::gpu::PassTime& p : filter.timings())

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
     probefilter::addSynthCommand(app);
     probefilter::addFilterCommand(app);
     probefilter::addPlanCommand(app);
+    probefilter::addRunCommand(app);
+    probefilter::addCompareCommand(app);
     probefilter::addSweepCommand(app);
     try {
         app.parse(argc, argv);

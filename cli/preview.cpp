@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "probe/cube_sampling.h"
 #include "probe/error.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -58,7 +59,7 @@ void writeLevelsPreview(const std::filesystem::path& png, const probe::CubeLevel
                 const double theta = (y + 0.5) / height * std::numbers::pi;
                 const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
                 const probe::CubeImage& level = levels[m];
-                const glm::vec3 c = level.texel(probe::texelIndex(probe::directionToTexel(d, level.size), level.size));
+                const glm::vec3 c(probe::sampleBilinear(level, d));
                 float* p = &panoramas.rgb[((m * height + y) * width + x) * 3];
                 for (int k = 0; k < 3; ++k) p[k] = c[k];
             }

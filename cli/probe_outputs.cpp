@@ -14,24 +14,43 @@ std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name) {
     throw probe::ProbeError(fmt::format("--ktx2: unknown format '{}' (expected none, rgba16f or rgba32f)", name));
 }
 
+nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
+                              probe::RoughnessMapping mapping, probe::Ktx2PixelFormat format) {
+    const int levelCount = static_cast<int>(levels.size());
+    int baseSize = 0;
+    for (int m = levelCount; m-- > 0;)
+        if (levels[m].size) baseSize = levels[m].size << m;
+    std::string roughness, computed;
+    probe::CubeLevels filled = levels;
+    bool partial = false;
+    for (int m = 0; m < levelCount; ++m) {
+        roughness += fmt::format("{}{:.6f}", m ? " " : "", probe::levelRoughness(mapping, m, levelCount));
+        if (levels[m].size == 0) {
+            filled[m] = probe::CubeImage(baseSize >> m); // black: no material reads it
+            partial = true;
+        } else {
+            computed += fmt::format("{}{}", computed.empty() ? "" : " ", m);
+        }
+    }
+    probe::KeyValues metadata{{"KTXwriter", "probefilter 0.1"},
+                              {"probefilter.mapping", std::string(probe::roughnessMappingName(mapping))},
+                              {"probefilter.roughness", roughness}};
+    if (partial) metadata.push_back({"probefilter.computed_levels", computed});
+    const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, format, metadata);
+    if (clamped)
+        fmt::print(stderr, "probefilter: warning: {} value(s) above 65504 clamped to the half-float range in {}\n", clamped, name);
+    nlohmann::json report = {{"file", name},
+                             {"format", format == probe::Ktx2PixelFormat::rgba16f ? "rgba16f" : "rgba32f"},
+                             {"clamped_values", clamped}};
+    if (partial) report["computed_levels"] = computed;
+    return report;
+}
+
 void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, probe::RoughnessMapping mapping,
                         std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report) {
     const int levelCount = static_cast<int>(levels.size());
     for (int m = 0; m < levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
-    if (ktx2) {
-        std::string roughness;
-        for (int m = 0; m < levelCount; ++m)
-            roughness += fmt::format("{}{:.6f}", m ? " " : "", probe::levelRoughness(mapping, m, levelCount));
-        const probe::KeyValues metadata{{"KTXwriter", "probefilter 0.1"},
-                                        {"probefilter.mapping", std::string(probe::roughnessMappingName(mapping))},
-                                        {"probefilter.roughness", roughness}};
-        const std::size_t clamped = probe::writeKtx2Cube(output.file("probe.ktx2"), levels, *ktx2, metadata);
-        if (clamped)
-            fmt::print(stderr, "probefilter: warning: {} value(s) above 65504 clamped to the half-float range in probe.ktx2\n", clamped);
-        report["ktx2"] = {{"file", "probe.ktx2"},
-                          {"format", *ktx2 == probe::Ktx2PixelFormat::rgba16f ? "rgba16f" : "rgba32f"},
-                          {"clamped_values", clamped}};
-    }
+    if (ktx2) report["ktx2"] = writeProbeKtx2(output, "probe.ktx2", levels, mapping, *ktx2);
     writeLevelsPreview(output.file("preview.png"), levels);
 }
 

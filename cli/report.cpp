@@ -24,6 +24,20 @@ nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapp
             {"levels", levels}};
 }
 
+nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {
+    return {{"kind", "vulkan"}, {"index", info.index}, {"name", info.name}, {"driver", info.driver}, {"type", info.type},
+            {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(info.apiVersion), VK_API_VERSION_MINOR(info.apiVersion),
+                                VK_API_VERSION_PATCH(info.apiVersion))},
+            {"validation", validation}};
+}
+
+nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const probe::gpu::Dispatch& d : dispatches)
+        list.push_back({{"pass", d.pass}, {"level", d.level < 0 ? nlohmann::json("all") : nlohmann::json(d.level)}, {"workgroups", d.groups}});
+    return list;
+}
+
 static double now() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }

@@ -7,11 +7,18 @@
 #include <nlohmann/json.hpp>
 
 #include "probe/roughness.h"
+#include "probe/runtime.h"
 
 namespace probefilter {
 
 // The settings block every report starts with: input, face size, levels and their roughness.
 nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapping mapping);
+
+// The Vulkan device a command ran on: index, name, driver, type, API version, validation.
+nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation);
+
+// One object per dispatch: pass, level ("all" for -1), workgroups.
+nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches);
 
 // Wall-clock stopwatch in seconds.
 class Stopwatch {

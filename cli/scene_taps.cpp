@@ -1,5 +1,7 @@
 #include "scene_taps.h"
 
+#include <memory>
+
 #include <fmt/format.h>
 
 #include "probe/error.h"
@@ -31,7 +33,13 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
 
 probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& p) {
     switch (p.method) {
-    case probe::FilterMethod::table: return probe::tableTapGenerator(sceneProbeTable(scene, p));
+    case probe::FilterMethod::table: {
+        // tableTapGenerator refers to its table: the generator keeps it alive.
+        auto table = std::make_shared<const probe::TapTable>(sceneProbeTable(scene, p));
+        return [table, generator = probe::tableTapGenerator(*table)](int level, const probe::Texel& texel, std::vector<probe::Tap>& taps) {
+            return generator(level, texel, taps);
+        };
+    }
     case probe::FilterMethod::fis: {
         probe::ImportanceSamplingSettings settings;
         settings.samples = p.samples;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Bad input to `probefilter reference`: exit code 2, a one-line error naming the file or option, and
-# no output (neither the folder nor a staging folder beside it).
+# Bad input to `probefilter reference` and bad scenes for `probefilter run`: exit code 2, a one-line
+# error naming the file or option (and the scene's field), and no output (neither the folder nor a
+# staging folder beside it).
 set -u
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -40,6 +41,21 @@ expect_refused size-zero      "face size 0"       reference "$in/good.exr" --siz
 expect_refused too-many-levels "level count 5"    reference "$in/good.exr" --size 8 --levels 5 --out "$work/out"
 expect_refused zero-levels    "level count 0"     reference "$in/good.exr" --size 8 --levels 0 --out "$work/out"
 expect_refused unwritable-out "$work/a-file/out"  reference "$in/good.exr" --size 8 --out "$work/a-file/out"
+
+# Bad scenes for `run`: the message names the scene file and the field.
+bad_scene() { # name, probe fields, materials
+    printf '{"probes": [{"name": "sky", %s}], "materials": [%s]}' "$2" "$3" >"$work/$1.json"
+}
+bad_scene missing-image '"image": "in/nope.exr"' ''
+bad_scene unknown-field '"image": "in/good.exr"' '{"name": "a", "roughness": 0.5, "shininess": 3}'
+bad_scene roughness-range '"image": "in/good.exr"' '{"name": "a", "roughness": 1.5}'
+bad_scene duplicate-material '"image": "in/good.exr"' '{"name": "a", "roughness": 0.5}, {"name": "a", "roughness": 0.2}'
+run() { echo run "$work/$1.json" --out "$work/out"; }
+expect_refused scene-missing-image      "$work/missing-image.json: probes[0].image"              $(run missing-image)
+expect_refused scene-unknown-field      "$work/unknown-field.json: materials[0].shininess"       $(run unknown-field)
+expect_refused scene-roughness-range    "$work/roughness-range.json: materials[0].roughness"     $(run roughness-range)
+expect_refused scene-duplicate-material "$work/duplicate-material.json: materials[1].name"       $(run duplicate-material)
+expect_refused scene-missing-file       "$work/nope.json"                                        $(run nope)
 
 # The explicit flag repairs instead of refusing, and then the output is complete.
 if "$PROBEFILTER" reference "$in/nan.exr" --size 8 --repair-pixels --out "$work/repaired" >/dev/null 2>&1 &&

@@ -245,7 +245,11 @@ StagedOutput::~StagedOutput() {
 
 fs::path StagedOutput::file(const std::string& name) {
     names_.push_back(name);
-    return staging_ / name;
+    const fs::path path = staging_ / name;
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    if (ec) fail(outDir_ / name, fmt::format("cannot create its folder ({})", ec.message()));
+    return path;
 }
 
 void StagedOutput::commit() {
@@ -254,7 +258,8 @@ void StagedOutput::commit() {
     if (ec)
         fail(outDir_, fmt::format("cannot create output folder ({})", ec.message()));
     for (const std::string& name : names_) {
-        fs::rename(staging_ / name, outDir_ / name, ec);
+        fs::create_directories((outDir_ / name).parent_path(), ec);
+        if (!ec) fs::rename(staging_ / name, outDir_ / name, ec);
         if (ec)
             fail(outDir_ / name, fmt::format("cannot move output into place ({})", ec.message()));
     }

@@ -85,6 +85,9 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     FieldReader r(scene, where, object);
     SceneProbe p;
     p.name = r.required<std::string>("name");
+    // A probe's outputs go to a folder of its name.
+    if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos)
+        r.fail(r.field("name"), fmt::format("'{}' cannot name a folder", p.name));
     p.image = scene.parent_path() / r.required<std::string>("image");
     std::error_code ec;
     if (!std::filesystem::is_regular_file(p.image, ec)) r.fail(r.field("image"), fmt::format("no such file {}", p.image.string()));

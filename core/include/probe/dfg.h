@@ -15,9 +15,20 @@
 
 namespace probe {
 
+// The convention of dfgTable in one line, for files that carry the table.
+inline constexpr const char* kDfgConvention =
+    "split-sum DFG (Karis 2013) with Filament's height-correlated Smith visibility: column i is n.v = (i + 0.5) / size, "
+    "row j (row 0 at the top) is perceptual roughness (j + 0.5) / size, alpha = roughness^2; red = A, green = B, blue = 0; "
+    "specular = prefiltered * (F0 * A + B)";
+
 // (A, B) for n.v in (0, 1] and perceptual roughness in [0, 1], by `samples` GGX importance
 // samples of the half vector (Hammersley points, probe/ggx.h).
 glm::dvec2 dfgIntegral(double nDotV, double roughness, int samples);
+
+// The table the tool writes and renders with: 32 x 32 texels of 4096 samples each (within ~2e-3
+// of the exact integral; the worst seen is at grazing n.v).
+inline constexpr int kDfgTableSize = 32;
+inline constexpr int kDfgTableSamples = 4096;
 
 // The table as an image of size x size: column i holds n.v = (i + 0.5) / size, row j holds
 // perceptual roughness (j + 0.5) / size (row 0 at the top is the smoothest); red = A (the scale of

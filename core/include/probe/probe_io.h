@@ -53,7 +53,8 @@ public:
     StagedOutput(const StagedOutput&) = delete;
     StagedOutput& operator=(const StagedOutput&) = delete;
 
-    // Where to write a file that will appear as outDir/name.
+    // Where to write a file that will appear as outDir/name (`name` may hold folders, e.g.
+    // "sky/level_0.exr").
     std::filesystem::path file(const std::string& name);
     void commit();
 

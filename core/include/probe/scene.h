@@ -8,8 +8,9 @@
 //                  "base_color": [0.95, 0.93, 0.88], "specular": 1}],
 //   "outputs": {"exr": true, "ktx2": "rgba16f", "spheres": true}
 // }
-// Only "name" and "image" of a probe and "name" and "roughness" of a material are required;
-// "probe" may be left out when there is one probe. Paths are relative to the scene file.
+// A probe's name names its output folder (no slashes). Only "name" and "image" of a probe and
+// "name" and "roughness" of a material are required; "probe" may be left out when there is one
+// probe. Paths are relative to the scene file.
 #pragma once
 
 #include <filesystem>

@@ -19,6 +19,15 @@
 namespace probe {
 
 inline constexpr int kShCount = 9;
+
+// The convention above in one line, for files that carry coefficients.
+inline constexpr const char* kShConvention =
+    "order-2 real SH, no Condon-Shortley phase, unit direction (x, y, z) in the cube's frame (Vulkan faces; "
+    "+Y up in equirectangular input); coefficient k, RGB each: 0 Y00 = 0.282095, 1 Y1-1 = 0.488603 y, "
+    "2 Y10 = 0.488603 z, 3 Y11 = 0.488603 x, 4 Y2-2 = 1.092548 x y, 5 Y2-1 = 1.092548 y z, "
+    "6 Y20 = 0.315392 (3 z^2 - 1), 7 Y21 = 1.092548 x z, 8 Y22 = 0.546274 (x^2 - y^2); "
+    "radiance L_k = sum_t L(t) Y_k(l_t) dOmega_t; irradiance E_k = A_l L_k / pi with A_0 = pi, A_1 = 2 pi / 3, "
+    "A_2 = pi / 4; E(n) = sum_k E_k Y_k(n), so a constant radiance L gives E = L";
 using ShCoefficients = std::array<glm::dvec3, kShCount>; // RGB per coefficient
 
 std::array<double, kShCount> shBasis(const glm::dvec3& unitDirection);

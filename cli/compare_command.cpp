@@ -1,0 +1,185 @@
+// probefilter compare IN --size S --out DIR: the talks' comparison, as a picture and numbers. The
+// exact CPU reference, the tap table and FIS-32 (about the same GPU time) filter the probe; metal
+// spheres of a few roughnesses are rendered with each (probe::gpu::renderSpheres) and laid out with
+// heat maps of their error against the reference's (sheet.png); report.json holds the image L1 per
+// level, the spheres' L1 and the GPU times.
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "comparison_sheet.h"
+#include "preview.h"
+#include "probe/dfg.h"
+#include "probe/error.h"
+#include "probe/error_measures.h"
+#include "probe/probe_io.h"
+#include "probe/reference.h"
+#include "probe/table_io.h"
+#include "report.h"
+#include "spheres.h"
+
+namespace probefilter {
+
+namespace {
+
+using nlohmann::json;
+
+struct CompareOptions {
+    std::string input;
+    int size = 128;
+    int levels = 0; // 0: the default for the size
+    std::string table; // a table file; default: the compiled-in table for the settings
+    int samples = 32;
+    std::vector<double> roughness{0.15, 0.3, 0.5, 0.75, 1.0};
+    int cell = 128;
+    double maxError = 0.2;
+    int repeat = 3;
+    std::string device;
+    bool validate = false;
+    bool repairPixels = false;
+    std::string out;
+};
+
+
+struct MethodRun {
+    probe::CubeLevels levels;
+    double gpuMs = 0.0;
+};
+
+MethodRun runOnGpu(const probe::gpu::Device& device, const probe::gpu::FilterSettings& settings, const probe::CubeImage& source, int repeat) {
+    probe::gpu::Filter filter(device, settings);
+    MethodRun run{filter.run(source, repeat), 0.0};
+    for (const probe::gpu::PassTime& t : filter.timings())
+        if (t.name == "total") run.gpuMs = t.medianMs;
+    return run;
+}
+
+json levelErrors(const probe::CubeLevels& levels, const probe::CubeLevels& reference) {
+    json errors = json::array();
+    for (std::size_t m = 0; m < levels.size(); ++m) errors.push_back(probe::imageL1(levels[m], reference[m]));
+    return errors;
+}
+
+void runCompare(const CompareOptions& o) {
+    const probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
+    const int levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
+    probe::validateSizeAndLevels(o.size, levelCount);
+    if (o.roughness.empty()) throw probe::ProbeError("--roughness: give at least one value");
+    for (double r : o.roughness)
+        if (!(r >= 0.0 && r <= 1.0)) throw probe::ProbeError(fmt::format("--roughness {}: outside [0, 1]", r));
+    if (o.cell < 8) throw probe::ProbeError(fmt::format("--cell {}: at least 8 pixels", o.cell));
+    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
+    if (o.samples < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
+
+    probe::gpu::FilterSettings tableSettings;
+    tableSettings.method = probe::gpu::Method::table;
+    tableSettings.faceSize = o.size;
+    tableSettings.levelCount = levelCount;
+    tableSettings.mapping = mapping;
+    probe::TapTable table;
+    if (!o.table.empty()) {
+        table = probe::readTable(o.table);
+    } else if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(o.size, levelCount, mapping, {})) {
+        table = compiled->table;
+    } else {
+        throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table FILE", o.size, levelCount));
+    }
+    tableSettings.table = &table;
+    probe::gpu::FilterSettings fisSettings = tableSettings;
+    fisSettings.method = probe::gpu::Method::fis;
+    fisSettings.fisSamples = o.samples;
+    fisSettings.table = nullptr;
+
+    probe::StagedOutput output(o.out);
+    const probe::CubeImage source =
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+    probe::gpu::DeviceOptions deviceOptions;
+    deviceOptions.choice = o.device;
+    deviceOptions.validation = o.validate;
+    const probe::gpu::Device device(deviceOptions);
+
+    const Stopwatch referenceClock;
+    const probe::CubeLevels reference = probe::referenceFilter(source, levelCount, mapping, [](std::size_t done, std::size_t total) {
+        printProgress("reference", done, total);
+    });
+    const double referenceSeconds = referenceClock.seconds();
+    const MethodRun tableRun = runOnGpu(device, tableSettings, source, o.repeat);
+    const MethodRun fisRun = runOnGpu(device, fisSettings, source, o.repeat);
+
+    const probe::Image dfg = probe::dfgTable(probe::kDfgTableSize, probe::kDfgTableSamples);
+    probe::gpu::SphereScene scene;
+    scene.background = &source;
+    scene.dfg = &dfg;
+    scene.cellSize = o.cell;
+    json materials = json::array();
+    for (double r : o.roughness) {
+        probe::SceneMaterial m;
+        m.name = fmt::format("metal r={}", r);
+        m.roughness = r;
+        m.metallic = 1.0;
+        m.baseColor = glm::dvec3(0.95, 0.93, 0.88);
+        scene.materials.push_back(sphereMaterial(m, mapping, levelCount));
+        materials.push_back({{"roughness", r}, {"level", scene.materials.back().level}, {"metallic", 1.0}});
+    }
+    auto render = [&](const probe::CubeLevels& levels) {
+        scene.prefiltered = &levels;
+        return probe::gpu::renderSpheres(device, scene);
+    };
+    const std::vector<SheetRow> rows{
+        {fmt::format("REFERENCE (CPU, {:.1f} S)", referenceSeconds), render(reference)},
+        {fmt::format("TABLE {}X3 {} ({:.2f} MS)", table.taps, probe::tableFormName(table.form), tableRun.gpuMs), render(tableRun.levels)},
+        {fmt::format("FIS {} ({:.2f} MS)", o.samples, fisRun.gpuMs), render(fisRun.levels)},
+    };
+    writeComparisonSheet(output.file("sheet.png"), rows, autoExposure(source), o.maxError);
+    const std::vector<std::string> messages = device.validationMessages();
+    if (!messages.empty())
+        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+
+    json report = describeLevels(o.size, levelCount, mapping);
+    report["command"] = "compare";
+    report["input"] = o.input;
+    report["device"] = describeDevice(device.info(), o.validate);
+    report["sheet"] = {{"file", "sheet.png"},
+                       {"rows", {"reference", "table", "fis"}},
+                       {"spheres", materials},
+                       {"heat_map", fmt::format("per pixel sum_c |x - ref| / sum_c ref, black 0 to white {}", o.maxError)}};
+    report["reference"] = {{"cpu_seconds", referenceSeconds}};
+    report["table"] = {{"taps_per_frame", table.taps},
+                       {"form", std::string(probe::tableFormName(table.form))},
+                       {"gpu_ms_median", tableRun.gpuMs},
+                       {"image_l1_per_level", levelErrors(tableRun.levels, reference)},
+                       {"spheres_l1", spheresL1(rows[1].spheres, rows[0].spheres)}};
+    report["fis"] = {{"samples", o.samples},
+                     {"bias", 0.0},
+                     {"gpu_ms_median", fisRun.gpuMs},
+                     {"image_l1_per_level", levelErrors(fisRun.levels, reference)},
+                     {"spheres_l1", spheresL1(rows[2].spheres, rows[0].spheres)}};
+    report["repeat"] = o.repeat;
+    writeJson(output.file("report.json"), report);
+    output.commit();
+    fmt::print("compare: spheres L1 against the reference: table {:.4f} ({:.2f} ms), fis-{} {:.4f} ({:.2f} ms) on {} -> {}/sheet.png\n",
+               report["table"]["spheres_l1"].get<double>(), tableRun.gpuMs, o.samples, report["fis"]["spheres_l1"].get<double>(),
+               fisRun.gpuMs, device.info().name, o.out);
+}
+
+} // namespace
+
+void addCompareCommand(CLI::App& app) {
+    auto o = std::make_shared<CompareOptions>();
+    CLI::App* cmd = app.add_subcommand("compare", "Comparison sheet: reference, tap table and FIS spheres with error heat maps");
+    cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
+    cmd->add_option("--size", o->size, "Face size S_0 (a power of two)")->required();
+    cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
+    cmd->add_option("--table", o->table, "Tap table file (default: the compiled-in table for the size)");
+    cmd->add_option("--samples", o->samples, "FIS samples per texel")->capture_default_str();
+    cmd->add_option("--roughness", o->roughness, "Perceptual roughness of each sphere")->capture_default_str()->delimiter(',');
+    cmd->add_option("--cell", o->cell, "Pixels per sphere")->capture_default_str();
+    cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
+    cmd->add_option("--repeat", o->repeat, "GPU runs per method; times are the median")->capture_default_str();
+    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
+    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
+    cmd->add_option("--out", o->out, "Output folder: sheet.png and report.json")->required();
+    cmd->callback([o] { runCompare(*o); });
+}
+
+} // namespace probefilter

@@ -1,0 +1,243 @@
+// probefilter run SCENE.json --out DIR [--device X] [--validate] [--repair-pixels]: runs exactly the scene's plan
+// (probe/plan.h) on a Vulkan device. Per probe, in DIR/<probe>/: level_<m>.exr of the levels it
+// computed, irradiance.exr and the SH coefficients, probe.ktx2 and spheres.png when the scene asks;
+// DIR/dfg.exr; DIR/report.json with the passes it ran, each with its GPU dispatches.
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "probe/dfg.h"
+#include "probe/error.h"
+#include "probe/plan.h"
+#include "probe/probe_io.h"
+#include "probe/sh.h"
+#include "probe_outputs.h"
+#include "report.h"
+#include "scene_taps.h"
+#include "spheres.h"
+
+namespace probefilter {
+
+namespace {
+
+using nlohmann::json;
+
+struct RunOptions {
+    std::string scene;
+    std::string out;
+    std::string device;
+    bool validate = false;
+    bool repairPixels = false;
+};
+
+constexpr int kIrradianceSize = 16; // face size of irradiance.exr
+constexpr int kSphereCell = 192; // pixels per sphere in spheres.png
+
+probe::gpu::Method gpuMethod(probe::FilterMethod method) {
+    switch (method) {
+    case probe::FilterMethod::table: return probe::gpu::Method::table;
+    case probe::FilterMethod::fis: return probe::gpu::Method::fis;
+    case probe::FilterMethod::reference: break;
+    }
+    return probe::gpu::Method::reference;
+}
+
+json medianTimes(const std::vector<probe::gpu::PassTime>& times) {
+    json out = json::object();
+    for (const probe::gpu::PassTime& t : times) out[t.name] = t.medianMs;
+    return out;
+}
+
+json describeSh(const probe::ShCoefficients& c) {
+    json list = json::array();
+    for (const glm::dvec3& rgb : c) list.push_back({rgb.r, rgb.g, rgb.b});
+    return list;
+}
+
+// What one probe's passes made, kept for the spheres.
+struct ProbeResult {
+    const probe::SceneProbe* probe = nullptr;
+    probe::CubeImage source;
+    probe::CubeLevels levels; // one entry per output level; empty where not computed
+    probe::ShCoefficients irradiance{};
+};
+
+class SceneRun {
+public:
+    SceneRun(const RunOptions& options, const probe::Scene& scene, probe::StagedOutput& output, const probe::gpu::Device& device)
+        : options_(options), scene_(scene), output_(output), device_(device) {}
+
+    // The passes of one probe's plan; appends to the report.
+    void runProbe(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
+        const probe::BadPixelPolicy policy = options_.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse;
+        ProbeResult result{&p, probe::loadProbe(p.image, p.faceSize, policy), probe::CubeLevels(p.levelCount), {}};
+        recordPass(probe::loadPass(p.name), "cpu");
+        json entry = {{"name", p.name},
+                      {"image", p.image.string()},
+                      {"face_size", p.faceSize},
+                      {"level_count", p.levelCount},
+                      {"mapping", std::string(probe::roughnessMappingName(p.mapping))},
+                      {"method", std::string(probe::filterMethodName(p.method))}};
+        if (!plan.levels.empty()) filterLevels(p, plan, result, entry);
+        if (plan.irradiance) projectIrradiance(p, result, entry);
+        if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.levels.empty())
+            entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping,
+                                           scene_.outputs.ktx2 == probe::Ktx2Format::rgba16f ? probe::Ktx2PixelFormat::rgba16f
+                                                                                            : probe::Ktx2PixelFormat::rgba32f);
+        probes_.push_back(std::move(entry));
+        results_.push_back(std::move(result));
+    }
+
+    void makeDfgTable() {
+        dfg_ = probe::dfgTable(probe::kDfgTableSize, probe::kDfgTableSamples);
+        probe::writeExr(output_.file("dfg.exr"), *dfg_);
+        recordPass(probe::kDfgPass, "cpu");
+        report_["dfg"] = {{"file", "dfg.exr"}, {"size", probe::kDfgTableSize}, {"samples", probe::kDfgTableSamples}, {"convention", probe::kDfgConvention}};
+    }
+
+    // spheres.png per probe: its materials, lit by what the plan computed.
+    void renderSpheres() {
+        for (std::size_t k = 0; k < results_.size(); ++k) {
+            const ProbeResult& r = results_[k];
+            probe::gpu::SphereScene s;
+            s.prefiltered = &r.levels;
+            s.background = &r.source;
+            s.irradiance = r.irradiance;
+            s.dfg = dfg_ ? &*dfg_ : nullptr;
+            s.cellSize = kSphereCell;
+            json names = json::array();
+            for (const probe::SceneMaterial& m : scene_.materials)
+                if (m.probe == r.probe->name) {
+                    s.materials.push_back(sphereMaterial(m, r.probe->mapping, r.probe->levelCount));
+                    names.push_back(m.name);
+                }
+            const std::string file = r.probe->name + "/spheres.png";
+            writeSpheres(output_.file(file), device_, s);
+            probes_[k]["spheres"] = {{"file", file}, {"materials", names}};
+        }
+    }
+
+    void finish() {
+        report_["command"] = "run";
+        report_["scene"] = options_.scene;
+        report_["device"] = describeDevice(device_.info(), options_.validate);
+        report_["probes"] = probes_;
+        report_["dispatches"] = ran_;
+        writeJson(output_.file("report.json"), report_);
+    }
+
+    std::size_t passCount() const { return ran_.size(); }
+
+private:
+    void recordPass(const std::string& name, const char* on, json dispatches = json::array()) {
+        ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
+    }
+
+    // The planned levels over the planned pyramid depth; the passes recorded are those its dispatches ran.
+    void filterLevels(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+        probe::gpu::FilterSettings s;
+        s.method = gpuMethod(p.method);
+        s.faceSize = p.faceSize;
+        s.levelCount = p.levelCount;
+        s.mapping = p.mapping;
+        s.fisSamples = p.samples;
+        s.levels = plan.levels;
+        s.pyramidDepth = plan.pyramidLevels;
+        probe::TapTable table;
+        if (p.method == probe::FilterMethod::table) {
+            table = sceneProbeTable(scene_, p);
+            s.table = &table;
+        }
+        probe::gpu::Filter filter(device_, s);
+        result.levels = filter.run(result.source);
+
+        std::vector<probe::gpu::Dispatch> pyramid, levels;
+        for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : levels).push_back(d);
+        if (!pyramid.empty()) recordPass(probe::pyramidPass(p.name, pyramid.back().level), "gpu", describeDispatches(pyramid));
+        for (const probe::gpu::Dispatch& d : levels) recordPass(probe::levelPass(p.name, d.level, p.method), "gpu", describeDispatches({d}));
+
+        json written = json::array();
+        for (std::size_t k = 0; k < plan.levels.size(); ++k) {
+            const int m = plan.levels[k];
+            json level = {{"level", m},
+                          {"face_size", p.faceSize >> m},
+                          {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
+                          {"alpha", probe::levelAlpha(p.mapping, m, p.levelCount)},
+                          {"read_by", plan.levelReaders[k]}};
+            if (scene_.outputs.exr) {
+                const std::string file = p.name + "/" + probe::levelFileName(m);
+                probe::writeExr(output_.file(file), probe::cubeToStrip(result.levels[m]));
+                level["file"] = file;
+            }
+            written.push_back(std::move(level));
+        }
+        entry["levels"] = std::move(written);
+        entry["pyramid_depth"] = plan.pyramidLevels;
+        if (p.method == probe::FilterMethod::fis) entry["fis_samples"] = p.samples;
+        entry["gpu_ms"] = medianTimes(filter.timings());
+    }
+
+    void projectIrradiance(const probe::SceneProbe& p, ProbeResult& result, json& entry) {
+        probe::gpu::ShProjector projector(device_, p.faceSize);
+        const probe::ShCoefficients radiance = projector.project(result.source);
+        result.irradiance = probe::radianceToIrradiance(radiance);
+        recordPass(probe::irradiancePass(p.name), "gpu", describeDispatches(projector.dispatches()));
+        const std::string file = p.name + "/irradiance.exr";
+        probe::writeExr(output_.file(file), probe::cubeToStrip(probe::shToCube(result.irradiance, kIrradianceSize)));
+        entry["sh"] = {{"convention", probe::kShConvention},
+                       {"radiance", describeSh(radiance)},
+                       {"irradiance", describeSh(result.irradiance)},
+                       {"file", file},
+                       {"face_size", kIrradianceSize},
+                       {"gpu_ms", medianTimes(projector.timings())}};
+    }
+
+    const RunOptions& options_;
+    const probe::Scene& scene_;
+    probe::StagedOutput& output_;
+    const probe::gpu::Device& device_;
+    std::vector<ProbeResult> results_;
+    std::optional<probe::Image> dfg_;
+    json probes_ = json::array();
+    json ran_ = json::array();
+    json report_ = json::object();
+};
+
+void runScene(const RunOptions& o) {
+    const probe::Scene scene = probe::readScene(o.scene);
+    const probe::Plan plan = probe::makePlan(scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); });
+    probe::StagedOutput output(o.out);
+    probe::gpu::DeviceOptions deviceOptions;
+    deviceOptions.choice = o.device;
+    deviceOptions.validation = o.validate;
+    const probe::gpu::Device device(deviceOptions);
+
+    SceneRun run(o, scene, output, device);
+    for (std::size_t k = 0; k < scene.probes.size(); ++k)
+        if (!plan.probes[k].levels.empty() || plan.probes[k].irradiance) run.runProbe(scene.probes[k], plan.probes[k]);
+    if (plan.dfgTable) run.makeDfgTable();
+    if (scene.outputs.spheres) run.renderSpheres();
+    const std::vector<std::string> messages = device.validationMessages();
+    if (!messages.empty())
+        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+    run.finish();
+    output.commit();
+    fmt::print("run: {} pass(es) of {} on {} -> {}\n", run.passCount(), o.scene, device.info().name, o.out);
+}
+
+} // namespace
+
+void addRunCommand(CLI::App& app) {
+    auto o = std::make_shared<RunOptions>();
+    CLI::App* cmd = app.add_subcommand("run", "Run exactly the passes a scene calls for (see `plan`) and write what they make");
+    cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
+    cmd->add_option("--out", o->out, "Output folder: <probe>/level_<m>.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
+        ->required();
+    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
+    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative probe pixels to 0 instead of refusing the file");
+    cmd->callback([o] { runScene(*o); });
+}
+
+} // namespace probefilter

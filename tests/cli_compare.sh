@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# probefilter compare on lavapipe with the validation layer, at 16^2: the sheet has a row of spheres
+# per method (reference, table, FIS) with heat maps; the report has the image L1 per level (0 at the
+# mirror level), the spheres' L1 and the GPU times.
+set -euo pipefail
+: "${PROBEFILTER:?}"
+fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$PROBEFILTER" synth sunsky --size 16 --out sky.exr >/dev/null
+"$PROBEFILTER" compare sky.exr --size 16 --table "$fixtures/table_16_quad4_gltf.json" --roughness 0.3,0.6,1 --cell 40 \
+    --repeat 1 --validate --out cmp >/dev/null 2>err.txt || fail "compare: $(cat err.txt)"
+python3 - cmp <<'PY' || fail "report or sheet"
+import json, struct, sys
+r = json.load(open(sys.argv[1] + "/report.json"))
+for method in ("table", "fis"):
+    e = r[method]["image_l1_per_level"]
+    assert len(e) == 4 and e[0] == 0 and all(0 < x < 1 for x in e[1:]), (method, e)
+    assert 0 < r[method]["spheres_l1"] < 1 and r[method]["gpu_ms_median"] > 0, r[method]
+assert [s["roughness"] for s in r["sheet"]["spheres"]] == [0.3, 0.6, 1.0], r["sheet"]
+png = open(sys.argv[1] + "/sheet.png", "rb").read()
+width, height = struct.unpack(">II", png[16:24])
+assert png[:8] == b"\x89PNG\r\n\x1a\n" and width == 2 * 3 * 40 + 6 and height == 3 * (40 + 26), (width, height)
+PY
+echo "cli_compare: ok"

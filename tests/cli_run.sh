@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# probefilter run on lavapipe with the validation layer: scenes that call for the mirror level only,
+# diffuse only, both, and nothing run end to end; report.json lists exactly the passes that
+# `probefilter plan` prints; only the planned files are written; the levels a run computes equal,
+# byte for byte, the same levels of a full `filter` run (fis and table).
+set -euo pipefail
+: "${PROBEFILTER:?}"
+fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$PROBEFILTER" synth sky --size 16 --out sky.exr >/dev/null
+
+scene() { # name, method extra, materials, outputs
+    cat >"$1.json" <<JSON
+{"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, $2}],
+ "materials": [$3], "outputs": {$4}}
+JSON
+}
+scene mirror '"method": "fis"' '{"name": "chrome", "roughness": 0, "metallic": 1}' '"spheres": true'
+scene diffuse '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"spheres": true'
+scene mixed '"method": "fis", "samples": 32' \
+    '{"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1}' '"ktx2": "rgba32f", "spheres": true'
+scene table "\"method\": \"table\", \"table\": \"$fixtures/table_16_quad4_gltf.json\"" '{"name": "satin", "roughness": 0.5, "metallic": 1}' ''
+scene empty '"method": "fis"' '' ''
+
+# The passes `plan` prints (the text before " because "), as JSON.
+planned() { "$PROBEFILTER" plan "$1.json" | python3 -c 'import json, sys; print(json.dumps([l.split(" because ")[0].strip() for l in sys.stdin if " because " in l]))'; }
+
+check_run() { # scene name, expected passes as a JSON list
+    "$PROBEFILTER" run "$1.json" --validate --out "out-$1" >/dev/null 2>err.txt || fail "$1: run failed: $(cat err.txt)"
+    planned "$1" >"plan-$1.json"
+    python3 - "$1" "out-$1/report.json" "plan-$1.json" "$2" <<'PY' || fail "$1: report"
+import json, os, sys
+name, report, plan, expected = sys.argv[1], json.load(open(sys.argv[2])), json.load(open(sys.argv[3])), json.loads(sys.argv[4])
+ran = [d["pass"] for d in report["dispatches"]]
+assert ran == plan, f"{name}: ran {ran}, planned {plan}"
+assert ran == expected, f"{name}: ran {ran}, expected {expected}"
+for d in report["dispatches"]:
+    assert (d["on"] == "gpu") == (len(d["gpu_dispatches"]) > 0), d
+out = os.path.dirname(sys.argv[2])
+files = sorted(os.path.relpath(os.path.join(r, f), out) for r, _, fs in os.walk(out) for f in fs)
+levels = sorted(int(p.split(" ")[2]) for p in ran if " level " in p)
+want = ["report.json"] + [f"sky/level_{m}.exr" for m in levels]
+if "sky: sh-irradiance" in ran: want.append("sky/irradiance.exr")
+if "dfg-table" in ran: want.append("dfg.exr")
+if report.get("probes") and name in ("mirror", "diffuse", "mixed"): want.append("sky/spheres.png")
+if name == "mixed": want.append("sky/probe.ktx2")
+assert files == sorted(want), f"{name}: wrote {files}, expected {sorted(want)}"
+for p in report["probes"]:
+    if "sh" in p:
+        assert "Y2-2 = 1.092548 x y" in p["sh"]["convention"] and len(p["sh"]["irradiance"]) == 9, p["sh"]
+if "dfg" in report: assert "red = A, green = B" in report["dfg"]["convention"]
+PY
+}
+
+check_run mirror '["sky: load", "sky: level 0 (fis)", "dfg-table"]'
+check_run diffuse '["sky: load", "sky: sh-irradiance"]'
+check_run empty '[]'
+# Mixed: r = 0.5 reads levels 1 and 2 (lod = 3 r at 16^2); the pyramid depth is whatever their taps read.
+"$PROBEFILTER" plan mixed.json | grep -q "^sky: pyramid 1\.\." || fail "mixed: no pyramid in the plan"
+mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 1\.\.[0-9]*")
+check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"sky: level 1 (fis)\", \"sky: level 2 (fis)\", \"sky: sh-irradiance\", \"dfg-table\"]"
+table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 1\.\.[0-9]*")
+check_run table "[\"sky: load\", \"$table_pyramid\", \"sky: level 1 (table)\", \"sky: level 2 (table)\", \"dfg-table\"]"
+
+# The computed levels equal a full filter run's, byte for byte.
+"$PROBEFILTER" filter sky.exr --method fis --samples 32 --size 16 --out full-fis >/dev/null 2>&1 || fail "filter fis"
+for m in 0 1 2; do cmp -s out-mixed/sky/level_$m.exr full-fis/level_$m.exr || fail "mixed: level $m differs from the full fis run"; done
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --out full-table >/dev/null 2>&1 ||
+    fail "filter table"
+for m in 1 2; do cmp -s out-table/sky/level_$m.exr full-table/level_$m.exr || fail "table: level $m differs from the full table run"; done
+echo "cli_run: ok"
