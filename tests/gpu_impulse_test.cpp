@@ -19,20 +19,44 @@ namespace {
 constexpr int kSize = 16;
 
 // weights[m][outputTexel][sourceTexel] from GPU runs on impulse probes, three impulses per run
-// (one per channel: the filters are linear and act on channels independently).
+// (one per channel: the filters are linear and act on channels independently). Each impulse sits
+// on a constant 1, which the normalized filters keep, so that a negative weight (tables may have
+// them) survives the output's clamp to >= 0: weight = output - 1.
 std::vector<std::vector<std::vector<double>>> gpuImpulseResponses(gpu::Filter& filter, int levels) {
     const std::size_t sources = texelCount(kSize);
     std::vector<std::vector<std::vector<double>>> weights(static_cast<std::size_t>(levels));
     for (int m = 0; m < levels; ++m) weights[m].assign(texelCount(kSize >> m), std::vector<double>(sources, 0.0));
     for (std::size_t first = 0; first < sources; first += 3) {
-        CubeImage probe(kSize);
-        for (std::size_t c = 0; c < 3 && first + c < sources; ++c) probe.rgb[3 * (first + c) + c] = 1.0f;
+        CubeImage probe(kSize, glm::vec3(1.0f));
+        for (std::size_t c = 0; c < 3 && first + c < sources; ++c) probe.rgb[3 * (first + c) + c] = 2.0f;
         const CubeLevels out = filter.run(probe);
         for (int m = 0; m < levels; ++m)
             for (std::size_t t = 0; t < texelCount(kSize >> m); ++t)
-                for (std::size_t c = 0; c < 3 && first + c < sources; ++c) weights[m][t][first + c] = out[m].rgb[3 * t + c];
+                for (std::size_t c = 0; c < 3 && first + c < sources; ++c)
+                    weights[m][t][first + c] = double(out[m].rgb[3 * t + c]) - 1.0;
     }
     return weights;
+}
+
+// Per filtered level, the solid-angle weighted mean and the worst impulse L1 over every output
+// texel, from the GPU's impulse responses.
+std::vector<ImpulseError> gpuImpulseL1(const std::vector<std::vector<std::vector<double>>>& gpuWeights, int levels,
+                                       RoughnessMapping mapping) {
+    std::vector<ImpulseError> errors(static_cast<std::size_t>(levels));
+    for (int m = 0; m < levels; ++m) {
+        const double alpha = levelAlpha(mapping, m, levels);
+        if (alpha <= 0.0) continue;
+        const int size = kSize >> m;
+        const CubeGeometry geometry(size);
+        ImpulseErrorAccumulator accumulator;
+        for (std::size_t t = 0; t < texelCount(size); ++t) {
+            const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
+            accumulator.add(texel, geometry.solidAngles[t],
+                            impulseL1(gpuWeights[m][t], referenceKernel(geometry.directions[t], kSize, alpha)));
+        }
+        errors[m] = accumulator.result();
+    }
+    return errors;
 }
 
 using ModelResponse = std::function<std::vector<double>(int level, const Texel& texel)>;
@@ -41,20 +65,18 @@ using ModelResponse = std::function<std::vector<double>(int level, const Texel& 
 // CPU model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
 void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const ModelResponse& model,
                             const std::string& what) {
-    const auto gpuWeights = gpuImpulseResponses(filter, levels);
+    const std::vector<ImpulseError> gpuErrors = gpuImpulseL1(gpuImpulseResponses(filter, levels), levels, mapping);
     for (int m = 0; m < levels; ++m) {
         const double alpha = levelAlpha(mapping, m, levels);
         if (alpha <= 0.0) continue;
         const int size = kSize >> m;
         const CubeGeometry geometry(size);
-        ImpulseErrorAccumulator gpuError, cpuError;
+        ImpulseErrorAccumulator cpuError;
         for (std::size_t t = 0; t < texelCount(size); ++t) {
             const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
-            const std::vector<double> reference = referenceKernel(geometry.directions[t], kSize, alpha);
-            gpuError.add(texel, geometry.solidAngles[t], impulseL1(gpuWeights[m][t], reference));
-            cpuError.add(texel, geometry.solidAngles[t], impulseL1(model(m, texel), reference));
+            cpuError.add(texel, geometry.solidAngles[t], impulseL1(model(m, texel), referenceKernel(geometry.directions[t], kSize, alpha)));
         }
-        const ImpulseError g = gpuError.result(), c = cpuError.result();
+        const ImpulseError g = gpuErrors[m], c = cpuError.result();
         ::testing::Test::RecordProperty(fmt::format("{} level {} L1 gpu/cpu", what, m), fmt::format("{:.5f}/{:.5f}", g.mean, c.mean));
         EXPECT_NEAR(g.mean, c.mean, 1e-3) << what << ", level " << m;
         EXPECT_NEAR(g.max, c.max, 1e-3) << what << ", level " << m << " (worst texel)";
@@ -94,4 +116,26 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
                                return importanceSampleImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel);
                            },
                            "fis 32");
+}
+
+// What probefit eval recorded for a committed table (over every output texel of all six faces)
+// is what the shader does with it: the L1 measured on the GPU on impulse probes.
+TEST_F(GpuTest, CommittedTableImpulseL1EqualsItsRecord) {
+    const TapTable table = readTable(PROBE_TEST_TABLES "/gltf16_quad8.json");
+    ASSERT_EQ(table.baseSize, kSize);
+    gpu::FilterSettings s;
+    s.method = gpu::Method::table;
+    s.faceSize = kSize;
+    s.levelCount = table.levelCount;
+    s.mapping = table.mapping;
+    s.pyramid = table.pyramid;
+    s.table = &table;
+    gpu::Filter filter(probetest::testDevice(), s);
+    const std::vector<ImpulseError> gpu = gpuImpulseL1(gpuImpulseResponses(filter, table.levelCount), table.levelCount, table.mapping);
+    for (int m = 0; m < table.levelCount; ++m) {
+        if (tableLevelAlpha(table, m) <= 0.0) continue;
+        ASSERT_GE(table.levels[m].all.mean, 0.0) << "level " << m << " has no all-texel record";
+        EXPECT_NEAR(gpu[m].mean, table.levels[m].all.mean, 1e-3) << "level " << m;
+        EXPECT_NEAR(gpu[m].max, table.levels[m].all.max, 1e-3) << "level " << m << " (worst texel)";
+    }
 }
