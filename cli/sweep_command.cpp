@@ -52,7 +52,9 @@ std::vector<NamedProbe> sweepProbes(const SweepOptions& o) {
         else if (name == "impulse-corner") probes.push_back({name, probe::impulseProbe(s, {4, s - 1, s - 1})});
         else probes.push_back({name, probe::syntheticProbe(name, s)});
     }
-    if (!o.hdriDir.empty() && std::filesystem::is_directory(o.hdriDir)) {
+    if (!o.hdriDir.empty()) {
+        if (!std::filesystem::is_directory(o.hdriDir))
+            throw probe::ProbeError(fmt::format("{}: --hdri-dir is not a folder", o.hdriDir));
         std::vector<std::filesystem::path> files;
         for (const auto& entry : std::filesystem::directory_iterator(o.hdriDir))
             if (entry.path().extension() == ".exr") files.push_back(entry.path());

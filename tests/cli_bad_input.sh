@@ -57,6 +57,10 @@ expect_refused scene-roughness-range    "$work/roughness-range.json: materials[0
 expect_refused scene-duplicate-material "$work/duplicate-material.json: materials[1].name"       $(run duplicate-material)
 expect_refused scene-missing-file       "$work/nope.json"                                        $(run nope)
 
+expect_refused sweep-size     "face size 12"      sweep --size 12 --out "$work/out"
+expect_refused sweep-hdri-dir "$in/nope"          sweep --size 4 --hdri-dir "$in/nope" --out "$work/out"
+expect_refused plan-missing   "$in/nope.json"     plan "$in/nope.json"
+
 # The explicit flag repairs instead of refusing, and then the output is complete.
 if "$PROBEFILTER" reference "$in/nan.exr" --size 8 --repair-pixels --out "$work/repaired" >/dev/null 2>&1 &&
    [[ -f $work/repaired/level_2.exr && -f $work/repaired/report.json ]]; then
