@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "probe/frame.h"
@@ -21,6 +22,7 @@ struct OutputTexel {
     glm::dvec3 cubeVector{0.0};
     std::array<probe::FrameSetup, probe::kFrameCount> frames;
     std::vector<float> kernel; // reference k(R, t) over base texels, sum 1
+    double kernelSum = 0.0;    // sum of `kernel` (1 up to float rounding)
 };
 
 // One texel of output level m (alpha > 0), its kernel included; `geometry` is that of the base.
@@ -39,9 +41,13 @@ public:
     int blockSize() const { return probe::kTapParameterCount * probe::coefficientCount(form_); }
     int blockCount() const { return probe::kFrameCount * taps_; }
 
-    // Per-thread scratch.
+    // Per-thread scratch. Only the texels that the taps reach (their footprints pushed back
+    // through the transposed pyramid) are visited: `touched` lists them per level, `stamp` marks
+    // them; weights and adjoint are zero elsewhere between calls.
     struct Workspace {
         std::vector<std::vector<double>> weights, adjoint; // per pyramid level
+        std::vector<std::vector<std::uint32_t>> touched, stamp;
+        std::uint32_t generation = 0;
     };
     Workspace workspace() const;
 
