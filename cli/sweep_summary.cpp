@@ -68,13 +68,13 @@ std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::
     const auto fis32 = std::find_if(curve.begin(), curve.end(), [](const MethodScore& s) { return s.method.count == 32; });
     if (fis32 == curve.end()) return std::nullopt;
     // The table compared: the most accurate table no slower than FIS-32, else the fastest table.
-    const MethodScore* table = nullptr;
-    for (const MethodScore& s : scores)
-        if (s.method.family == "table" && s.gpuMs <= fis32->gpuMs && (!table || errorOf(s, impulse) < errorOf(*table, impulse)))
-            table = &s;
-    for (const MethodScore& s : scores)
-        if (!table && s.method.family == "table") table = &s;
-        else if (s.method.family == "table" && table->gpuMs > fis32->gpuMs && s.gpuMs < table->gpuMs) table = &s;
+    const MethodScore *table = nullptr, *fastest = nullptr;
+    for (const MethodScore& s : scores) {
+        if (s.method.family != "table") continue;
+        if (!fastest || s.gpuMs < fastest->gpuMs) fastest = &s;
+        if (s.gpuMs <= fis32->gpuMs && (!table || errorOf(s, impulse) < errorOf(*table, impulse))) table = &s;
+    }
+    if (!table) table = fastest;
     if (!table) return std::nullopt;
     Ratios r;
     r.fisSetting = setting;
