@@ -1,0 +1,68 @@
+// The sweep's ratios on rows whose answer is known: the best FIS setting, the table compared at
+// FIS-32's time, and FIS's time at the table's error interpolated in log N.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "sweep_summary.h"
+
+using namespace probefilter;
+
+namespace {
+
+// FIS of one setting: error halves and time doubles per doubling of N (from N = 8: error 0.4, 10 ms).
+void addFis(std::vector<SweepRow>& rows, double bias, const std::string& pyramid, double errorScale, const std::string& probe) {
+    for (int n = 8; n <= 1024; n *= 2) {
+        const double steps = std::log2(n / 8.0);
+        const SweepMethod m{"fis" + std::to_string(n) + pyramid + std::to_string(bias), "fis", n, bias, pyramid, ""};
+        for (int level = 0; level < 3; ++level)
+            rows.push_back({m, probe, level, level ? errorScale * 0.4 / std::exp2(steps) : 0.0,
+                            level ? errorScale * 0.8 / std::exp2(steps) : 0.0, 0.0, 10.0 * std::exp2(steps)});
+    }
+}
+
+void addTable(std::vector<SweepRow>& rows, const std::string& name, double error, double ms, const std::string& probe) {
+    const SweepMethod m{name, "table", 8, 0.0, "bspline", "quad"};
+    for (int level = 0; level < 3; ++level) rows.push_back({m, probe, level, level ? error : 0.0, level ? 2.0 * error : 0.0, 0.0, ms});
+}
+
+} // namespace
+
+TEST(SweepSummary, RatiosAgainstTheBestAndThePapersSetting) {
+    std::vector<SweepRow> rows;
+    for (const char* probe : {"sky", "impulse-centre"}) {
+        addFis(rows, 0.0, "bspline", 1.0, probe); // the best setting
+        addFis(rows, 1.0, "box", 2.0, probe);     // the paper's, twice the error
+        // FIS-32 takes 40 ms and has error 0.1 (image) at the best setting.
+        addTable(rows, "fast", 0.05, 30.0, probe);   // no slower than FIS-32: compared
+        addTable(rows, "slow", 0.01, 500.0, probe);  // more accurate but slower
+    }
+    const SweepSummary s = summarizeSweep(rows);
+    EXPECT_EQ(s.bestFisSetting, "bias 0, bspline");
+    ASSERT_TRUE(s.best && s.paper && s.impulseBest);
+    EXPECT_EQ(s.best->tableName, "fast");
+    EXPECT_NEAR(s.best->errorAtFis32Time, 0.5, 1e-12);
+    EXPECT_NEAR(s.paper->errorAtFis32Time, 0.25, 1e-12);
+    // FIS reaches 0.05 at N = 64 (80 ms): 80 / 30.
+    ASSERT_TRUE(s.best->timeAtTableError);
+    EXPECT_NEAR(*s.best->timeAtTableError, 80.0 / 30.0, 1e-9);
+    // The paper's setting reaches 0.05 between N = 128 and 256, at N = 128 exactly: 160 / 30.
+    EXPECT_NEAR(*s.paper->timeAtTableError, 160.0 / 30.0, 1e-9);
+}
+
+TEST(SweepSummary, InterpolatesInLogNAndSaysWhenFisNeverGetsThere) {
+    std::vector<SweepRow> rows;
+    addFis(rows, 0.0, "bspline", 1.0, "sky");
+    addTable(rows, "t", 0.1 / std::sqrt(2.0), 40.0, "sky"); // FIS reaches it halfway between N = 32 and 64
+    SweepSummary s = summarizeSweep(rows);
+    ASSERT_TRUE(s.best && s.best->timeAtTableError);
+    EXPECT_NEAR(*s.best->timeAtTableError, 40.0 * std::sqrt(2.0) / 40.0, 1e-9);
+
+    rows.clear();
+    addFis(rows, 0.0, "bspline", 1.0, "sky");
+    addTable(rows, "t", 1e-4, 40.0, "sky"); // below FIS-1024's 0.003125
+    s = summarizeSweep(rows);
+    ASSERT_TRUE(s.best);
+    EXPECT_FALSE(s.best->timeAtTableError);
+    EXPECT_EQ(s.best->fisMaxSamples, 1024);
+}
