@@ -38,10 +38,11 @@ std::vector<std::vector<std::vector<double>>> gpuImpulseResponses(gpu::Filter& f
     return weights;
 }
 
+using Response = std::function<std::vector<double>(int level, const Texel& texel)>;
+
 // Per filtered level, the solid-angle weighted mean and the worst impulse L1 over every output
-// texel, from the GPU's impulse responses.
-std::vector<ImpulseError> gpuImpulseL1(const std::vector<std::vector<std::vector<double>>>& gpuWeights, int levels,
-                                       RoughnessMapping mapping) {
+// texel of a method given by its impulse responses.
+std::vector<ImpulseError> impulseL1PerLevel(int levels, RoughnessMapping mapping, const Response& response) {
     std::vector<ImpulseError> errors(static_cast<std::size_t>(levels));
     for (int m = 0; m < levels; ++m) {
         const double alpha = levelAlpha(mapping, m, levels);
@@ -52,31 +53,28 @@ std::vector<ImpulseError> gpuImpulseL1(const std::vector<std::vector<std::vector
         for (std::size_t t = 0; t < texelCount(size); ++t) {
             const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
             accumulator.add(texel, geometry.solidAngles[t],
-                            impulseL1(gpuWeights[m][t], referenceKernel(geometry.directions[t], kSize, alpha)));
+                            impulseL1(response(m, texel), referenceKernel(geometry.directions[t], kSize, alpha)));
         }
         errors[m] = accumulator.result();
     }
     return errors;
 }
 
-using ModelResponse = std::function<std::vector<double>(int level, const Texel& texel)>;
+std::vector<ImpulseError> gpuImpulseL1(gpu::Filter& filter, int levels, RoughnessMapping mapping) {
+    const auto weights = gpuImpulseResponses(filter, levels);
+    return impulseL1PerLevel(levels, mapping,
+                             [&](int m, const Texel& texel) { return weights[m][texelIndex(texel, kSize >> m)]; });
+}
 
-// Per filtered level, the mean impulse L1 over every output texel, measured on the GPU and by the
-// CPU model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
-void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const ModelResponse& model,
+// Per filtered level, the impulse L1 over every output texel measured on the GPU and by the CPU
+// model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
+void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const Response& model,
                             const std::string& what) {
-    const std::vector<ImpulseError> gpuErrors = gpuImpulseL1(gpuImpulseResponses(filter, levels), levels, mapping);
+    const std::vector<ImpulseError> gpuErrors = gpuImpulseL1(filter, levels, mapping);
+    const std::vector<ImpulseError> cpuErrors = impulseL1PerLevel(levels, mapping, model);
     for (int m = 0; m < levels; ++m) {
-        const double alpha = levelAlpha(mapping, m, levels);
-        if (alpha <= 0.0) continue;
-        const int size = kSize >> m;
-        const CubeGeometry geometry(size);
-        ImpulseErrorAccumulator cpuError;
-        for (std::size_t t = 0; t < texelCount(size); ++t) {
-            const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
-            cpuError.add(texel, geometry.solidAngles[t], impulseL1(model(m, texel), referenceKernel(geometry.directions[t], kSize, alpha)));
-        }
-        const ImpulseError g = gpuErrors[m], c = cpuError.result();
+        if (levelAlpha(mapping, m, levels) <= 0.0) continue;
+        const ImpulseError g = gpuErrors[m], c = cpuErrors[m];
         ::testing::Test::RecordProperty(fmt::format("{} level {} L1 gpu/cpu", what, m), fmt::format("{:.5f}/{:.5f}", g.mean, c.mean));
         EXPECT_NEAR(g.mean, c.mean, 1e-3) << what << ", level " << m;
         EXPECT_NEAR(g.max, c.max, 1e-3) << what << ", level " << m << " (worst texel)";
@@ -131,7 +129,7 @@ TEST_F(GpuTest, CommittedTableImpulseL1EqualsItsRecord) {
     s.pyramid = table.pyramid;
     s.table = &table;
     gpu::Filter filter(probetest::testDevice(), s);
-    const std::vector<ImpulseError> gpu = gpuImpulseL1(gpuImpulseResponses(filter, table.levelCount), table.levelCount, table.mapping);
+    const std::vector<ImpulseError> gpu = gpuImpulseL1(filter, table.levelCount, table.mapping);
     for (int m = 0; m < table.levelCount; ++m) {
         if (tableLevelAlpha(table, m) <= 0.0) continue;
         ASSERT_GE(table.levels[m].all.mean, 0.0) << "level " << m << " has no all-texel record";
