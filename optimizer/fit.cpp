@@ -218,6 +218,15 @@ void scaleWeights(TapTable& table, int level, double factor) {
             for (int q = 0; q < k; ++q) table.levels[level].coefficients[table.offset(frame, t, tapWeight) + q] *= factor;
 }
 
+std::string initDescription(const FitSettings& s) {
+    std::string text;
+    for (const TapTable& init : s.inits)
+        text += fmt::format(", --init table {} {}x3{}", tableFormName(init.form), init.taps,
+                            init.taps != s.taps ? fmt::format(" (taps split {} texels apart)", 2 * kSplitSpread) : "");
+    if (!s.inits.empty()) text += "; an --init's exact filter is kept where the fit is not better";
+    return text;
+}
+
 std::string solverDescription(const FitSettings& s) {
     const std::string lm = "Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function "
                            "tolerance 1e-6)";
@@ -234,11 +243,7 @@ std::string solverDescription(const FitSettings& s) {
                        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
                        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}",
                        CERES_VERSION_STRING, method, s.roughIterationFactor, kMinWeightSum, kPenalty,
-                       s.init ? (s.init->taps == s.taps ? ", --init table"
-                                                         : fmt::format(", --init table (N/2 taps split {} texels apart; "
-                                                                       "its exact split kept where the fit is not better)",
-                                                                       2 * kSplitSpread))
-                              : "");
+                       initDescription(s));
 }
 
 struct SolveReport {
@@ -300,8 +305,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
                                 settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
-    if (settings.init) {
-        const TapTable& init = *settings.init;
+    for (const TapTable& init : settings.inits) {
         if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)
             throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize,
                                          init.levelCount, settings.baseSize, settings.levelCount));
@@ -332,18 +336,22 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             warmStartFromLevel(table, m, previous);
             candidates.emplace_back(fmt::format("level {}", previous), level.coefficients);
         }
-        // With an N/2 init the fit starts from its taps split and moved apart, and keeps the exact
-        // split (the init's own filter) where it cannot beat it: more taps are never worse.
+        // An init table whose filter this table can express exactly (same form, or const into quad)
+        // is kept aside: the fit keeps it where it cannot beat it, so more taps (or the quadratic
+        // form) are never worse. With N/2 taps the fit starts from its taps split and moved apart
+        // (the exact split sits at the init's stationary point).
         std::optional<std::pair<double, std::vector<double>>> fallback;
-        if (settings.init) {
-            startFromTable(table, m, *settings.init);
-            if (settings.init->taps != settings.taps) {
-                fallback.emplace(evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean,
-                                 level.coefficients);
-                if (progress) progress({m, 0, fallback->first, secondsSince(start), "start --init (exact split, kept aside)"});
-                startFromTable(table, m, *settings.init, kSplitSpread);
+        for (std::size_t i = 0; i < settings.inits.size(); ++i) {
+            const TapTable& init = settings.inits[i];
+            const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
+            startFromTable(table, m, init);
+            if (init.form == settings.form || init.form == TableForm::constant) {
+                const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean;
+                if (progress) progress({m, 0, l1, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
+                if (!fallback || l1 < fallback->first) fallback.emplace(l1, level.coefficients);
             }
-            candidates.emplace_back("--init", level.coefficients);
+            if (init.taps != settings.taps) startFromTable(table, m, init, kSplitSpread);
+            candidates.emplace_back(name, level.coefficients);
         }
         double best = 1e300;
         std::vector<double> bestCoefficients;
@@ -379,7 +387,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
 
         if (fallback && evaluatePrepared(model, constBlocks.data(), texels).error.mean > fallback->first) {
             level.coefficients = fallback->second;
-            if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init split"});
+            if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
         }
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <vector>
 #include <cstddef>
 #include <string>
 
@@ -30,7 +31,7 @@ struct FitSettings {
     int maxIterations = 60;
     int roughIterationFactor = 4;
     bool measureAll = true;     // also measure every output texel after the fit (recorded in the table)
-    std::optional<probe::TapTable> init;
+    std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
 };
 
 struct FitProgress {

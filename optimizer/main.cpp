@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -28,7 +29,7 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
 }
 
 int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping,
-           const std::string& pyramid, const std::string& weighting, const std::string& solver, const std::string& init,
+           const std::string& pyramid, const std::string& weighting, const std::string& solver, const std::vector<std::string>& init,
            const std::string& out) {
     settings.form = parseOption("--form", form, parseTableForm);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
@@ -51,14 +52,13 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
-    if (!init.empty()) {
-        settings.init = readTable(init);
-        const TapTable& t = *settings.init;
+    for (const std::string& path : init) {
+        const TapTable& t = settings.inits.emplace_back(readTable(path));
         if (t.baseSize != settings.baseSize || t.levelCount != settings.levelCount ||
             (t.taps != settings.taps && 2 * t.taps != settings.taps))
             throw ProbeError(fmt::format("--init {}: table is for size {}, {} levels, {} taps; this fit is size {}, {} "
                                          "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
-                                         init, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount,
+                                         path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount,
                                          settings.taps));
     }
     probefit::checkWritable(out);
@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
     app.require_subcommand(0, 1);
     probefit::FitSettings settings;
-    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", init, out;
+    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", out;
+    std::vector<std::string> init;
     app.add_option("--size", settings.baseSize, "base face size S_0 (power of two)");
     app.add_option("--levels", settings.levelCount, "output levels M (default max(1, log2 S_0))");
     app.add_option("--taps", settings.taps, "taps per frame N (multiple of 4)");
@@ -140,7 +141,10 @@ int main(int argc, char** argv) {
     app.add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
     app.add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
     app.add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
-    app.add_option("--init", init, "table file to start from (same size and levels, N or N/2 taps)");
+    app.add_option("--init", init,
+                   "table file to start from (same size and levels, N or N/2 taps; repeat for several); the fit "
+                   "keeps its filter where it cannot beat it")
+        ->allow_extra_args(false);
     app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
     app.add_option("--solver", solver,
                    "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
