@@ -85,14 +85,8 @@ void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping ma
 
 TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
-    gpu::FilterSettings s;
-    s.method = gpu::Method::table;
-    s.faceSize = kSize;
-    s.levelCount = table.levelCount;
-    s.mapping = table.mapping;
-    s.pyramid = table.pyramid;
-    s.table = &table;
-    gpu::Filter filter(probetest::testDevice(), s);
+    ASSERT_EQ(table.baseSize, kSize);
+    gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, table.pyramid);
     expectImpulseL1Matches(filter, table.levelCount, table.mapping,
                            [&](int level, const Texel& texel) { return tableImpulseResponse(table, operators, level, texel); },
@@ -121,14 +115,7 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
 TEST_F(GpuTest, CommittedTableImpulseL1EqualsItsRecord) {
     const TapTable table = readTable(PROBE_TEST_TABLES "/gltf16_quad8.json");
     ASSERT_EQ(table.baseSize, kSize);
-    gpu::FilterSettings s;
-    s.method = gpu::Method::table;
-    s.faceSize = kSize;
-    s.levelCount = table.levelCount;
-    s.mapping = table.mapping;
-    s.pyramid = table.pyramid;
-    s.table = &table;
-    gpu::Filter filter(probetest::testDevice(), s);
+    gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
     const std::vector<ImpulseError> gpu = gpuImpulseL1(filter, table.levelCount, table.mapping);
     for (int m = 0; m < table.levelCount; ++m) {
         if (tableLevelAlpha(table, m) <= 0.0) continue;

@@ -40,6 +40,18 @@ private:
     std::size_t messagesBefore_ = 0;
 };
 
+// The settings that run a table as it was fitted: its size, level count, mapping and pyramid.
+inline probe::gpu::FilterSettings tableSettings(const probe::TapTable& table) {
+    probe::gpu::FilterSettings s;
+    s.method = probe::gpu::Method::table;
+    s.faceSize = table.baseSize;
+    s.levelCount = table.levelCount;
+    s.mapping = table.mapping;
+    s.pyramid = table.pyramid;
+    s.table = &table;
+    return s;
+}
+
 // Independent uniform radiance in [0, 1) per texel and channel.
 inline probe::CubeImage randomProbe(int faceSize, unsigned seed) {
     std::mt19937 random(seed);

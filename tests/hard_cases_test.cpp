@@ -153,10 +153,7 @@ TEST(SeamMeasure, CatchesAFivePercentStepAtOneFace) {
 TEST_F(HardCases, EveryCommittedTable) {
     for (const std::filesystem::path& path : committedTables()) {
         const TapTable table = readTable(path);
-        gpu::FilterSettings s = settings(gpu::Method::table, table.baseSize, table.levelCount, table.mapping);
-        s.pyramid = table.pyramid;
-        s.table = &table;
-        gpu::Filter filter(probetest::testDevice(), s);
+        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
         for (const HardProbe& probe : hardProbes(table.baseSize)) expectStable(filter.run(probe.cube), probe, path.filename().string());
         // Seams are measured and shown, not asserted: the fitted tables' error concentrates at face
         // edges, and most exceed the 1.1x bound that FIS and the reference keep (asserted in
