@@ -11,6 +11,7 @@
 #include "evaluate.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
+#include "seam_term.h"
 #include "probe/error.h"
 
 namespace probefit {
@@ -30,18 +31,22 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The objective over the stratified texels R with normalized weights a_R:
-//   f = sum_R a_R e_R + sum_R a_R p_R^2,   p_R = kPenalty * max(0, kMinWeightSum - weightSum_R / scale),
-// the weighted mean L1 plus a penalty where the weight sum drops below kMinWeightSum of its mean at
-// the start. Per texel terms are computed in parallel and summed in texel order, so the result does
-// not depend on the number of threads.
+//   f = sum_R a_R e_R + sum_R a_R p_R^2 + (W / P) sum_pairs s_pair,
+//   p_R = kPenalty * max(0, kMinWeightSum - weightSum_R / scale),
+// the weighted mean L1, a penalty where the weight sum drops below kMinWeightSum of its mean at the
+// start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). Terms are
+// computed in parallel and summed in order, so the result does not depend on the number of threads.
 class LevelObjective {
 public:
-    LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale)
-        : model_(model), texels_(texels), weightScale_(weightScale) {
+    LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
+                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight)
+        : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight) {
         for (const OutputTexel& t : texels) weightTotal_ += t.weight;
     }
 
     std::size_t texelCount() const { return texels_.size(); }
+    std::size_t pairCount() const { return pairs_.size(); }
+    std::size_t termCount() const { return texels_.size() + pairs_.size(); }
     int parameterCount() const { return model_.blockCount() * model_.blockSize(); }
 
     struct Term {
@@ -49,16 +54,18 @@ public:
         double penaltySlope = 0.0; // d p / d weightSum
     };
 
-    // Per texel n: its term and, with gradients, d e_n / d theta in errorGradient[n * P ...] and
-    // d weightSum_n / d theta in weightGradient[n * P ...] (P = parameterCount()).
+    // Per term n (texels first, then seam pairs): its term and, with gradients, d error_n / d theta in
+    // errorGradient[n * P ...] and (texels) d weightSum_n / d theta in weightGradient[n * P ...]
+    // (P = parameterCount()).
     void evaluate(const double* const* blocks, std::vector<Term>& terms, double* errorGradient,
                   double* weightGradient) const {
         const std::size_t count = texels_.size(), p = static_cast<std::size_t>(parameterCount());
-        terms.resize(count);
+        terms.assign(termCount(), Term{});
         const auto start = Clock::now();
 #pragma omp parallel
         {
             ImpulseModel::Workspace ws = model_.workspace();
+            std::vector<double> scratch;
 #pragma omp for schedule(dynamic, 4)
             for (std::size_t n = 0; n < count; ++n) {
                 const ImpulseModel::Result r =
@@ -70,6 +77,15 @@ public:
                 t.error = r.error;
                 t.penalty = deficit > 0.0 ? kPenalty * deficit : 0.0;
                 t.penaltySlope = deficit > 0.0 ? -kPenalty / weightScale_ : 0.0;
+            }
+#pragma omp for schedule(dynamic, 2)
+            for (std::size_t k = 0; k < pairs_.size(); ++k) {
+                const std::size_t n = count + k;
+                Term& t = terms[n];
+                t.a = seamWeight_ / static_cast<double>(pairs_.size());
+                t.error = seamError(model_, blocks, pairs_[k], basis_, ws, errorGradient ? errorGradient + n * p : nullptr,
+                                    scratch);
+                if (errorGradient) std::fill(weightGradient + n * p, weightGradient + (n + 1) * p, 0.0);
             }
         }
         seconds_ += secondsSince(start);
@@ -83,6 +99,9 @@ private:
     const ImpulseModel& model_;
     const std::vector<OutputTexel>& texels_;
     double weightScale_;
+    const std::vector<SeamPair>& pairs_;
+    const MomentBasis& basis_;
+    double seamWeight_;
     double weightTotal_ = 0.0;
     mutable double seconds_ = 0.0;
     mutable int evaluations_ = 0;
@@ -107,7 +126,7 @@ public:
         const std::vector<const double*> blocks = blockPointers(model_, parameters);
         const std::size_t p = static_cast<std::size_t>(NumParameters());
         if (gradient) {
-            errorGradient_.resize(objective_.texelCount() * p);
+            errorGradient_.resize(objective_.termCount() * p);
             weightGradient_.resize(errorGradient_.size());
         }
         objective_.evaluate(blocks.data(), terms_, gradient ? errorGradient_.data() : nullptr,
@@ -136,17 +155,17 @@ private:
     mutable std::vector<double> errorGradient_, weightGradient_;
 };
 
-// Levenberg-Marquardt on the same f as a sum of squares: residuals 0..R-1 are sqrt(a_R e_R),
-// residuals R..2R-1 sqrt(a_R) p_R; Ceres's cost 0.5 * sum r^2 is f / 2.
+// Levenberg-Marquardt on the same f as a sum of squares: residuals 0..R-1 are sqrt(a_R e_R) (texels,
+// then seam pairs), residuals R..2R-1 sqrt(a_R) p_R; Ceres's cost 0.5 * sum r^2 is f / 2.
 class LevelCost final : public ceres::CostFunction {
 public:
     LevelCost(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {
-        set_num_residuals(static_cast<int>(2 * objective.texelCount()));
+        set_num_residuals(static_cast<int>(2 * objective.termCount()));
         for (int b = 0; b < model.blockCount(); ++b) mutable_parameter_block_sizes()->push_back(model.blockSize());
     }
 
     bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-        const std::size_t count = objective_.texelCount(), p = static_cast<std::size_t>(objective_.parameterCount());
+        const std::size_t count = objective_.termCount(), p = static_cast<std::size_t>(objective_.parameterCount());
         if (jacobians) {
             errorGradient_.resize(count * p);
             weightGradient_.resize(count * p);
@@ -239,10 +258,16 @@ std::string solverDescription(const FitSettings& s) {
     case FitSolver::bfgs: method = fmt::format("at most {} iterations of {}", s.maxIterations, bfgs); break;
     case FitSolver::lm: method = fmt::format("at most {} iterations of {}", s.maxIterations, lm); break;
     }
-    return fmt::format("Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels, per level; "
+    const std::string seam =
+        s.seamWeight > 0.0 ? fmt::format(" plus {} x the mean seam term over at most {} face-edge pairs (the change of "
+                                         "the response's order-1 and order-2 SH moments across the edge against the "
+                                         "reference's)",
+                                         s.seamWeight, s.seamPairBudget)
+                           : "";
+    return fmt::format("Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels{}, per level; "
                        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
                        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}",
-                       CERES_VERSION_STRING, method, s.roughIterationFactor, kMinWeightSum, kPenalty,
+                       CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty,
                        initDescription(s));
 }
 
@@ -305,6 +330,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
                                 settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
+    table.seamWeight = settings.seamWeight;
     for (const TapTable& init : settings.inits) {
         if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)
             throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize,
@@ -315,6 +341,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     }
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
+    const MomentBasis basis(settings.seamWeight > 0.0 ? CubeGeometry(settings.baseSize) : CubeGeometry(1));
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -367,7 +394,20 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         level.coefficients = bestCoefficients;
 
         const std::vector<const double*> constBlocks = levelBlocks(table, m);
-        const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels));
+        const std::vector<SeamPair> pairs = settings.seamWeight > 0.0
+                                                ? prepareSeamPairs(settings.baseSize, m, alpha, settings.seamPairBudget, basis)
+                                                : std::vector<SeamPair>{};
+        const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
+                                       settings.seamWeight);
+        auto reportSeam = [&](const char* when) {
+            if (pairs.empty() || !progress) return;
+            ImpulseModel::Workspace ws = model.workspace();
+            std::vector<double> scratch;
+            double sum = 0.0;
+            for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, ws, nullptr, scratch);
+            progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
+        };
+        reportSeam("at the start");
         SolveReport report;
         if (settings.solver != FitSolver::bfgs) {
             ProgressCallback callback(progress, m, start, 2.0);
@@ -389,6 +429,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             level.coefficients = fallback->second;
             if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
         }
+        reportSeam("after the fit");
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));
         const LevelEvaluation stratified = evaluatePrepared(model, constBlocks.data(), texels);

@@ -30,6 +30,10 @@ struct FitSettings {
     // more, at most roughIterationFactor times as many.
     int maxIterations = 60;
     int roughIterationFactor = 4;
+    // The seam term (seam_term.h): its weight W against the mean L1 (0: off), over at most this many
+    // edge pairs per level.
+    double seamWeight = 0.0;
+    int seamPairBudget = 128;
     bool measureAll = true;     // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
 };
@@ -39,7 +43,7 @@ struct FitProgress {
     int iteration = 0;
     double l1 = 0.0; // stratified mean impulse L1 (plus the weight-sum penalty where it is active)
     double seconds = 0.0;
-    std::string stage; // "start <candidate>", "iteration", "done", "all texels"
+    std::string stage; // "start <candidate>", "iteration", "done", "all texels", "seam term" (l1: the mean s)
     // With "done": where the level's time went.
     double kernelSeconds = 0.0;     // reference kernels of the stratified texels
     double evaluationSeconds = 0.0; // the model: L1 and its gradient (or Jacobian) inside the solver

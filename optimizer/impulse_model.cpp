@@ -7,6 +7,7 @@
 
 #include "probe/cube_sampling.h"
 #include "probe/reference.h"
+#include "probe/sh.h"
 
 namespace probefit {
 
@@ -55,15 +56,71 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
     return ws;
 }
 
-ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
-                                            double* gradient, double* weightSumGradient) const {
-    return form_ == TableForm::quadratic ? evaluateForm<3>(blocks, texel, ws, gradient, weightSumGradient)
-                                         : evaluateForm<1>(blocks, texel, ws, gradient, weightSumGradient);
+namespace {
+
+// What the model measures of a response w over base texels. visit() sees every base texel where w may
+// be non-zero and returns d value / d w_t there; value() is the result (`dense`: every texel was visited).
+
+// e = sum_t |w_t - k_t|; where w = 0 (texels not visited), |w - k| = k.
+struct L1Measure {
+    const OutputTexel& texel;
+    double sum = 0.0, kernelVisited = 0.0;
+    double visit(std::uint32_t t, double w) {
+        const double k = static_cast<double>(texel.kernel[t]);
+        const double d = w - k;
+        sum += std::abs(d);
+        kernelVisited += k;
+        return d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+    }
+    double value(bool dense) const { return dense ? sum : sum + std::max(0.0, texel.kernelSum - kernelVisited); }
+};
+
+// m_j = sum_t w_t Y_j(t), and the slope of sum_j c_j m_j.
+struct MomentMeasure {
+    const MomentBasis& basis;
+    double* moments;   // kMomentCount, accumulated (may be null)
+    const double* c;   // kMomentCount (may be null: no slope)
+    double visit(std::uint32_t t, double w) {
+        const double* y = basis.at(t);
+        double slope = 0.0;
+        for (int j = 0; j < kMomentCount; ++j) {
+            if (moments) moments[j] += w * y[j];
+            if (c) slope += c[j] * y[j];
+        }
+        return slope;
+    }
+    double value(bool) const { return 0.0; }
+};
+
+} // namespace
+
+MomentBasis::MomentBasis(const CubeGeometry& geometry) : values(geometry.directions.size() * kMomentCount) {
+    for (std::size_t t = 0; t < geometry.directions.size(); ++t) {
+        const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
+        std::copy(y.begin() + 1, y.end(), values.begin() + static_cast<std::ptrdiff_t>(t * kMomentCount));
+    }
 }
 
-template <int K>
-ImpulseModel::Result ImpulseModel::evaluateForm(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
-                                                double* gradient, double* weightSumGradient) const {
+ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
+                                            double* gradient, double* weightSumGradient) const {
+    L1Measure measure{texel};
+    return form_ == TableForm::quadratic ? evaluateWith<3>(blocks, texel, ws, measure, gradient, weightSumGradient)
+                                         : evaluateWith<1>(blocks, texel, ws, measure, gradient, weightSumGradient);
+}
+
+void ImpulseModel::moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, Workspace& ws,
+                           double* moments, const double* c, double* gradient) const {
+    if (moments) std::fill(moments, moments + kMomentCount, 0.0);
+    MomentMeasure measure{basis, moments, c};
+    if (form_ == TableForm::quadratic)
+        evaluateWith<3>(blocks, texel, ws, measure, gradient, nullptr);
+    else
+        evaluateWith<1>(blocks, texel, ws, measure, gradient, nullptr);
+}
+
+template <int K, typename Measure>
+ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
+                                                Measure& measure, double* gradient, double* weightSumGradient) const {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     struct TapRecord {
@@ -101,8 +158,8 @@ ImpulseModel::Result ImpulseModel::evaluateForm(const double* const* blocks, con
     }
 
     // w = pushed-back normalized weights on pyramid texels: where the taps reach little of the cube,
-    // on the touched texels only (listed per level), and e is sum_t |w_t - k_t| over the touched base
-    // texels plus the kernel mass elsewhere (w = 0 there); else dense passes over every texel.
+    // on the touched texels only (listed per level), the measure visiting the touched base texels;
+    // else dense passes over every texel.
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
         ws.generation = 1;
@@ -130,15 +187,10 @@ ImpulseModel::Result ImpulseModel::evaluateForm(const double* const* blocks, con
     const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
     const std::vector<double>& w = ws.weights[0];
-    std::vector<double>& sign = ws.adjoint[0];
-    double e = 0.0;
+    std::vector<double>& slope = ws.adjoint[0];
     if (dense) {
         pushBackToBase(operators_, ws.weights, top);
-        for (std::size_t t = 0; t < w.size(); ++t) {
-            const double d = w[t] - static_cast<double>(texel.kernel[t]);
-            e += std::abs(d);
-            sign[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
-        }
+        for (std::size_t t = 0; t < w.size(); ++t) slope[t] = measure.visit(static_cast<std::uint32_t>(t), w[t]);
     } else {
         for (int k = top; k > 0; --k) {
             const DownsampleOperator& op = operators_[k - 1];
@@ -152,20 +204,11 @@ ImpulseModel::Result ImpulseModel::evaluateForm(const double* const* blocks, con
                 }
             }
         }
-        double kernelTouched = 0.0;
-        for (const std::uint32_t t : ws.touched[0]) {
-            const double k = static_cast<double>(texel.kernel[t]);
-            const double d = w[t] - k;
-            e += std::abs(d);
-            kernelTouched += k;
-            sign[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
-        }
-        // w = 0 elsewhere, where |w - k| = k.
-        e += std::max(0.0, texel.kernelSum - kernelTouched);
+        for (const std::uint32_t t : ws.touched[0]) slope[t] = measure.visit(t, w[t]);
     }
-    result.error = e;
+    result.error = measure.value(dense);
     if (gradient) {
-        // d e / d c_p = G_p (the pulled-up sign); c_p = sum_i W_i b_ip / S, so
+        // d e / d c_p = G_p (the pulled-up slope); c_p = sum_i W_i b_ip / S, so
         // d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip and Ebar = sum_i W_i A_i / S.
         if (dense)
             pullUpFromBase(operators_, ws.adjoint, top);

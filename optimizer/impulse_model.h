@@ -33,6 +33,15 @@ OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::Cube
 std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level,
                                        double alpha);
 
+// The smooth functions whose moments the seam term of the fit compares: the order-1 and order-2 real
+// SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel.
+inline constexpr int kMomentCount = 8;
+struct MomentBasis {
+    explicit MomentBasis(const probe::CubeGeometry& geometry);
+    const double* at(std::uint32_t texel) const { return &values[static_cast<std::size_t>(texel) * kMomentCount]; }
+    std::vector<double> values;
+};
+
 class ImpulseModel {
 public:
     ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form);
@@ -62,10 +71,16 @@ public:
     Result evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient = nullptr,
                     double* weightSumGradient = nullptr) const;
 
+    // Smooth moments of the response instead of its L1: m_j = sum_t w(R, t) Y_j(t) over the base texels
+    // for the kMomentCount basis functions of `basis`, into `moments` (may be null). With `gradient`,
+    // also d(sum_j c_j m_j) / d coefficient for the given c (kMomentCount values).
+    void moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, Workspace& ws,
+                 double* moments, const double* c = nullptr, double* gradient = nullptr) const;
+
 private:
-    template <int K>
-    Result evaluateForm(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
-                        double* weightSumGradient) const;
+    template <int K, typename Measure>
+    Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, Measure& measure,
+                        double* gradient, double* weightSumGradient) const;
 
     int baseSize_;
     int pyramidLevels_;

@@ -50,6 +50,10 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
     if (settings.roughIterationFactor < 1)
         throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
+    if (settings.seamWeight < 0.0 || !std::isfinite(settings.seamWeight))
+        throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
+    if (settings.seamPairBudget < 1)
+        throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
     for (const std::string& path : init) {
@@ -84,7 +88,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
             solverOwn += p.solverSeconds;
             evaluations += p.evaluations;
         } else
-            fmt::print("level {} {}: L1 {:.5f}  {:7.1f} s\n", p.level, p.stage, p.l1, p.seconds);
+            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage,
+                       p.stage.starts_with("seam term") ? "mean s" : "L1", p.l1, p.seconds);
         std::fflush(stdout);
     });
     fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
@@ -154,6 +159,12 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--rough-factor", settings.roughIterationFactor,
                    "levels with fewer stratified texels get up to this many times the iterations")
+        ->capture_default_str();
+    app.add_option("--seam-weight", settings.seamWeight,
+                   "weight of the seam term (the step of the response's smooth moments across face edges against "
+                   "the reference's) beside the mean L1; 0: off")
+        ->capture_default_str();
+    app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")
         ->capture_default_str();
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
     app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");

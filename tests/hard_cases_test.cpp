@@ -174,21 +174,24 @@ TEST_F(HardCases, EveryCommittedTable) {
         const TapTable table = readTable(path);
         gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
         for (const HardProbe& probe : hardProbes(table.baseSize)) expectStable(filter.run(probe.cube), probe, path.filename().string());
-        // Seams are measured and shown, not asserted: most tables exceed the 1.1x bound that FIS and
-        // the reference keep (asserted in SeamsNoSteeperThanTheExactReference) at some level. Beside
-        // the edge steps, the steps across the quarter lines inside the faces, each over the exact
-        // reference's, show how much of the excess is the table's ripple everywhere; the README
-        // gives the numbers.
-        const std::vector<double> k = seamBounds(table.baseSize, table.levelCount, table.mapping);
-        const CubeLevels& reference = skyReference(table.baseSize, table.levelCount, table.mapping);
-        const CubeLevels out = filter.run(skyProbe(table.baseSize));
-        for (int m = 0; m < table.levelCount; ++m) {
-            if (k[m] == 0.0) continue;
-            const Steps steps = steepestSteps(out[m]), exact = steepestSteps(reference[m]);
-            fmt::print("{} level {}: seam ratio {:.4f} (bound {:.4f}); steepest step over the reference's: "
-                       "edges {:.3f}x, quarter lines {:.3f}x\n",
-                       path.filename().string(), m, seamRatio(out[m]), k[m], steps.edge / exact.edge,
-                       steps.quarterLine / exact.quarterLine);
+        // Seams are measured and shown, not asserted: some tables exceed at some level the 1.1x bound
+        // that FIS and the reference keep (SeamsNoSteeperThanTheExactReference), those fitted on the L1
+        // alone and, less, those fitted with the seam term (probefit --seam-weight). Beside the edge
+        // steps, the steps across the quarter lines inside the faces, each over the exact reference's,
+        // show how much of an excess is particular to the edges; the README gives the numbers. The
+        // exact reference costs minutes above 128^2, so bigger tables are left to benchmarks.
+        if (table.baseSize <= 128) {
+            const std::vector<double> k = seamBounds(table.baseSize, table.levelCount, table.mapping);
+            const CubeLevels& reference = skyReference(table.baseSize, table.levelCount, table.mapping);
+            const CubeLevels out = filter.run(skyProbe(table.baseSize));
+            for (int m = 0; m < table.levelCount; ++m) {
+                if (k[m] == 0.0) continue;
+                const Steps steps = steepestSteps(out[m]), exact = steepestSteps(reference[m]);
+                fmt::print("{} level {}: seam ratio {:.4f} (bound {:.4f}, {:.3f}x); steepest step over the "
+                           "reference's: edges {:.3f}x, quarter lines {:.3f}x\n",
+                           path.filename().string(), m, seamRatio(out[m]), k[m], seamRatio(out[m]) / k[m],
+                           steps.edge / exact.edge, steps.quarterLine / exact.quarterLine);
+            }
         }
         // The worst impulse L1 on the stratified texels, measured here through the generic tap
         // path, against what the table's header records.

@@ -127,7 +127,7 @@ std::string tableToJson(const TapTable& table) {
                           {"minWeightSum", level.minWeightSum},
                           {"coefficients", level.coefficients}});
     }
-    const json j = {{"format", kFormatName},
+    json j = {{"format", kFormatName},
                     {"version", kFormatVersion},
                     {"layout", "coefficients[frame][tap][parameter: dir x, dir y, dir z, level, weight][coefficient]"},
                     {"baseSize", table.baseSize},
@@ -141,6 +141,7 @@ std::string tableToJson(const TapTable& table) {
                     {"stratifiedBudget", table.stratifiedBudget},
                     {"fitSeconds", table.fitSeconds},
                     {"levels", levels}};
+    if (table.seamWeight > 0.0) j["seamWeight"] = table.seamWeight; // tables from before the seam term have none
     return j.dump(1) + "\n";
 }
 
@@ -171,6 +172,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     table.solver = r.get<std::string>(j, "solver");
     table.stratifiedBudget = r.get<int>(j, "stratifiedBudget");
     table.fitSeconds = r.get<double>(j, "fitSeconds");
+    if (j.contains("seamWeight")) table.seamWeight = r.get<double>(j, "seamWeight");
     const json& levels = r.field(j, "levels");
     if (!levels.is_array() || levels.size() != static_cast<std::size_t>(table.levelCount))
         throw ProbeError(fmt::format("{}: 'levels' must list {} levels", path.string(), table.levelCount));

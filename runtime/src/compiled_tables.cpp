@@ -15,9 +15,11 @@ struct EmbeddedTable {
     std::string_view json;
 };
 
+using namespace std::string_view_literals;
+
 constexpr EmbeddedTable kEmbedded[] = {
 #include "compiled_tables.inc"
-    {"", ""}, // end
+    {""sv, ""sv}, // end
 };
 
 } // namespace

@@ -39,6 +39,7 @@ struct TapTable {
     std::string solver;   // the solver settings, free text
     int stratifiedBudget = 512; // texel budget per level of the stratified set (stratified_texels.h)
     double fitSeconds = 0.0;
+    double seamWeight = 0.0; // the fit's seam term weight (0: fitted on the L1 alone)
     std::vector<TableLevel> levels; // levelCount entries
 
     int coefficientsPerLevel() const { return kFrameCount * taps * kTapParameterCount * coefficientCount(form); }

@@ -1,0 +1,79 @@
+#include "seam_term.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "probe/cube.h"
+
+namespace probefit {
+
+using namespace probe;
+
+namespace {
+
+std::array<double, kMomentCount> kernelMoments(const OutputTexel& texel, const MomentBasis& basis) {
+    std::array<double, kMomentCount> m{};
+    for (std::size_t t = 0; t < texel.kernel.size(); ++t) {
+        const double k = static_cast<double>(texel.kernel[t]);
+        if (k == 0.0) continue;
+        const double* y = basis.at(static_cast<std::uint32_t>(t));
+        for (int j = 0; j < kMomentCount; ++j) m[j] += k * y[j];
+    }
+    return m;
+}
+
+} // namespace
+
+std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, int budget, const MomentBasis& basis) {
+    const int size = baseSize >> level;
+    // Every unordered pair of edge neighbours once: from the texel with the lower index.
+    std::vector<std::pair<Texel, Texel>> edgePairs;
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < size; ++j)
+            for (int i = 0; i < size; ++i)
+                for (auto [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                    const Texel t{f, i, j};
+                    Texel n;
+                    if (texelNeighbour(t, di, dj, size, n) && n.face != f && texelIndex(t, size) < texelIndex(n, size))
+                        edgePairs.emplace_back(t, n);
+                }
+    const std::size_t count = std::min(edgePairs.size(), static_cast<std::size_t>(std::max(budget, 0)));
+    std::vector<SeamPair> pairs(count);
+    const CubeGeometry geometry(baseSize);
+#pragma omp parallel for schedule(dynamic, 2)
+    for (std::size_t n = 0; n < count; ++n) {
+        const auto& [a, b] = edgePairs[n * edgePairs.size() / count];
+        SeamPair& pair = pairs[n];
+        pair.a = makeOutputTexel({a, 0.0}, geometry, level, alpha);
+        pair.b = makeOutputTexel({b, 0.0}, geometry, level, alpha);
+        const std::array<double, kMomentCount> ra = kernelMoments(pair.a, basis), rb = kernelMoments(pair.b, basis);
+        for (int j = 0; j < kMomentCount; ++j) pair.referenceStep[j] = ra[j] - rb[j];
+        pair.a.kernel = {};
+        pair.b.kernel = {};
+    }
+    return pairs;
+}
+
+double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis,
+                 ImpulseModel::Workspace& ws, double* gradient, std::vector<double>& scratch) {
+    std::array<double, kMomentCount> ma, mb, slope;
+    model.moments(blocks, pair.a, basis, ws, ma.data());
+    model.moments(blocks, pair.b, basis, ws, mb.data());
+    double s = 0.0;
+    for (int j = 0; j < kMomentCount; ++j) {
+        const double d = (ma[j] - mb[j]) - pair.referenceStep[j];
+        s += std::abs(d);
+        slope[j] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+    }
+    if (gradient) {
+        const std::size_t p = static_cast<std::size_t>(model.blockCount() * model.blockSize());
+        scratch.resize(p);
+        model.moments(blocks, pair.a, basis, ws, nullptr, slope.data(), gradient);
+        model.moments(blocks, pair.b, basis, ws, nullptr, slope.data(), scratch.data());
+        for (std::size_t q = 0; q < p; ++q) gradient[q] -= scratch[q];
+    }
+    return s;
+}
+
+} // namespace probefit
