@@ -31,6 +31,9 @@ awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(
     "$work/pairs.log" || fail "8 taps worse than the 4-tap --init table: $(cat "$work/pairs.log")"
 
 head -c 300 "$work/small.json" >"$work/truncated.json"
+# A complete table file of the wrong layout: it says 8 taps, its coefficients are for 4.
+sed 's/"taps": 4,/"taps": 8,/' "$work/small.json" >"$work/wrong-layout.json"
+grep -q '"taps": 8,' "$work/wrong-layout.json" || fail "could not make the wrong-layout table"
 "$PROBEFIT" --size 32 --levels 4 --taps 4 --form const --iterations 1 --no-full-eval --out "$work/other" >/dev/null || fail "other fit"
 
 expect_refused() { # name, expected text in the message, args...
@@ -62,6 +65,10 @@ expect_refused truncated-init  "$work/truncated.json"   $(fit --size 16 --levels
 expect_refused missing-init    "$work/nope.json"        $(fit --size 16 --levels 4 --init "$work/nope.json")
 expect_refused init-other-size "--init $work/other.json" $(fit --size 16 --levels 4 --init "$work/other.json")
 expect_refused eval-truncated  "$work/truncated.json"   eval "$work/truncated.json"
+expect_refused eval-layout     "$work/wrong-layout.json" eval "$work/wrong-layout.json"
+expect_refused init-layout     "$work/wrong-layout.json" $(fit --size 16 --levels 4 --init "$work/wrong-layout.json")
+expect_refused seam-weight     "--seam-weight"          $(fit --size 16 --seam-weight -1)
+expect_refused seam-pairs      "--seam-pairs"           $(fit --size 16 --seam-pairs 0)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
 
 [[ $failures -eq 0 ]] || { echo "$failures failures"; exit 1; }
