@@ -77,7 +77,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     int evaluations = 0;
     const TapTable table = probefit::fitTable(settings, [&](const probefit::FitProgress& p) {
         if (p.stage == "iteration")
-            fmt::print("  level {} iteration {:3d}  L1 {:.5f}  {:7.1f} s\n", p.level, p.iteration, p.l1, p.seconds);
+            fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration,
+                       settings.seamWeight > 0.0 ? "L1 + W s" : "L1", p.l1, p.seconds);
         else if (p.stage == "done") {
             fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
                        "evaluations, solver {:.1f} s)\n",
