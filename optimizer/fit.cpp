@@ -45,7 +45,6 @@ public:
     }
 
     std::size_t texelCount() const { return texels_.size(); }
-    std::size_t pairCount() const { return pairs_.size(); }
     std::size_t termCount() const { return texels_.size() + pairs_.size(); }
     int parameterCount() const { return model_.blockCount() * model_.blockSize(); }
 

@@ -128,19 +128,19 @@ std::string tableToJson(const TapTable& table) {
                           {"coefficients", level.coefficients}});
     }
     json j = {{"format", kFormatName},
-                    {"version", kFormatVersion},
-                    {"layout", "coefficients[frame][tap][parameter: dir x, dir y, dir z, level, weight][coefficient]"},
-                    {"baseSize", table.baseSize},
-                    {"levelCount", table.levelCount},
-                    {"taps", table.taps},
-                    {"form", tableFormName(table.form)},
-                    {"mapping", roughnessMappingName(table.mapping)},
-                    {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)},
-                                 {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
-                    {"solver", table.solver},
-                    {"stratifiedBudget", table.stratifiedBudget},
-                    {"fitSeconds", table.fitSeconds},
-                    {"levels", levels}};
+              {"version", kFormatVersion},
+              {"layout", "coefficients[frame][tap][parameter: dir x, dir y, dir z, level, weight][coefficient]"},
+              {"baseSize", table.baseSize},
+              {"levelCount", table.levelCount},
+              {"taps", table.taps},
+              {"form", tableFormName(table.form)},
+              {"mapping", roughnessMappingName(table.mapping)},
+              {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)},
+                           {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
+              {"solver", table.solver},
+              {"stratifiedBudget", table.stratifiedBudget},
+              {"fitSeconds", table.fitSeconds},
+              {"levels", levels}};
     if (table.seamWeight > 0.0) j["seamWeight"] = table.seamWeight; // tables from before the seam term have none
     return j.dump(1) + "\n";
 }
