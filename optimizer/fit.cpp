@@ -82,7 +82,7 @@ public:
                 const std::size_t n = count + k;
                 Term& t = terms[n];
                 t.a = seamWeight_ / static_cast<double>(pairs_.size());
-                t.error = seamError(model_, blocks, pairs_[k], basis_, ws, errorGradient ? errorGradient + n * p : nullptr,
+                t.error = seamError(model_, blocks, pairs_[k], basis_, errorGradient ? errorGradient + n * p : nullptr,
                                     scratch);
                 if (errorGradient) std::fill(weightGradient + n * p, weightGradient + (n + 1) * p, 0.0);
             }
@@ -340,7 +340,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     }
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
-    const MomentBasis basis(settings.seamWeight > 0.0 ? CubeGeometry(settings.baseSize) : CubeGeometry(1));
+    const MomentBasis basis(settings.seamWeight > 0.0 ? settings.baseSize : 1, settings.pyramid); // only the seam term reads it
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -400,10 +400,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
                                        settings.seamWeight);
         auto reportSeam = [&](const char* when) {
             if (pairs.empty() || !progress) return;
-            ImpulseModel::Workspace ws = model.workspace();
             std::vector<double> scratch;
             double sum = 0.0;
-            for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, ws, nullptr, scratch);
+            for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, nullptr, scratch);
             progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
         };
         reportSeam("at the start");

@@ -58,10 +58,8 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
 
 namespace {
 
-// What the model measures of a response w over base texels. visit() sees every base texel where w may
-// be non-zero and returns d value / d w_t there; value() is the result (`dense`: every texel was visited).
-
-// e = sum_t |w_t - k_t|; where w = 0 (texels not visited), |w - k| = k.
+// e = sum_t |w_t - k_t| over base texels. visit() sees every base texel where w may be non-zero and
+// returns d e / d w_t there; where w = 0 (texels not visited), |w - k| = k.
 struct L1Measure {
     const OutputTexel& texel;
     double sum = 0.0, kernelVisited = 0.0;
@@ -75,52 +73,112 @@ struct L1Measure {
     double value(bool dense) const { return dense ? sum : sum + std::max(0.0, texel.kernelSum - kernelVisited); }
 };
 
-// m_j = sum_t w_t Y_j(t), and the slope of sum_j c_j m_j.
-struct MomentMeasure {
-    const MomentBasis& basis;
-    double* moments;   // kMomentCount, accumulated (may be null)
-    const double* c;   // kMomentCount (may be null: no slope)
-    double visit(std::uint32_t t, double w) {
-        const double* y = basis.at(t);
-        double slope = 0.0;
-        for (int j = 0; j < kMomentCount; ++j) {
-            if (moments) moments[j] += w * y[j];
-            if (c) slope += c[j] * y[j];
+// Every tap of the output texel (frames with weight > 0), with derivatives in its block's coefficients:
+// visit(block, weight, footprint).
+template <int K, typename Visit>
+void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps, int baseSize, int pyramidLevels,
+                Visit&& visit) {
+    constexpr int B = kTapParameterCount * K;
+    using J = ceres::Jet<double, B>;
+    for (int f = 0; f < kFrameCount; ++f) {
+        const FrameSetup& frame = texel.frames[f];
+        if (frame.weight <= 0.0) continue;
+        for (int t = 0; t < taps; ++t) {
+            const int block = f * taps + t;
+            std::array<J, B> coefficients;
+            for (int q = 0; q < B; ++q) coefficients[q] = J(blocks[block][q], q);
+            const TapSample<J> s = evaluateTap(frame, coefficients.data(), K);
+            visit(block, s.weight, trilinearFootprint(baseSize, pyramidLevels, s.direction, s.level));
         }
-        return slope;
     }
-    double value(bool) const { return 0.0; }
-};
+}
 
 } // namespace
 
-MomentBasis::MomentBasis(const CubeGeometry& geometry) : values(geometry.directions.size() * kMomentCount) {
-    for (std::size_t t = 0; t < geometry.directions.size(); ++t) {
-        const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
-        std::copy(y.begin() + 1, y.end(), values.begin() + static_cast<std::ptrdiff_t>(t * kMomentCount));
+MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
+    const CubeGeometry geometry(baseSize);
+    const std::vector<DownsampleOperator> operators = pyramidOperators(baseSize, pyramid);
+    const int top = pyramidLevelCount(baseSize) - 1;
+    std::vector<std::vector<double>> component(static_cast<std::size_t>(top) + 1);
+    for (int k = 0; k <= top; ++k) {
+        component[k].assign(texelCount(baseSize >> k), 0.0);
+        levels_.emplace_back(component[k].size() * kMomentCount);
+    }
+    for (int j = 0; j < kMomentCount; ++j) {
+        for (std::size_t t = 0; t < geometry.directions.size(); ++t) component[0][t] = shBasis(geometry.directions[t])[j + 1];
+        pullUpFromBase(operators, component, top);
+        for (int k = 0; k <= top; ++k)
+            for (std::size_t p = 0; p < component[k].size(); ++p) levels_[k][p * kMomentCount + j] = component[k][p];
     }
 }
 
 ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
                                             double* gradient, double* weightSumGradient) const {
-    L1Measure measure{texel};
-    return form_ == TableForm::quadratic ? evaluateWith<3>(blocks, texel, ws, measure, gradient, weightSumGradient)
-                                         : evaluateWith<1>(blocks, texel, ws, measure, gradient, weightSumGradient);
+    return form_ == TableForm::quadratic ? evaluateWith<3>(blocks, texel, ws, gradient, weightSumGradient)
+                                         : evaluateWith<1>(blocks, texel, ws, gradient, weightSumGradient);
 }
 
-void ImpulseModel::moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, Workspace& ws,
-                           double* moments, const double* c, double* gradient) const {
-    if (moments) std::fill(moments, moments + kMomentCount, 0.0);
-    MomentMeasure measure{basis, moments, c};
+void ImpulseModel::moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
+                           const double* c, double* gradient) const {
     if (form_ == TableForm::quadratic)
-        evaluateWith<3>(blocks, texel, ws, measure, gradient, nullptr);
+        momentsWith<3>(blocks, texel, basis, moments, c, gradient);
     else
-        evaluateWith<1>(blocks, texel, ws, measure, gradient, nullptr);
+        momentsWith<1>(blocks, texel, basis, moments, c, gradient);
 }
 
-template <int K, typename Measure>
+template <int K>
+void ImpulseModel::momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis,
+                               double* moments, const double* c, double* gradient) const {
+    constexpr int B = kTapParameterCount * K;
+    using J = ceres::Jet<double, B>;
+    // Per tap i: its weight W_i, and A_i = sum over its footprint of b_ip Y(p) (the pulled-up basis),
+    // as sum_j c_j A_ij with c's slope; m_j = sum_i W_i A_ij / S with S = sum_i W_i.
+    struct TapMoments {
+        int block;
+        J weight, slope;
+        std::array<double, kMomentCount> a{};
+    };
+    std::vector<TapMoments> records;
+    records.reserve(static_cast<std::size_t>(blockCount()));
+    double weightSum = 0.0;
+    auto visit = [&](int block, const J& weight, const TrilinearFootprintT<J>& footprint) {
+        TapMoments r{block, weight, J(0.0)};
+        for (int k = 0; k < footprint.count; ++k) {
+            const auto& p = footprint.taps[k];
+            const double* y = basis.at(p.level, p.index);
+            for (int j = 0; j < kMomentCount; ++j) r.a[j] += p.weight.a * y[j];
+            if (c) {
+                double cy = 0.0;
+                for (int j = 0; j < kMomentCount; ++j) cy += c[j] * y[j];
+                r.slope += p.weight * cy;
+            }
+        }
+        weightSum += weight.a;
+        records.push_back(r);
+    };
+    forEachTap<K>(texel, blocks, taps_, baseSize_, pyramidLevels_, visit);
+    if (moments) std::fill(moments, moments + kMomentCount, 0.0);
+    if (gradient) std::fill(gradient, gradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
+    if (weightSum == 0.0) return;
+    const double inverseSum = 1.0 / weightSum;
+    if (moments)
+        for (const TapMoments& r : records)
+            for (int j = 0; j < kMomentCount; ++j) moments[j] += r.weight.a * r.a[j] * inverseSum;
+    if (gradient) {
+        // As in evaluateWith: d/d theta_i = (d(W_i A_i) - mbar dW_i) / S with mbar = sum_i W_i A_i / S.
+        double mBar = 0.0;
+        for (const TapMoments& r : records) mBar += r.weight.a * r.slope.a;
+        mBar *= inverseSum;
+        for (const TapMoments& r : records) {
+            const J g = (r.weight * r.slope - r.weight * mBar) * inverseSum;
+            for (int q = 0; q < B; ++q) gradient[r.block * B + q] += g.v[q];
+        }
+    }
+}
+
+template <int K>
 ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
-                                                Measure& measure, double* gradient, double* weightSumGradient) const {
+                                                double* gradient, double* weightSumGradient) const {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     struct TapRecord {
@@ -132,20 +190,12 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     records.reserve(static_cast<std::size_t>(blockCount()));
     Result result;
     int top = 0;
-    for (int a = 0; a < kFrameCount; ++a) {
-        const FrameSetup& frame = texel.frames[a];
-        if (frame.weight <= 0.0) continue;
-        for (int t = 0; t < taps_; ++t) {
-            const int block = a * taps_ + t;
-            std::array<J, B> c;
-            for (int q = 0; q < B; ++q) c[q] = J(blocks[block][q], q);
-            const TapSample<J> s = evaluateTap(frame, c.data(), K);
-            TapRecord r{block, s.weight, trilinearFootprint(baseSize_, pyramidLevels_, s.direction, s.level)};
-            for (int k = 0; k < r.footprint.count; ++k) top = std::max(top, r.footprint.taps[k].level);
-            result.weightSum += s.weight.a;
-            records.push_back(r);
-        }
-    }
+    auto visit = [&](int block, const J& weight, const TrilinearFootprintT<J>& footprint) {
+        for (int k = 0; k < footprint.count; ++k) top = std::max(top, footprint.taps[k].level);
+        result.weightSum += weight.a;
+        records.push_back({block, weight, footprint});
+    };
+    forEachTap<K>(texel, blocks, taps_, baseSize_, pyramidLevels_, visit);
     if (gradient) std::fill(gradient, gradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
     if (weightSumGradient) {
         std::fill(weightSumGradient, weightSumGradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
@@ -158,7 +208,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     }
 
     // w = pushed-back normalized weights on pyramid texels: where the taps reach little of the cube,
-    // on the touched texels only (listed per level), the measure visiting the touched base texels;
+    // on the touched texels only (listed per level), the L1 visiting the touched base texels;
     // else dense passes over every texel.
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
@@ -188,6 +238,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
 
     const std::vector<double>& w = ws.weights[0];
     std::vector<double>& slope = ws.adjoint[0];
+    L1Measure measure{texel};
     if (dense) {
         pushBackToBase(operators_, ws.weights, top);
         for (std::size_t t = 0; t < w.size(); ++t) slope[t] = measure.visit(static_cast<std::uint32_t>(t), w[t]);

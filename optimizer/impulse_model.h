@@ -34,12 +34,20 @@ std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& 
                                        double alpha);
 
 // The smooth functions whose moments the seam term of the fit compares: the order-1 and order-2 real
-// SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel.
+// SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel,
+// and pulled up the pyramid: since a moment is linear in the response, the moment of a weight on
+// pyramid texel p is that weight times the pulled-up basis at p, and no response needs building.
 inline constexpr int kMomentCount = 8;
-struct MomentBasis {
-    explicit MomentBasis(const probe::CubeGeometry& geometry);
-    const double* at(std::uint32_t texel) const { return &values[static_cast<std::size_t>(texel) * kMomentCount]; }
-    std::vector<double> values;
+class MomentBasis {
+public:
+    MomentBasis(int baseSize, probe::PyramidSettings pyramid);
+    const double* at(std::uint32_t texel) const { return at(0, texel); }
+    const double* at(int level, std::uint32_t texel) const {
+        return &levels_[static_cast<std::size_t>(level)][static_cast<std::size_t>(texel) * kMomentCount];
+    }
+
+private:
+    std::vector<std::vector<double>> levels_; // per pyramid level, kMomentCount values per texel
 };
 
 class ImpulseModel {
@@ -74,13 +82,16 @@ public:
     // Smooth moments of the response instead of its L1: m_j = sum_t w(R, t) Y_j(t) over the base texels
     // for the kMomentCount basis functions of `basis`, into `moments` (may be null). With `gradient`,
     // also d(sum_j c_j m_j) / d coefficient for the given c (kMomentCount values).
-    void moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, Workspace& ws,
-                 double* moments, const double* c = nullptr, double* gradient = nullptr) const;
+    void moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
+                 const double* c = nullptr, double* gradient = nullptr) const;
 
 private:
-    template <int K, typename Measure>
-    Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, Measure& measure,
-                        double* gradient, double* weightSumGradient) const;
+    template <int K>
+    Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
+                        double* weightSumGradient) const;
+    template <int K>
+    void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
+                     const double* c, double* gradient) const;
 
     int baseSize_;
     int pyramidLevels_;

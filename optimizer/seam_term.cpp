@@ -56,10 +56,10 @@ std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, in
 }
 
 double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis,
-                 ImpulseModel::Workspace& ws, double* gradient, std::vector<double>& scratch) {
+                 double* gradient, std::vector<double>& scratch) {
     std::array<double, kMomentCount> ma, mb, slope;
-    model.moments(blocks, pair.a, basis, ws, ma.data());
-    model.moments(blocks, pair.b, basis, ws, mb.data());
+    model.moments(blocks, pair.a, basis, ma.data());
+    model.moments(blocks, pair.b, basis, mb.data());
     double s = 0.0;
     for (int j = 0; j < kMomentCount; ++j) {
         const double d = (ma[j] - mb[j]) - pair.referenceStep[j];
@@ -69,8 +69,8 @@ double seamError(const ImpulseModel& model, const double* const* blocks, const S
     if (gradient) {
         const std::size_t p = static_cast<std::size_t>(model.blockCount() * model.blockSize());
         scratch.resize(p);
-        model.moments(blocks, pair.a, basis, ws, nullptr, slope.data(), gradient);
-        model.moments(blocks, pair.b, basis, ws, nullptr, slope.data(), scratch.data());
+        model.moments(blocks, pair.a, basis, nullptr, slope.data(), gradient);
+        model.moments(blocks, pair.b, basis, nullptr, slope.data(), scratch.data());
         for (std::size_t q = 0; q < p; ++q) gradient[q] -= scratch[q];
     }
     return s;

@@ -24,6 +24,6 @@ std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, in
 // s of one pair; with `gradient` (blockCount * blockSize values, overwritten) also d s / d coefficient,
 // using `scratch` (resized as needed).
 double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis,
-                 ImpulseModel::Workspace& ws, double* gradient, std::vector<double>& scratch);
+                 double* gradient, std::vector<double>& scratch);
 
 } // namespace probefit

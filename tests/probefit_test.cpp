@@ -79,14 +79,12 @@ TEST(SeamTerm, MomentsEqualTheSharedModelsResponse) {
     const TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
     const std::vector<DownsampleOperator> ops = pyramidOperators(16, table.pyramid);
-    const CubeGeometry geometry(16);
-    const MomentBasis basis(geometry);
-    ImpulseModel::Workspace ws = model.workspace();
+    const MomentBasis basis(16, table.pyramid);
     const int m = 1;
     for (const SeamPair& pair : prepareSeamPairs(16, m, tableLevelAlpha(table, m), 10, basis)) {
         EXPECT_NE(pair.a.texel.face, pair.b.texel.face);
         std::array<double, kMomentCount> moments;
-        model.moments(levelBlocks(table, m).data(), pair.a, basis, ws, moments.data());
+        model.moments(levelBlocks(table, m).data(), pair.a, basis, moments.data());
         const std::vector<double> w = tableImpulseResponse(table, ops, m, pair.a.texel);
         for (int j = 0; j < kMomentCount; ++j) {
             double expected = 0.0;
@@ -100,21 +98,20 @@ TEST(SeamTerm, GradientMatchesFiniteDifferences) {
     TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
     const int m = 2;
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
-    const MomentBasis basis{CubeGeometry(16)};
-    ImpulseModel::Workspace ws = model.workspace();
+    const MomentBasis basis(16, table.pyramid);
     const std::vector<SeamPair> pairs = prepareSeamPairs(16, m, tableLevelAlpha(table, m), 6, basis);
     const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(n), scratch;
     int checked = 0, agreeing = 0;
     for (const SeamPair& pair : pairs) {
-        const double s = seamError(model, levelBlocks(table, m).data(), pair, basis, ws, gradient.data(), scratch);
+        const double s = seamError(model, levelBlocks(table, m).data(), pair, basis, gradient.data(), scratch);
         EXPECT_GT(s, 0.0);
         for (std::size_t q = 0; q < n; q += 5) {
             const double h = 1e-6, saved = table.levels[m].coefficients[q];
             table.levels[m].coefficients[q] = saved + h;
-            const double plus = seamError(model, levelBlocks(table, m).data(), pair, basis, ws, nullptr, scratch);
+            const double plus = seamError(model, levelBlocks(table, m).data(), pair, basis, nullptr, scratch);
             table.levels[m].coefficients[q] = saved - h;
-            const double minus = seamError(model, levelBlocks(table, m).data(), pair, basis, ws, nullptr, scratch);
+            const double minus = seamError(model, levelBlocks(table, m).data(), pair, basis, nullptr, scratch);
             table.levels[m].coefficients[q] = saved;
             const double fd = (plus - minus) / (2 * h);
             ++checked;
@@ -139,12 +136,11 @@ TEST(SeamTerm, TheFitReducesIt) {
         settings.seamWeight = weight;
         const TapTable table = fitTable(settings, {});
         const ImpulseModel model(16, table.pyramid, table.taps, table.form);
-        const MomentBasis basis{CubeGeometry(16)};
-        ImpulseModel::Workspace ws = model.workspace();
+        const MomentBasis basis(16, table.pyramid);
         std::vector<double> scratch;
         double sum = 0.0;
         const std::vector<SeamPair> pairs = prepareSeamPairs(16, 1, tableLevelAlpha(table, 1), 96, basis);
-        for (const SeamPair& pair : pairs) sum += seamError(model, levelBlocks(table, 1).data(), pair, basis, ws, nullptr, scratch);
+        for (const SeamPair& pair : pairs) sum += seamError(model, levelBlocks(table, 1).data(), pair, basis, nullptr, scratch);
         seam[weight > 0.0].push_back(sum / static_cast<double>(pairs.size()));
     }
     EXPECT_LT(seam[1][0], 0.5 * seam[0][0]);
