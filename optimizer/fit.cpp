@@ -340,7 +340,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     }
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
-    const MomentBasis basis(settings.seamWeight > 0.0 ? settings.baseSize : 1, settings.pyramid); // only the seam term reads it
+    const MomentBasis basis(settings.baseSize, settings.pyramid);
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);

@@ -104,10 +104,15 @@ MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
         component[k].assign(texelCount(baseSize >> k), 0.0);
         levels_.emplace_back(component[k].size() * kMomentCount);
     }
+    for (std::size_t t = 0; t < geometry.directions.size(); ++t) {
+        const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
+        std::copy(y.begin() + 1, y.end(), levels_[0].begin() + static_cast<std::ptrdiff_t>(t * kMomentCount));
+    }
+    // Each function pulled up on its own: the pyramid operators act on one value per texel.
     for (int j = 0; j < kMomentCount; ++j) {
-        for (std::size_t t = 0; t < geometry.directions.size(); ++t) component[0][t] = shBasis(geometry.directions[t])[j + 1];
+        for (std::size_t t = 0; t < component[0].size(); ++t) component[0][t] = levels_[0][t * kMomentCount + j];
         pullUpFromBase(operators, component, top);
-        for (int k = 0; k <= top; ++k)
+        for (int k = 1; k <= top; ++k)
             for (std::size_t p = 0; p < component[k].size(); ++p) levels_[k][p * kMomentCount + j] = component[k][p];
     }
 }
