@@ -10,6 +10,7 @@
 
 #include "evaluate.h"
 #include "fit.h"
+#include "seam_select.h"
 #include "probe/error.h"
 #include "probe/table_io.h"
 #include "table_outputs.h"
@@ -132,6 +133,27 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
     return mismatch ? 1 : 0;
 }
 
+// Assembles a table level by level from fits of the same shape (seam_select.h) and prints the choice.
+int runSelect(const std::vector<std::string>& paths, const std::string& out) {
+    std::vector<probefit::SeamCandidate> candidates;
+    for (const std::string& path : paths) candidates.push_back({std::filesystem::path(path).stem().string(), readTable(path)});
+    probefit::checkWritable(out);
+    const probefit::SeamSelection selection = probefit::selectWithinSeamBound(candidates);
+    bool allWithin = true;
+    for (int m = 0; m < selection.table.levelCount; ++m) {
+        const probefit::LevelSelection& level = selection.levels[m];
+        std::string ratios;
+        for (std::size_t k = 0; k < candidates.size(); ++k)
+            ratios += fmt::format("  {} {:.4f} (L1 {:.4f})", candidates[k].name, level.seamRatios[k], candidates[k].table.levels[m].all.mean);
+        fmt::print("level {} bound {:.4f}:{}\n  -> {}{}\n", m, level.bound, ratios, candidates[level.chosen].name,
+                   level.withinBound ? "" : " (no fit within the bound: the nearest)");
+        allWithin = allWithin && level.withinBound;
+    }
+    probefit::writeTableOutputs(out, selection.table);
+    fmt::print("wrote {0}.json, {0}.h, {0}.glsl{1}\n", out, allWithin ? "" : "; some level is out of the seam bound");
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -182,8 +204,16 @@ int main(int argc, char** argv) {
     exportTable->add_option("table", exportSource, "table file")->required();
     exportTable->add_option("--out", exportOut, "output prefix")->required();
 
+    CLI::App* select = app.add_subcommand("select", "a table from several fits of one shape: per level, the lowest-L1 fit "
+                                                    "whose seams stay within the bound");
+    std::vector<std::string> selectSources;
+    std::string selectOut;
+    select->add_option("tables", selectSources, "candidate table files")->required();
+    select->add_option("--out", selectOut, "output prefix")->required();
+
     try {
         app.parse(argc, argv);
+        if (select->parsed()) return runSelect(selectSources, selectOut);
         if (eval->parsed()) return runEval(table, texels, tolerance);
         if (exportTable->parsed()) {
             const TapTable t = readTable(exportSource);

@@ -70,5 +70,13 @@ expect_refused init-layout     "$work/wrong-layout.json" $(fit --size 16 --level
 expect_refused seam-weight     "--seam-weight"          $(fit --size 16 --seam-weight -1)
 expect_refused seam-pairs      "--seam-pairs"           $(fit --size 16 --seam-pairs 0)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
+expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
+expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
+expect_refused select-unwritable "--out"                select "$work/small.json" --out "$work/no/such/dir/out"
+
+# select from one table keeps it: the same coefficients and errors at every level.
+"$PROBEFIT" select "$work/small.json" --out "$work/kept" >"$work/select.log" || fail "select one table: exit $?"
+cmp -s <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") ||
+    fail "select from one table changed it: $(diff <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") | head -5)"
 
 [[ $failures -eq 0 ]] || { echo "$failures failures"; exit 1; }

@@ -1,6 +1,7 @@
 // The optimizer's objective is the shared model: its L1 equals the one computed from probecore's
 // impulse response and reference kernel, and its gradient matches finite differences.
 #include <algorithm>
+#include <filesystem>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -9,7 +10,12 @@
 #include "impulse_model.h"
 #include "fit.h"
 #include "initial_layout.h"
+#include "seam_select.h"
 #include "seam_term.h"
+#include "probe/error.h"
+#include "probe/seam_measure.h"
+#include "probe/synthetic.h"
+#include "probe/table_io.h"
 #include "probe/reference.h"
 #include "probe/table_filter.h"
 
@@ -153,6 +159,69 @@ TEST(Evaluate, StratifiedMeanEstimatesTheAllTexelMean) {
         const double all = evaluateLevel(table, m, TexelSet::all).error.mean;
         const double stratified = evaluateLevel(table, m, TexelSet::stratified).error.mean;
         EXPECT_NEAR(stratified, all, 0.05 * all);
+    }
+}
+
+TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
+    // Candidates at 16^2: the committed quad 8x3 table (within the bound at every level), a short fit
+    // without the seam term, and the committed table with big random offsets that claims an L1 of 0.
+    // Every level must be one candidate's level, within the seam bound, with the lowest L1 among the
+    // candidates within.
+    FitSettings settings;
+    settings.baseSize = 16;
+    settings.taps = 8;
+    settings.maxIterations = 10;
+    settings.measureAll = false;
+    std::vector<SeamCandidate> candidates;
+    candidates.push_back({"committed", readTable(std::filesystem::path(PROBE_TABLES_DIR) / "gltf16_quad8.json")});
+    settings.levelCount = candidates[0].table.levelCount;
+    candidates.push_back({"plain", fitTable(settings, {})});
+    for (SeamCandidate& c : candidates)
+        for (TableLevel& level : c.table.levels) level.all.mean = -1.0; // compare on the stratified L1
+    TapTable rough = candidates[0].table;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> offset(-0.4, 0.4);
+    for (int m = 1; m < rough.levelCount; ++m) {
+        for (double& c : rough.levels[m].coefficients) c += offset(rng);
+        rough.levels[m].stratified.mean = 0.0;
+    }
+    candidates.push_back({"rough", rough});
+
+    const SeamSelection selection = selectWithinSeamBound(candidates);
+    const std::vector<double> bounds = seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf), seamBoundCap());
+    const CubeImage sky = skyProbe(16);
+    int roughRefused = 0;
+    for (int m = 1; m < settings.levelCount; ++m) {
+        const LevelSelection& level = selection.levels[m];
+        EXPECT_EQ(selection.table.levels[m].coefficients, candidates[level.chosen].table.levels[m].coefficients);
+        double bestWithin = 1e9;
+        for (const SeamCandidate& c : candidates) {
+            const double ratio = seamRatio(tableFilter(sky, c.table)[m]);
+            if (bounds[m] == 0.0 || ratio <= bounds[m]) bestWithin = std::min(bestWithin, c.table.levels[m].stratified.mean);
+            else if (&c == &candidates.back()) ++roughRefused;
+        }
+        ASSERT_LT(bestWithin, 1e9) << "level " << m << ": no candidate within the bound";
+        EXPECT_TRUE(level.withinBound);
+        EXPECT_EQ(candidates[level.chosen].table.levels[m].stratified.mean, bestWithin) << "level " << m;
+    }
+    EXPECT_GT(roughRefused, 0) << "the rough candidate should step across the edges at some level";
+}
+
+TEST(SeamSelect, RefusesCandidatesOfAnotherShape) {
+    FitSettings settings;
+    settings.baseSize = 16;
+    settings.levelCount = 3;
+    settings.taps = 4;
+    settings.maxIterations = 1;
+    settings.measureAll = false;
+    const TapTable four = fitTable(settings, {});
+    settings.taps = 8;
+    const TapTable eight = fitTable(settings, {});
+    try {
+        selectWithinSeamBound({{"four", four}, {"eight", eight}});
+        FAIL() << "a candidate with other taps was accepted";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("eight: not the shape of four"), std::string::npos) << e.what();
     }
 }
 

@@ -1,0 +1,37 @@
+// How much harder a filtered cube steps across its face edges than inside its faces, against the
+// exact reference (the seam check of the hard-case suite, and what `probefit select` keeps within).
+// A level's seam ratio is the steepest step between face-edge neighbours over the steepest step
+// between interior neighbours (largest channel difference); its bound is 1.1x the exact reference's
+// own ratio on the smooth sky at the same size, level count and mapping, and never more than one k for
+// every level: 1.1x the largest ratio of the 64^2 exact reference (default levels, glTF).
+#pragma once
+
+#include <vector>
+
+#include "probe/cube_image.h"
+#include "probe/roughness.h"
+
+namespace probe {
+
+// The steepest steps between neighbouring texels of one level: across a face edge, between interior
+// neighbours, and across the lines a quarter of the way into each face (to compare with the edges).
+struct SeamSteps {
+    double edge = 0.0;
+    double interior = 0.0;
+    double quarterLine = 0.0;
+};
+SeamSteps steepestSteps(const CubeImage& level);
+
+// edge / interior; 0 for faces under 4 texels (no interior to compare with) or a flat level.
+double seamRatio(const CubeImage& level);
+
+// The exact reference of the smooth sky (synthetic.h's skyProbe), all levels; costs seconds at 128^2.
+CubeLevels skyReference(int faceSize, int levelCount, RoughnessMapping mapping);
+
+// The single k: 1.1x the largest seam ratio over the levels of the 64^2 sky reference.
+double seamBoundCap();
+
+// Per level, min(1.1x the seam ratio of `reference` at that level, cap); 0 where faces are under 4.
+std::vector<double> seamBounds(const CubeLevels& reference, double cap);
+
+} // namespace probe

@@ -1,0 +1,83 @@
+#include "seam_select.h"
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+#include "probe/seam_measure.h"
+#include "probe/synthetic.h"
+#include "probe/table_filter.h"
+
+namespace probefit {
+
+using namespace probe;
+
+namespace {
+
+void checkSameShape(const std::vector<SeamCandidate>& candidates) {
+    if (candidates.empty()) throw ProbeError("select: no candidate tables");
+    const TapTable& first = candidates.front().table;
+    for (const SeamCandidate& c : candidates) {
+        const TapTable& t = c.table;
+        if (t.baseSize != first.baseSize || t.levelCount != first.levelCount || t.taps != first.taps || t.form != first.form ||
+            t.mapping != first.mapping || t.pyramid.kind != first.pyramid.kind || t.pyramid.weighting != first.pyramid.weighting)
+            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping and pyramid must agree)",
+                                         c.name, candidates.front().name));
+    }
+}
+
+// The L1 the choice compares: over all texels where every candidate measured it, else the stratified set.
+double levelL1(const TableLevel& level, bool all) { return all ? level.all.mean : level.stratified.mean; }
+
+} // namespace
+
+SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates) {
+    checkSameShape(candidates);
+    const TapTable& shape = candidates.front().table;
+    const CubeImage sky = skyProbe(shape.baseSize);
+    const std::vector<double> bounds = seamBounds(skyReference(shape.baseSize, shape.levelCount, shape.mapping), seamBoundCap());
+    std::vector<CubeLevels> filtered;
+    for (const SeamCandidate& c : candidates) filtered.push_back(tableFilter(sky, c.table));
+
+    SeamSelection selection{shape, {}};
+    selection.table.fitSeconds = 0.0;
+    for (const SeamCandidate& c : candidates) selection.table.fitSeconds += c.table.fitSeconds;
+    std::string sources;
+    for (int m = 0; m < shape.levelCount; ++m) {
+        bool all = true;
+        for (const SeamCandidate& c : candidates) all = all && c.table.levels[m].all.mean >= 0.0;
+        LevelSelection level;
+        level.bound = bounds[m];
+        int nearest = 0;
+        bool found = false;
+        for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
+            const double ratio = level.bound > 0.0 ? seamRatio(filtered[k][m]) : 0.0;
+            level.seamRatios.push_back(ratio);
+            if (ratio < level.seamRatios[nearest]) nearest = k;
+            const bool better = !found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all);
+            if (ratio <= level.bound && better) {
+                level.chosen = k;
+                found = true;
+            }
+        }
+        if (!found) {
+            level.chosen = nearest;
+            level.withinBound = false;
+        }
+        selection.table.levels[m] = candidates[level.chosen].table.levels[m];
+        sources += fmt::format("{}{}: {}", m == 0 ? "" : ", ", m, candidates[level.chosen].name);
+        selection.levels.push_back(std::move(level));
+    }
+    // The seam weight is recorded only where every kept level was fitted with the same one.
+    selection.table.seamWeight = candidates[selection.levels.front().chosen].table.seamWeight;
+    for (const LevelSelection& level : selection.levels)
+        if (candidates[level.chosen].table.seamWeight != selection.table.seamWeight) selection.table.seamWeight = 0.0;
+    std::string fits;
+    for (const SeamCandidate& c : candidates) fits += fmt::format("[{}: seam weight {}, {}] ", c.name, c.table.seamWeight, c.table.solver);
+    selection.table.solver = fmt::format("probefit select: per level, the lowest impulse L1 among {} fits whose seams stay within "
+                                         "the bound of seam_measure.h (level: fit) {}; the fits: {}",
+                                         candidates.size(), sources, fits);
+    selection.table.solver.pop_back();
+    return selection;
+}
+
+} // namespace probefit

@@ -1,0 +1,36 @@
+// `probefit select`: a table assembled level by level from several fits of the same shape (different
+// seam weights, iterations or starts). Output levels are independent filters, so each level takes the
+// fit with the lowest impulse L1 among those whose seams stay within the bound of seam_measure.h;
+// multi-start under a constraint that the L1 alone does not see.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "probe/tap_table.h"
+
+namespace probefit {
+
+struct SeamCandidate {
+    std::string name; // for the table's solver text and the log
+    probe::TapTable table;
+};
+
+// Per level, what was measured and which candidate was kept.
+struct LevelSelection {
+    int chosen = 0;                 // index into the candidates
+    std::vector<double> seamRatios; // per candidate (0 where the level has no bound)
+    double bound = 0.0;             // 0: faces under 4 texels, chosen by L1 alone
+    bool withinBound = true;        // false: no candidate was; the one nearest the bound was kept
+};
+
+struct SeamSelection {
+    probe::TapTable table;
+    std::vector<LevelSelection> levels;
+};
+
+// Throws ProbeError naming the candidate unless every candidate has the first one's size, levels,
+// taps, form, mapping and pyramid. Costs the exact reference of the sky at the table's size.
+SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates);
+
+} // namespace probefit
