@@ -1,6 +1,7 @@
 #include "seam_select.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "probe/error.h"
 #include "probe/seam_measure.h"
@@ -71,12 +72,11 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     selection.table.seamWeight = candidates[selection.levels.front().chosen].table.seamWeight;
     for (const LevelSelection& level : selection.levels)
         if (candidates[level.chosen].table.seamWeight != selection.table.seamWeight) selection.table.seamWeight = 0.0;
-    std::string fits;
-    for (const SeamCandidate& c : candidates) fits += fmt::format("[{}: seam weight {}, {}] ", c.name, c.table.seamWeight, c.table.solver);
+    std::vector<std::string> fits;
+    for (const SeamCandidate& c : candidates) fits.push_back(fmt::format("[{}: seam weight {}, {}]", c.name, c.table.seamWeight, c.table.solver));
     selection.table.solver = fmt::format("probefit select: per level, the lowest impulse L1 among {} fits whose seams stay within "
                                          "the bound of seam_measure.h (level: fit) {}; the fits: {}",
-                                         candidates.size(), sources, fits);
-    selection.table.solver.pop_back();
+                                         candidates.size(), sources, fmt::join(fits, " "));
     return selection;
 }
 

@@ -195,10 +195,10 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
         const LevelSelection& level = selection.levels[m];
         EXPECT_EQ(selection.table.levels[m].coefficients, candidates[level.chosen].table.levels[m].coefficients);
         double bestWithin = 1e9;
-        for (const SeamCandidate& c : candidates) {
-            const double ratio = seamRatio(tableFilter(sky, c.table)[m]);
-            if (bounds[m] == 0.0 || ratio <= bounds[m]) bestWithin = std::min(bestWithin, c.table.levels[m].stratified.mean);
-            else if (&c == &candidates.back()) ++roughRefused;
+        for (std::size_t k = 0; k < candidates.size(); ++k) {
+            const double ratio = seamRatio(tableFilter(sky, candidates[k].table)[m]);
+            if (bounds[m] == 0.0 || ratio <= bounds[m]) bestWithin = std::min(bestWithin, candidates[k].table.levels[m].stratified.mean);
+            else if (k + 1 == candidates.size()) ++roughRefused; // the rough candidate is the last
         }
         ASSERT_LT(bestWithin, 1e9) << "level " << m << ": no candidate within the bound";
         EXPECT_TRUE(level.withinBound);
