@@ -25,7 +25,7 @@ struct FilterOptions {
     std::string table;       // a table file (project JSON or published text) or a compiled-in table's name
     int tableTaps = 0;       // published text layout: taps per frame
     std::string tableForm;   // published text layout: const or quad
-    int samples = 32;
+    std::vector<int> samples{32}; // one count for every level, or one per level
     double fisBias = 0.0;
     std::string pyramid = "bspline";
     std::string weighting = "solid-angle";
@@ -97,12 +97,15 @@ void runFilter(const FilterOptions& o) {
     s.levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
     probe::validateSizeAndLevels(s.faceSize, s.levelCount);
     s.pyramid = {probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
-    s.fisSamples = o.samples;
+    s.fisSamples = o.samples.front();
+    if (o.samples.size() > 1) s.fisLevelSamples = o.samples;
     s.fisBias = o.fisBias;
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
-    if (s.method == probe::gpu::Method::fis && o.samples < 1)
-        throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
+    if (s.method == probe::gpu::Method::fis && o.samples.size() > 1 && static_cast<int>(o.samples.size()) != s.levelCount)
+        throw probe::ProbeError(fmt::format("--samples: {} counts for {} output levels (give one, or one per level)", o.samples.size(), s.levelCount));
+    for (int n : o.samples)
+        if (s.method == probe::gpu::Method::fis && n < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", n));
 
     probe::TapTable table;
     if (s.method == probe::gpu::Method::table) {
@@ -130,7 +133,8 @@ void runFilter(const FilterOptions& o) {
     if (s.method != probe::gpu::Method::reference)
         report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(s.pyramid.kind))},
                              {"weighting", std::string(probe::pyramidWeightingName(s.pyramid.weighting))}};
-    if (s.method == probe::gpu::Method::fis) report["fis"] = {{"samples", s.fisSamples}, {"bias", s.fisBias}};
+    if (s.method == probe::gpu::Method::fis) report["fis"] = {{"samples", s.fisLevelSamples.empty() ? nlohmann::json(s.fisSamples) : nlohmann::json(s.fisLevelSamples)},
+                                                            {"bias", s.fisBias}};
     if (s.method == probe::gpu::Method::table) report["table"] = describeTable(table);
     const probe::gpu::DeviceInfo& info = device.info();
     report["device"] = describeDevice(info, o.validate);
@@ -171,7 +175,8 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--table", o->table, "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
     cmd->add_option("--table-taps", o->tableTaps, "Published text layout: taps per frame");
     cmd->add_option("--table-form", o->tableForm, "Published text layout: const or quad");
-    cmd->add_option("--samples", o->samples, "fis: samples per output texel")->capture_default_str();
+    cmd->add_option("--samples", o->samples, "fis: samples per output texel: one count, or one per output level (level 0 first)")
+        ->capture_default_str();
     cmd->add_option("--fis-bias", o->fisBias, "fis: added to each sample's pyramid level (0 is the accurate setting, Filament uses 1)")->capture_default_str();
     cmd->add_option("--pyramid", o->pyramid, "Pass 1 pyramid: bspline or box")->capture_default_str();
     cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")->capture_default_str();

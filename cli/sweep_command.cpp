@@ -30,6 +30,7 @@ struct SweepOptions {
     std::vector<std::string> synthetic{"impulse-centre", "impulse-edge", "impulse-corner", "sunsky", "room", "checker"};
     std::string hdriDir;
     std::vector<int> samples{8, 16, 32, 64, 128, 256, 1024};
+    std::vector<int> fisMix{8, 16, 32}; // per-level FIS: N at level 1 (probe::mixedLevelSamples)
     std::vector<double> biases{0.0, 0.5, 1.0};
     std::vector<std::string> pyramids{"bspline", "box"};
     int repeat = 5;
@@ -88,22 +89,27 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
         m.taps = probe::tableTapGenerator(t.table);
         methods.push_back(std::move(m));
     }
-    for (const std::string& pyramid : o.pyramids)
-        for (double bias : o.biases)
-            for (int samples : o.samples) {
-                Method m;
-                probe::ImportanceSamplingSettings fis;
-                fis.samples = samples;
-                fis.bias = bias;
-                fis.pyramid.kind = probe::parsePyramidKind(pyramid);
-                m.description = {fmt::format("fis{}-bias{}-{}", samples, bias, pyramid), "fis", samples, bias, pyramid, ""};
-                m.settings.method = probe::gpu::Method::fis;
-                m.settings.pyramid = fis.pyramid;
-                m.settings.fisSamples = samples;
-                m.settings.fisBias = bias;
-                m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-                methods.push_back(std::move(m));
-            }
+    // FIS at one count for every level ("fis"), and the per-level mix with N at level 1 ("fis-mix").
+    for (const bool mix : {false, true})
+        for (const std::string& pyramid : o.pyramids)
+            for (double bias : o.biases)
+                for (int samples : mix ? o.fisMix : o.samples) {
+                    Method m;
+                    probe::ImportanceSamplingSettings fis;
+                    fis.samples = samples;
+                    fis.bias = bias;
+                    fis.pyramid.kind = probe::parsePyramidKind(pyramid);
+                    if (mix) fis.levelSamples = probe::mixedLevelSamples(samples, levelCount);
+                    m.description = {fmt::format("{}{}-bias{}-{}", mix ? "fismix" : "fis", samples, bias, pyramid),
+                                     mix ? "fis-mix" : "fis", samples, bias, pyramid, ""};
+                    m.settings.method = probe::gpu::Method::fis;
+                    m.settings.pyramid = fis.pyramid;
+                    m.settings.fisSamples = samples;
+                    m.settings.fisLevelSamples = fis.levelSamples;
+                    m.settings.fisBias = bias;
+                    m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                    methods.push_back(std::move(m));
+                }
     return methods;
 }
 
@@ -170,6 +176,7 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--synthetic", o->synthetic, "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
     cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");
     cmd->add_option("--samples", o->samples, "FIS sample counts");
+    cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
     cmd->add_option("--bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
     cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe (median)");

@@ -54,32 +54,49 @@ std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses)
 
 double errorOf(const MethodScore& s, bool impulse) { return impulse ? s.impulseL1 : s.imageL1; }
 
-// FIS at one setting, ascending in samples.
-std::vector<MethodScore> fisCurve(const std::vector<MethodScore>& scores, const std::string& setting) {
+// FIS of one family ("fis" or "fis-mix") at one setting, ascending in samples (at level 1).
+std::vector<MethodScore> fisCurve(const std::vector<MethodScore>& scores, const std::string& family, const std::string& setting) {
     std::vector<MethodScore> curve;
     for (const MethodScore& s : scores)
-        if (s.method.family == "fis" && fisSetting(s.method) == setting) curve.push_back(s);
+        if (s.method.family == family && fisSetting(s.method) == setting) curve.push_back(s);
     std::sort(curve.begin(), curve.end(), [](const MethodScore& a, const MethodScore& b) { return a.method.count < b.method.count; });
     return curve;
 }
 
-std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::string& setting, bool impulse) {
-    const std::vector<MethodScore> curve = fisCurve(scores, setting);
-    const auto fis32 = std::find_if(curve.begin(), curve.end(), [](const MethodScore& s) { return s.method.count == 32; });
-    if (fis32 == curve.end()) return std::nullopt;
-    // The table compared: the most accurate table no slower than FIS-32, else the fastest table.
-    const MethodScore *table = nullptr, *fastest = nullptr;
-    for (const MethodScore& s : scores) {
-        if (s.method.family != "table") continue;
-        if (!fastest || s.gpuMs < fastest->gpuMs) fastest = &s;
-        if (s.gpuMs <= fis32->gpuMs && (!table || errorOf(s, impulse) < errorOf(*table, impulse))) table = &s;
-    }
-    if (!table) table = fastest;
+// The most accurate of `family` within `budget` ms; null where none is.
+const MethodScore* mostAccurateWithin(const std::vector<MethodScore>& scores, const std::string& family, double budget, bool impulse) {
+    const MethodScore* best = nullptr;
+    for (const MethodScore& s : scores)
+        if (s.method.family == family && s.gpuMs <= budget && (!best || errorOf(s, impulse) < errorOf(*best, impulse))) best = &s;
+    return best;
+}
+
+double fastestTime(const std::vector<MethodScore>& scores, const std::string& family) {
+    double fastest = 0.0;
+    for (const MethodScore& s : scores)
+        if (s.method.family == family && (fastest == 0.0 || s.gpuMs < fastest)) fastest = s.gpuMs;
+    return fastest;
+}
+
+// The two ratios against one FIS family at one setting. The time budget is uniform FIS-32's at
+// that setting; the table compared is the most accurate one within it (else the fastest), and so is
+// the FIS point: FIS-32 itself for "fis", the most accurate per-level mix for "fis-mix".
+std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::string& family, const std::string& setting, bool impulse) {
+    const std::vector<MethodScore> uniform = fisCurve(scores, "fis", setting);
+    const auto fis32 = std::find_if(uniform.begin(), uniform.end(), [](const MethodScore& s) { return s.method.count == 32; });
+    const std::vector<MethodScore> curve = fisCurve(scores, family, setting);
+    if (fis32 == uniform.end() || curve.empty()) return std::nullopt;
+    const MethodScore* fis = family == "fis" ? &*fis32 : mostAccurateWithin(curve, family, fis32->gpuMs, impulse);
+    if (!fis) fis = &curve.front();
+    const MethodScore* table = mostAccurateWithin(scores, "table", fis32->gpuMs, impulse);
+    if (!table) table = mostAccurateWithin(scores, "table", fastestTime(scores, "table"), impulse);
     if (!table) return std::nullopt;
     Ratios r;
     r.fisSetting = setting;
+    r.fisFamily = family;
+    r.fisCompared = fis->method.name;
     r.tableName = table->method.name;
-    r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis32, impulse);
+    r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis, impulse);
     r.fisMaxSamples = curve.back().method.count;
     // FIS's time at the table's error, interpolated in log N (errors and times in log too).
     const double target = errorOf(*table, impulse);
@@ -99,17 +116,23 @@ std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::
 }
 
 std::string formatRatios(const std::optional<Ratios>& r, const std::string& label) {
-    if (!r) return fmt::format("{}: not measured (no table or no FIS-32 in the sweep)\n", label);
-    const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError)
-                                                 : fmt::format("> FIS-{} (never reaches it)", r->fisMaxSamples);
-    return fmt::format("{} (FIS {}; table {}): at FIS-32's time, table error / FIS-32 error = {:.3f}; "
-                       "at the table's error, FIS time / table time = {}\n",
-                       label, r->fisSetting, r->tableName, r->errorAtFis32Time, time);
+    if (!r) return fmt::format("{}: not measured (no table, no FIS-32 or no FIS of that family in the sweep)\n", label);
+    const std::string last = fmt::format("{}-{}", r->fisFamily == "fis" ? "FIS" : "FIS-mix", r->fisMaxSamples);
+    const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError) : fmt::format("> {} (never reaches it)", last);
+    if (r->fisFamily == "fis")
+        return fmt::format("{} (FIS {}; table {}): at FIS-32's time, table error / FIS-32 error = {:.3f}; "
+                           "at the table's error, FIS time / table time = {}\n",
+                           label, r->fisSetting, r->tableName, r->errorAtFis32Time, time);
+    return fmt::format("{} (FIS {}; table {}; FIS {}): at FIS-32's time, table error / error of the best FIS mix within it = {:.3f}; "
+                       "at the table's error, FIS-mix time / table time = {}\n",
+                       label, r->fisSetting, r->tableName, r->fisCompared, r->errorAtFis32Time, time);
 }
 
 nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
     if (!r) return nullptr;
     return {{"fis_setting", r->fisSetting},
+            {"fis_family", r->fisFamily},
+            {"fis_compared", r->fisCompared},
             {"table", r->tableName},
             {"error_at_fis32_time", r->errorAtFis32Time},
             {"fis_time_at_table_error", r->timeAtTableError ? nlohmann::json(*r->timeAtTableError) : nlohmann::json(nullptr)},
@@ -137,10 +160,14 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
             summary.bestFisSetting = setting;
         }
     if (!summary.images.empty()) {
-        summary.best = ratios(summary.images, summary.bestFisSetting, false);
-        summary.paper = ratios(summary.images, "bias 1, box", false);
+        summary.best = ratios(summary.images, "fis", summary.bestFisSetting, false);
+        summary.paper = ratios(summary.images, "fis", "bias 1, box", false);
+        summary.bestMix = ratios(summary.images, "fis-mix", summary.bestFisSetting, false);
     }
-    if (!summary.impulses.empty()) summary.impulseBest = ratios(summary.impulses, summary.bestFisSetting, true);
+    if (!summary.impulses.empty()) {
+        summary.impulseBest = ratios(summary.impulses, "fis", summary.bestFisSetting, true);
+        summary.impulseBestMix = ratios(summary.impulses, "fis-mix", summary.bestFisSetting, true);
+    }
     return summary;
 }
 
@@ -159,6 +186,8 @@ std::string formatSummary(const SweepSummary& summary) {
     s += formatRatios(summary.best, "images, best FIS");
     s += formatRatios(summary.paper, "images, paper's FIS");
     s += formatRatios(summary.impulseBest, "impulses, best FIS");
+    s += formatRatios(summary.bestMix, "images, best FIS per-level mix");
+    s += formatRatios(summary.impulseBestMix, "impulses, best FIS per-level mix");
     return s;
 }
 
@@ -173,7 +202,7 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
     out << "| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         out << fmt::format("| {} | {} | {} | {} | {} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family, s.method.count,
-                           s.method.family == "fis" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1,
+                           s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1,
                            s.impulseL1, s.gpuMs);
     out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
@@ -192,6 +221,8 @@ nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& 
             {"images_best_fis", ratiosJson(summary.best)},
             {"images_paper_fis", ratiosJson(summary.paper)},
             {"impulses_best_fis", ratiosJson(summary.impulseBest)},
+            {"images_best_fis_mix", ratiosJson(summary.bestMix)},
+            {"impulses_best_fis_mix", ratiosJson(summary.impulseBestMix)},
             {"methods", methods}};
 }
 

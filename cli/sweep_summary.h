@@ -1,6 +1,7 @@
 // The sweep's numbers: rows per (method, probe, level), and the summary that answers "what does
 // accuracy cost in time": per method the mean errors and the median time, FIS at its best single
-// setting and at the paper's (bias 1, box), and the two ratios of issue 6.
+// setting and at the paper's (bias 1, box), and the two ratios of issue 6; the same ratios against
+// per-level FIS mixes, the fair match for tables whose levels use different tap counts.
 #pragma once
 
 #include <filesystem>
@@ -14,8 +15,8 @@ namespace probefilter {
 
 struct SweepMethod {
     std::string name;
-    std::string family; // "table" or "fis"
-    int count = 0;      // taps per frame or samples
+    std::string family; // "table", "fis" (one sample count) or "fis-mix" (per level: probe::mixedLevelSamples)
+    int count = 0;      // taps per frame, or samples (at level 1 for a mix)
     double bias = 0.0;
     std::string pyramid;
     std::string form; // tables: "quad" or "const"
@@ -40,11 +41,13 @@ struct MethodScore {
     double gpuMs = 0.0;
 };
 
-// The two ratios against one FIS setting, on one error measure.
+// The two ratios against one FIS family at one setting, on one error measure.
 struct Ratios {
     std::string fisSetting;    // e.g. "bias 0, bspline"
+    std::string fisFamily;     // "fis" or "fis-mix"
+    std::string fisCompared;   // FIS-32, or the most accurate mix no slower than FIS-32
     std::string tableName;     // the table compared: the most accurate one no slower than FIS-32
-    double errorAtFis32Time = 0.0; // table error / FIS-32 error
+    double errorAtFis32Time = 0.0; // table error / the compared FIS's error
     std::optional<double> timeAtTableError; // FIS time / table time at the table's error; empty: FIS never gets there
     int fisMaxSamples = 0;
 };
@@ -54,6 +57,7 @@ struct SweepSummary {
     std::vector<MethodScore> impulses; // over the impulse probes
     std::string bestFisSetting;        // the best single (bias, pyramid) over the image probes
     std::optional<Ratios> best, paper, impulseBest;
+    std::optional<Ratios> bestMix, impulseBestMix; // against the per-level FIS mixes at the best setting
 };
 
 SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);

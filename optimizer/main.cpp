@@ -11,6 +11,7 @@
 #include "evaluate.h"
 #include "fit.h"
 #include "seam_select.h"
+#include "table_mix.h"
 #include "probe/error.h"
 #include "probe/table_io.h"
 #include "table_outputs.h"
@@ -154,6 +155,19 @@ int runSelect(const std::vector<std::string>& paths, const std::string& out) {
     return 0;
 }
 
+// Assembles a table whose levels use different tap counts (table_mix.h): one source table per level.
+int runMix(const std::vector<std::string>& paths, const std::string& out) {
+    std::vector<probefit::MixSource> perLevel;
+    for (const std::string& path : paths) perLevel.push_back({std::filesystem::path(path).stem().string(), readTable(path)});
+    probefit::checkWritable(out);
+    const TapTable mixed = probefit::mixTables(perLevel);
+    for (int m = 0; m < mixed.levelCount; ++m)
+        fmt::print("level {}: {} ({} taps), impulse L1 {:.4f}\n", m, perLevel[m].name, perLevel[m].table.taps, mixed.levels[m].all.mean);
+    probefit::writeTableOutputs(out, mixed);
+    fmt::print("wrote {0}.json, {0}.h, {0}.glsl ({1} taps per frame, the rest zero weight)\n", out, mixed.taps);
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -211,8 +225,16 @@ int main(int argc, char** argv) {
     select->add_option("tables", selectSources, "candidate table files")->required();
     select->add_option("--out", selectOut, "output prefix")->required();
 
+    CLI::App* mix = app.add_subcommand("mix", "a table whose levels use different tap counts: level m from the m-th table, "
+                                              "padded with taps of zero weight");
+    std::vector<std::string> mixSources;
+    std::string mixOut;
+    mix->add_option("tables", mixSources, "one table file per output level, level 0 first")->required();
+    mix->add_option("--out", mixOut, "output prefix")->required();
+
     try {
         app.parse(argc, argv);
+        if (mix->parsed()) return runMix(mixSources, mixOut);
         if (select->parsed()) return runSelect(selectSources, selectOut);
         if (eval->parsed()) return runEval(table, texels, tolerance);
         if (exportTable->parsed()) {

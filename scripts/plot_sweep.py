@@ -49,21 +49,39 @@ def setting(meta):
     return f"bias {float(meta['bias']):g}, {meta['pyramid']}"
 
 
-def plot(ax, points, title, best_setting, ratios=None):
+def ratio_text(ratios):
+    if ratios["fis_family"] == "fis":
+        return (f"at FIS-32's time: table error = {ratios['error_at_fis32_time']:.2f} x FIS-32's\n"
+                f"at the table's error: FIS time = "
+                + (f"{ratios['fis_time_at_table_error']:.1f} x table's" if ratios["fis_time_at_table_error"]
+                   else f"> FIS-{ratios['fis_max_samples']} (never reaches it)")
+                + f"\n(table {ratios['table']}, FIS {ratios['fis_setting']})")
+    return (f"against per-level FIS mixes: at FIS-32's time, table error = {ratios['error_at_fis32_time']:.2f} x "
+            f"{ratios['fis_compared']}'s\nat the table's error: FIS-mix time = "
+            + (f"{ratios['fis_time_at_table_error']:.1f} x table's" if ratios["fis_time_at_table_error"]
+               else f"> FIS-mix-{ratios['fis_max_samples']} (never reaches it)"))
+
+
+def plot(ax, points, title, best_setting, ratios=()):
     groups = defaultdict(list)
     for name, (err, ms, meta) in points.items():
-        key = f"table ({meta['form']})" if meta["family"] == "table" else f"FIS {setting(meta)}"
-        groups[key].append((ms, err, meta))
+        key = {"table": f"table ({meta['form']}{', per-level mix' if 'mix' in name else ''})", "fis": f"FIS {setting(meta)}",
+               "fis-mix": f"FIS per-level mix, {setting(meta)}"}[meta["family"]]
+        groups[key].append((ms, err, meta, name))
     for key, pts in sorted(groups.items()):
         pts.sort(key=lambda p: p[0])
         table = key.startswith("table")
+        best, paper = key.endswith(best_setting), key.endswith("bias 1, box")
+        uniform = key.startswith("FIS bias")
         style = dict(marker="*" if table else "o", markersize=11 if table else 5,
-                     linewidth=2.2 if (table or best_setting in key or "bias 1, box" in key) else 0.8,
-                     alpha=1.0 if (table or best_setting in key or "bias 1, box" in key) else 0.45)
-        label = key + (" (best FIS)" if best_setting in key else "") + (" (paper's FIS)" if "bias 1, box" in key else "")
+                     linewidth=2.2 if (table or best or (paper and uniform)) else 0.8,
+                     alpha=1.0 if (table or best or (paper and uniform)) else 0.45)
+        label = key + (" (best FIS setting)" if best else "") + (" (paper's FIS)" if paper and uniform else "")
         ax.plot([p[0] for p in pts], [p[1] for p in pts], label=label, **style)
-        for ms, err, meta in pts:
-            ax.annotate(str(meta["count"]), (ms, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        for ms, err, meta, name in pts:
+            # A mixed table is named by the taps of its level 1 (gltf128_quadmix4), which set its time.
+            count = name.rsplit("mix", 1)[1] if table and "mix" in name else str(meta["count"])
+            ax.annotate(count, (ms, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
     front = pareto(points)
     ax.plot([p[0] for p in front], [p[1] for p in front], "k--", linewidth=1, label="Pareto front")
     ax.set_xscale("log")
@@ -73,11 +91,7 @@ def plot(ax, points, title, best_setting, ratios=None):
     ax.set_title(title, fontsize=9)
     ax.grid(True, which="both", alpha=0.25)
     if ratios:
-        text = (f"at FIS-32's time: table error = {ratios['error_at_fis32_time']:.2f} x FIS-32's\n"
-                f"at the table's error: FIS time = "
-                + (f"{ratios['fis_time_at_table_error']:.1f} x table's" if ratios["fis_time_at_table_error"]
-                   else f"> FIS-{ratios['fis_max_samples']} (never reaches it)")
-                + f"\n(table {ratios['table']}, FIS {ratios['fis_setting']})")
+        text = "\n".join(ratio_text(r) for r in ratios)
         ax.text(0.02, 0.98, text, transform=ax.transAxes, fontsize=7, va="top",
                 bbox=dict(facecolor="white", alpha=0.85, edgecolor="grey"))
 
@@ -89,7 +103,7 @@ def main(folder):
     device = report["device"]["name"]
     fig, ax = plt.subplots(figsize=(8, 6))
     plot(ax, scores(rows), f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}, {device}", best,
-         report.get("images_best_fis"))
+         [r for r in (report.get("images_best_fis"), report.get("images_best_fis_mix")) if r])
     ax.legend(fontsize=6, loc="upper right")
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time.png", dpi=130)

@@ -14,14 +14,13 @@ layout(push_constant) uniform Params {
     int baseSize;          // S_0
     int pyramidLevels;     // log2(S_0) + 1
     int levelCount;        // M output levels
-    int samples;           // N
     float bias;            // added to every sample's level
     float texelSolidAngle; // 4 pi / (6 S_0^2)
     uint copyLevels;       // bit m: output level m is a copy (alpha = 0)
     uint firstTexel;      // the packed output texels [firstTexel, endTexel) of this dispatch
     uint endTexel;
 } params;
-// table[m].x: alpha^2 of output level m.
+// table[m].x: alpha^2 of output level m; table[m].y: its sample count N.
 
 float radicalInverse2(uint bits) {
     bits = (bits << 16u) | (bits >> 16u);
@@ -45,12 +44,13 @@ void main() {
         result = copyOfSource(R, params.baseSize);
     } else {
         float alpha2 = table[level].x;
+        int samples = int(table[level].y);
         vec3 up = abs(R.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
         vec3 tx = normalize(cross(up, R)), ty = cross(R, tx);
         vec3 sum = vec3(0.0);
         float weightSum = 0.0;
-        for (int i = 0; i < params.samples; ++i) {
-            float e1 = float(i) / float(params.samples), e2 = radicalInverse2(uint(i));
+        for (int i = 0; i < samples; ++i) {
+            float e1 = float(i) / float(samples), e2 = radicalInverse2(uint(i));
             float denominator = 1.0 + (alpha2 - 1.0) * e1;
             float cosTheta = sqrt((1.0 - e1) / denominator);
             float sinTheta = sqrt(alpha2 * e1 / denominator);
@@ -61,7 +61,7 @@ void main() {
             if (nl <= 0.0) continue;
             vec3 d = R - l;
             float pdf = ggxReflectedPdf(nl, dot(d, d), alpha2);
-            float sampleSolidAngle = 1.0 / (float(params.samples) * pdf);
+            float sampleSolidAngle = 1.0 / (float(samples) * pdf);
             float sampleLevel = 0.5 * log2(sampleSolidAngle / params.texelSolidAngle) + params.bias;
             sum += nl * sampleTrilinear(params.baseSize, params.pyramidLevels, l, sampleLevel);
             weightSum += nl;

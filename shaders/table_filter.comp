@@ -1,7 +1,8 @@
 // Pass 2 with a tap table (Manson & Sloan), a range of packed output texels per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
-// per constant level), each read trilinearly from the pyramid.
+// per constant level), each read trilinearly from the pyramid. After the coefficients, table[usageFirst + m].x
+// is the tap groups of four that level m uses (probe::tapsInUse; the rest are zero-weight padding).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
@@ -18,6 +19,7 @@ layout(push_constant) uniform Params {
     uint copyLevels;      // bit m: output level m is a copy (alpha = 0)
     uint firstTexel;      // the packed output texels [firstTexel, endTexel) of this dispatch
     uint endTexel;
+    uint usageFirst;      // index of level 0's tap group count in `table`
 } params;
 
 // P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
@@ -43,12 +45,13 @@ void main() {
     } else {
         vec3 d = faceUvToCubePoint(t.x, texelCentreUv(t.y, size), texelCentreUv(t.z, size));
         uint levelFirst = uint(level) * uint(5 * params.coefficientCount * 3 * params.taps / 4);
+        int groupsInUse = int(table[params.usageFirst + uint(level)].x);
         vec3 sum = vec3(0.0);
         float weightSum = 0.0;
         for (int axis = 0; axis < 3; ++axis) {
             FrameSetup f = frameSetup(d, axis);
             if (f.weight <= 0.0) continue;
-            for (int g = 0; g < params.taps / 4; ++g) {
+            for (int g = 0; g < groupsInUse; ++g) {
                 uint group = uint(axis * params.taps / 4 + g);
                 vec4 px = polynomial(levelFirst, 0, group, f);
                 vec4 py = polynomial(levelFirst, 1, group, f);

@@ -101,7 +101,7 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
     s.levelCount = levels;
     s.fisSamples = 32;
     gpu::Filter filter(probetest::testDevice(), s);
-    const ImportanceSamplingSettings cpu{32, 0.0, s.pyramid};
+    const ImportanceSamplingSettings cpu{32, 0.0, s.pyramid, {}};
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.pyramid);
     expectImpulseL1Matches(filter, levels, s.mapping,
                            [&](int level, const Texel& texel) {

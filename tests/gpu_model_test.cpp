@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "gpu_test_support.h"
+#include "probe/error.h"
 #include "probe/error_measures.h"
 #include "probe/importance_sampling.h"
 #include "probe/pyramid.h"
@@ -125,6 +126,24 @@ TEST_F(GpuTest, TableFilterEqualsCpuModel) {
     }
 }
 
+// A table whose levels use fewer taps than it holds (probefit mix): the GPU stops at the tap groups
+// in use, the CPU model at probe::tapsInUse; levels 1 and 2 keep 4 and 9 of 16 taps (9: a partly
+// used group of four).
+TEST_F(GpuTest, PaddedTableEqualsCpuModel) {
+    TapTable table = randomTable(32, 5, 16, TableForm::quadratic, RoughnessMapping::gltf, kAllPyramids[0], 23);
+    const int kept[] = {16, 4, 9, 16, 16};
+    for (int m = 0; m < 5; ++m)
+        for (int frame = 0; frame < kFrameCount; ++frame)
+            for (int t = kept[m]; t < 16; ++t)
+                for (int q = 0; q < 3; ++q) table.levels[m].coefficients[table.offset(frame, t, tapWeight) + q] = 0.0;
+    for (int m = 0; m < 5; ++m) EXPECT_EQ(tapsInUse(table, m), kept[m]) << "level " << m;
+    const CubeImage source = probetest::randomProbe(32, 24);
+    gpu::FilterSettings s = settingsFor(gpu::Method::table, 32, 5, RoughnessMapping::gltf, kAllPyramids[0]);
+    s.table = &table;
+    gpu::Filter filter(probetest::testDevice(), s);
+    expectLevelsEqual(filter.run(source), tableFilter(source, table), kModelTolerance, "padded table");
+}
+
 TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
     struct Case {
         int samples;
@@ -143,10 +162,29 @@ TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
         s.fisSamples = c.samples;
         s.fisBias = c.bias;
         gpu::Filter filter(probetest::testDevice(), s);
-        const ImportanceSamplingSettings cpu{c.samples, c.bias, c.pyramid};
+        const ImportanceSamplingSettings cpu{c.samples, c.bias, c.pyramid, {}};
         expectLevelsEqual(filter.run(source), importanceSampleFilter(source, 5, c.mapping, cpu), kModelTolerance,
                           fmt::format("fis {} bias {} {}", c.samples, c.bias, roughnessMappingName(c.mapping)));
     }
+}
+
+// Per-level sample counts (the sweep's FIS mixes): each level as FIS with that level's count.
+TEST_F(GpuTest, ImportanceSamplingPerLevelEqualsCpuModel) {
+    const CubeImage source = probetest::randomProbe(32, 31);
+    gpu::FilterSettings s = settingsFor(gpu::Method::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0]);
+    s.fisSamples = 8;
+    s.fisLevelSamples = {1, 8, 3, 64, 256};
+    gpu::Filter filter(probetest::testDevice(), s);
+    const CubeLevels levels = filter.run(source);
+    for (int m = 1; m < 5; ++m) {
+        const ImportanceSamplingSettings uniform{s.fisLevelSamples[m], 0.0, kAllPyramids[0], {}};
+        expectLevelsEqual({levels[m]}, {importanceSampleFilter(source, 5, RoughnessMapping::gltf, uniform)[m]}, kModelTolerance,
+                          fmt::format("fis level {} with {} samples", m, s.fisLevelSamples[m]));
+    }
+    s.fisLevelSamples = {8, 8, 8};
+    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError);
+    s.fisLevelSamples = {8, 8, 0, 8, 8};
+    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError);
 }
 
 TEST_F(GpuTest, WhiteFurnaceEveryMethod) {

@@ -73,6 +73,8 @@ expect_refused eval-texels     "--texels"               eval "$work/small.json" 
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
 expect_refused select-unwritable "--out"                select "$work/small.json" --out "$work/no/such/dir/out"
+expect_refused mix-count       "1 source tables for 4 output levels" mix "$work/small.json" --out "$work/out"
+expect_refused mix-unwritable  "--out"                  mix "$work/small.json" "$work/small.json" "$work/small.json" "$work/small.json" --out "$work/no/such/dir/out"
 
 # select from one table keeps it: the same coefficients and errors at every level.
 "$PROBEFIT" select "$work/small.json" --out "$work/kept" >"$work/select.log" || fail "select one table: exit $?"

@@ -12,7 +12,9 @@
 #include "initial_layout.h"
 #include "seam_select.h"
 #include "seam_term.h"
+#include "table_mix.h"
 #include "probe/error.h"
+#include "probe/importance_sampling.h"
 #include "probe/seam_measure.h"
 #include "probe/synthetic.h"
 #include "probe/table_io.h"
@@ -222,6 +224,75 @@ TEST(SeamSelect, RefusesCandidatesOfAnotherShape) {
         FAIL() << "a candidate with other taps was accepted";
     } catch (const ProbeError& e) {
         EXPECT_NE(std::string(e.what()).find("eight: not the shape of four"), std::string::npos) << e.what();
+    }
+}
+
+TEST(TableMix, EachLevelFiltersAsItsSource) {
+    // Level m of the mix from source m: 4, 8 and 16 taps at 16^2; the mix holds 16 and pads the rest.
+    const TapTable four = lobeTable(16, 4, 4, TableForm::quadratic);
+    const TapTable eight = lobeTable(16, 4, 8, TableForm::quadratic);
+    const TapTable sixteen = lobeTable(16, 4, 16, TableForm::quadratic);
+    const std::vector<MixSource> perLevel{{"four", four}, {"eight", eight}, {"sixteen", sixteen}, {"four", four}};
+    const TapTable mixed = mixTables(perLevel);
+    EXPECT_EQ(mixed.taps, 16);
+    const CubeImage sky = skyProbe(16);
+    const std::vector<DownsampleOperator> ops = pyramidOperators(16, mixed.pyramid);
+    for (int m = 1; m < 4; ++m) { // level 0 is a copy
+        const TapTable& source = perLevel[m].table;
+        EXPECT_EQ(tapsInUse(mixed, m), source.taps) << "level " << m;
+        // Bit for bit: the padding is skipped, so the same taps are summed in the same order.
+        EXPECT_EQ(tableFilter(sky, mixed)[m].rgb, tableFilter(sky, source)[m].rgb) << "level " << m;
+        EXPECT_EQ(tableImpulseResponse(mixed, ops, m, {4, 3, 5}), tableImpulseResponse(source, ops, m, {4, 3, 5})) << "level " << m;
+    }
+    EXPECT_NE(mixed.solver.find("1: eight (8 taps)"), std::string::npos) << mixed.solver;
+}
+
+TEST(TableMix, PaddingIsHarmlessWhereNotSkipped) {
+    // A consumer that evaluates every tap of the published layout reads the padding as zero weight
+    // along R: a finite direction, so nothing turns into NaN.
+    const TapTable mixed = mixTables({{"four", lobeTable(16, 2, 4, TableForm::constant)}, {"eight", lobeTable(16, 2, 8, TableForm::constant)}});
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 4; t < 8; ++t) {
+            const double* c = &mixed.levels[0].coefficients[mixed.offset(frame, t)];
+            EXPECT_EQ(c[tapDirZ], 1.0);
+            EXPECT_EQ(c[tapWeight], 0.0);
+        }
+}
+
+TEST(TableMix, RefusesTheWrongCountAndOtherShapes) {
+    const TapTable quad = lobeTable(16, 2, 4, TableForm::quadratic);
+    const TapTable constant = lobeTable(16, 2, 4, TableForm::constant);
+    const auto refusal = [](const std::vector<MixSource>& perLevel) {
+        try {
+            mixTables(perLevel);
+        } catch (const ProbeError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(refusal({{"a", quad}}).find("1 source tables for 2 output levels"), std::string::npos);
+    EXPECT_NE(refusal({{"a", quad}, {"b", constant}}).find("b: not the shape of a"), std::string::npos);
+}
+
+TEST(FisLevelSamples, TheMixAndItsChecks) {
+    EXPECT_EQ(mixedLevelSamples(16, 7), (std::vector<int>{16, 16, 64, 256, 256, 256, 256}));
+    EXPECT_EQ(mixedLevelSamples(128, 5), (std::vector<int>{128, 128, 512, 1024, 1024}));
+    EXPECT_EQ(mixedLevelSamples(2048, 2), (std::vector<int>{2048, 2048}));
+    ImportanceSamplingSettings s;
+    s.levelSamples = {1, 2};
+    EXPECT_THROW(validateSampleCounts(s, 3), ProbeError);
+    s.levelSamples = {1, 0, 2};
+    EXPECT_THROW(validateSampleCounts(s, 3), ProbeError);
+    s.levelSamples = {1, 5, 2};
+    EXPECT_NO_THROW(validateSampleCounts(s, 3));
+    // Each level as uniform FIS with that level's count.
+    const TapGenerator mixed = importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf, s);
+    std::vector<Tap> a, b;
+    for (int m = 1; m < 3; ++m) {
+        mixed(m, {2, 5, 1}, a);
+        importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf, ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}})(m, {2, 5, 1}, b);
+        ASSERT_EQ(a.size(), b.size()) << "level " << m;
+        for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].direction, b[k].direction);
     }
 }
 

@@ -42,7 +42,7 @@ protected:
     Plan plan(const std::string& json) {
         const Scene s = readScene(write(json));
         return makePlan(s, [](const SceneProbe& p) {
-            return importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, ImportanceSamplingSettings{p.samples, 0.0, {}});
+            return importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, ImportanceSamplingSettings{p.samples, 0.0, {}, {}});
         });
     }
     void expectRefused(const std::string& json, const std::string& field) {
@@ -87,7 +87,7 @@ TEST_F(SceneTest, Mixed) {
     // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
     const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));
     const int deepest = p.probes[0].pyramidLevels;
-    const ImportanceSamplingSettings fis{32, 0.0, {}};
+    const ImportanceSamplingSettings fis{32, 0.0, {}, {}};
     EXPECT_EQ(deepest, deepestPyramidLevelRead(importanceSampleTapGenerator(16, 4, RoughnessMapping::gltf, fis), 16, {1, 2}));
     EXPECT_GT(deepest, 0);
     EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: pyramid 1..{}", deepest), "sky: level 0 (fis)",

@@ -21,6 +21,16 @@ void addFis(std::vector<SweepRow>& rows, double bias, const std::string& pyramid
     }
 }
 
+// Per-level FIS mixes of one setting at N = 8, 16, 32: errors and times given.
+void addFisMix(std::vector<SweepRow>& rows, const std::vector<std::pair<double, double>>& errorAndMs, const std::string& probe) {
+    int n = 8;
+    for (const auto& [error, ms] : errorAndMs) {
+        const SweepMethod m{"fismix" + std::to_string(n), "fis-mix", n, 0.0, "bspline", ""};
+        for (int level = 0; level < 3; ++level) rows.push_back({m, probe, level, level ? error : 0.0, level ? error : 0.0, 0.0, ms});
+        n *= 2;
+    }
+}
+
 void addTable(std::vector<SweepRow>& rows, const std::string& name, double error, double ms, const std::string& probe) {
     const SweepMethod m{name, "table", 8, 0.0, "bspline", "quad"};
     for (int level = 0; level < 3; ++level) rows.push_back({m, probe, level, level ? error : 0.0, level ? 2.0 * error : 0.0, 0.0, ms});
@@ -65,4 +75,20 @@ TEST(SweepSummary, InterpolatesInLogNAndSaysWhenFisNeverGetsThere) {
     ASSERT_TRUE(s.best);
     EXPECT_FALSE(s.best->timeAtTableError);
     EXPECT_EQ(s.best->fisMaxSamples, 1024);
+}
+
+TEST(SweepSummary, AgainstPerLevelFisMixesWithinFis32sTime) {
+    std::vector<SweepRow> rows;
+    addFis(rows, 0.0, "bspline", 1.0, "sky"); // FIS-32: error 0.1 at 40 ms
+    addFisMix(rows, {{0.08, 20.0}, {0.04, 38.0}, {0.02, 70.0}}, "sky");
+    addTable(rows, "t", 0.02, 35.0, "sky");
+    const SweepSummary s = summarizeSweep(rows);
+    ASSERT_TRUE(s.best && s.bestMix);
+    EXPECT_NEAR(s.best->errorAtFis32Time, 0.2, 1e-12);
+    // The most accurate mix within 40 ms is N = 16 (0.04): 0.02 / 0.04; the mixes reach 0.02 at 70 ms.
+    EXPECT_EQ(s.bestMix->fisCompared, "fismix16");
+    EXPECT_NEAR(s.bestMix->errorAtFis32Time, 0.5, 1e-12);
+    ASSERT_TRUE(s.bestMix->timeAtTableError);
+    EXPECT_NEAR(*s.bestMix->timeAtTableError, 70.0 / 35.0, 1e-9);
+    EXPECT_NE(formatSummary(s).find("images, best FIS per-level mix"), std::string::npos);
 }

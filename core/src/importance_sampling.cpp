@@ -1,10 +1,13 @@
 #include "probe/importance_sampling.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "probe/error.h"
 #include "probe/ggx.h"
 
 namespace probe {
@@ -30,12 +33,33 @@ void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const
     }
 }
 
+void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount) {
+    if (!settings.levelSamples.empty() && static_cast<int>(settings.levelSamples.size()) != levelCount)
+        throw ProbeError(fmt::format("FIS samples per level: {} counts for {} output levels", settings.levelSamples.size(), levelCount));
+    for (int m = 0; m < levelCount; ++m)
+        if (settings.samplesAt(m) < 1) throw ProbeError(fmt::format("FIS samples at level {}: {} is not at least 1", m, settings.samplesAt(m)));
+}
+
+std::vector<int> mixedLevelSamples(int samples, int levelCount) {
+    std::vector<int> counts;
+    for (int m = 0; m < levelCount; ++m) counts.push_back(std::min(samples << (2 * std::clamp(m - 1, 0, 2)), std::max(samples, 1024)));
+    return counts;
+}
+
 TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
                                           const ImportanceSamplingSettings& settings) {
+    validateSampleCounts(settings, levelCount);
+    // One uniform setting per level, made once: the generator runs per texel.
+    std::vector<ImportanceSamplingSettings> perLevel;
+    for (int m = 0; m < levelCount; ++m) {
+        perLevel.push_back(settings);
+        perLevel.back().samples = settings.samplesAt(m);
+        perLevel.back().levelSamples.clear();
+    }
     return [=](int level, const Texel& texel, std::vector<Tap>& taps) {
         const double alpha = levelAlpha(mapping, level, levelCount);
         if (alpha <= 0.0) return false;
-        importanceSampleTaps(texelDirection(texel, baseSize >> level), alpha, baseSize, settings, taps);
+        importanceSampleTaps(texelDirection(texel, baseSize >> level), alpha, baseSize, perLevel[level], taps);
         return true;
     };
 }

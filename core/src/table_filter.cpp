@@ -9,10 +9,11 @@ namespace probe {
 void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, std::vector<Tap>& taps) {
     taps.clear();
     const std::vector<double>& coefficients = table.levels[level].coefficients;
+    const int used = tapsInUse(table, level);
     for (int axis = 0; axis < kFrameCount; ++axis) {
         const FrameSetup frame = frameSetup(cubeVector, axis);
         if (frame.weight <= 0.0) continue;
-        for (int t = 0; t < table.taps; ++t) {
+        for (int t = 0; t < used; ++t) {
             const TapSample<double> s = evaluateTap(frame, &coefficients[table.offset(axis, t)], coefficientCount(table.form));
             taps.push_back({{s.direction[0], s.direction[1], s.direction[2]}, s.level, s.weight});
         }

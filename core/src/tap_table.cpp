@@ -53,4 +53,13 @@ void validateTable(const TapTable& table, std::string_view what) {
                                          table.taps, coefficientCount(table.form)));
 }
 
+int tapsInUse(const TapTable& table, int level) {
+    const std::vector<double>& c = table.levels[level].coefficients;
+    for (int tap = table.taps; tap > 0; --tap)
+        for (int frame = 0; frame < kFrameCount; ++frame)
+            for (int k = 0; k < coefficientCount(table.form); ++k)
+                if (c[table.offset(frame, tap - 1, tapWeight) + k] != 0.0) return tap;
+    return 0;
+}
+
 } // namespace probe

@@ -90,6 +90,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
         tableData = tableBufferData(*s.table);
         tableTaps = s.table->taps;
         tableCoefficientCount = coefficientCount(s.table->form);
+        tableUsageFirst = gpu::tableUsageFirst(*s.table);
         break;
     case Method::fis: tableData = importanceSamplingBufferData(s); break;
     case Method::reference: break;

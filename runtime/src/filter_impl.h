@@ -1,6 +1,7 @@
 // The state of a probe::gpu::Filter, shared by the pass recorders.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -35,6 +36,7 @@ struct Filter::Impl {
     uint32_t copyLevels = 0;       // bit m: output level m has alpha = 0, a copy of the source
     int tableTaps = 0;             // table method: N per frame
     int tableCoefficientCount = 0; // table method: 3 (quadratic) or 1 (constant)
+    uint32_t tableUsageFirst = 0;  // table method: where the per-level tap group counts start in the table buffer
 
     std::unique_ptr<Submission> submission;
 
@@ -65,6 +67,7 @@ std::span<const uint32_t> tableSpirv();
 void checkTableFits(const TapTable& table, const FilterSettings& settings);
 // The table buffer: every level in the published layout, level 0 first.
 std::vector<float> tableBufferData(const TapTable& table);
+uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBufferData
 void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
 std::span<const uint32_t> importanceSamplingSpirv();

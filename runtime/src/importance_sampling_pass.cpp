@@ -1,5 +1,5 @@
-// Filtered importance sampling (shaders/importance_sampling.comp): alpha^2 per level in the table
-// buffer and one dispatch for all output levels (or one per level computed).
+// Filtered importance sampling (shaders/importance_sampling.comp): alpha^2 and the sample count per
+// level in the table buffer and one dispatch for all output levels (or one per level computed).
 #include <cstdint>
 #include <numbers>
 
@@ -8,6 +8,7 @@
 
 #include "filter_impl.h"
 #include "probe/error.h"
+#include "probe/importance_sampling.h"
 
 namespace probe::gpu {
 
@@ -17,7 +18,6 @@ struct ImportanceSamplingConstants {
     int32_t baseSize;
     int32_t pyramidLevels;
     int32_t levelCount;
-    int32_t samples;
     float bias;
     float texelSolidAngle;
     uint32_t copyLevels;
@@ -31,10 +31,14 @@ std::span<const uint32_t> importanceSamplingSpirv() { return kImportanceSampling
 
 std::vector<float> importanceSamplingBufferData(const FilterSettings& s) {
     if (s.fisSamples < 1) throw ProbeError(fmt::format("--samples {}: must be at least 1", s.fisSamples));
+    ImportanceSamplingSettings counts;
+    counts.samples = s.fisSamples;
+    counts.levelSamples = s.fisLevelSamples;
+    validateSampleCounts(counts, s.levelCount);
     std::vector<float> data;
     for (int m = 0; m < s.levelCount; ++m) {
         const double alpha = levelAlpha(s.mapping, m, s.levelCount);
-        data.insert(data.end(), {static_cast<float>(alpha * alpha), 0.0f, 0.0f, 0.0f});
+        data.insert(data.end(), {static_cast<float>(alpha * alpha), static_cast<float>(counts.samplesAt(m)), 0.0f, 0.0f});
     }
     return data;
 }
@@ -43,8 +47,7 @@ void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuf
     const FilterSettings& s = impl.settings;
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * s.faceSize * s.faceSize);
     for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
-        const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, s.fisSamples,
-                                                    static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle),
+        const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle),
                                                     impl.copyLevels, r.first, r.end};
         dispatchPass(impl, commandBuffer, *impl.pass2, "fis", r.level, constants, groupsFor(r.end - r.first));
     }

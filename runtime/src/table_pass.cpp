@@ -1,5 +1,5 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
-// upload in the published layout, and one dispatch for all output levels (or one per level computed).
+// upload in the published layout (then the tap groups each level uses), and one dispatch for all output levels (or one per level computed).
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -22,6 +22,7 @@ struct TableConstants {
     uint32_t copyLevels;
     uint32_t firstTexel;
     uint32_t endTexel;
+    uint32_t usageFirst;
 };
 
 } // namespace
@@ -52,14 +53,20 @@ std::vector<float> tableBufferData(const TapTable& table) {
         const std::vector<float> level = publishedLevelLayout(table, m);
         data.insert(data.end(), level.begin(), level.end());
     }
+    // Then per level the tap groups of four in use, so that padded levels stop early.
+    for (int m = 0; m < table.levelCount; ++m) data.insert(data.end(), {static_cast<float>((tapsInUse(table, m) + 3) / 4), 0.0f, 0.0f, 0.0f});
     return data;
+}
+
+uint32_t tableUsageFirst(const TapTable& table) {
+    return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4);
 }
 
 void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
         const TableConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, impl.tableTaps, impl.tableCoefficientCount,
-                                       impl.copyLevels, r.first, r.end};
+                                       impl.copyLevels, r.first, r.end, impl.tableUsageFirst};
         dispatchPass(impl, commandBuffer, *impl.pass2, "table", r.level, constants, groupsFor(r.end - r.first));
     }
 }

@@ -14,16 +14,29 @@ struct ImportanceSamplingSettings {
     int samples = 32;
     double bias = 0.0; // added to the level; 0 is the accurate setting (DESIGN.md), Filament uses 1
     PyramidSettings pyramid;
+    // Samples per output level, level 0 first; empty: `samples` at every level. Rough levels need
+    // many more samples than sharp ones and hold few texels, so a per-level count buys accuracy cheaply.
+    std::vector<int> levelSamples;
+
+    int samplesAt(int level) const { return levelSamples.empty() ? samples : levelSamples[static_cast<std::size_t>(level)]; }
 };
 
-// The taps for direction R (unit): sample i of N uses the Hammersley point (i / N, radicalInverse2(i)),
+// Throws ProbeError unless every sample count is >= 1 and a per-level list has levelCount entries.
+void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount);
+
+// The per-level mix of sweeps and scenes: N at level 1, 4N at level 2, 16N from level 3 on, at most
+// 1024 (level 0, a copy where alpha = 0, gets N).
+std::vector<int> mixedLevelSamples(int samples, int levelCount);
+
+// The taps for direction R (unit) with settings.samples (levelSamples is the generator's): sample i of N uses the Hammersley point (i / N, radicalInverse2(i)),
 // h from the GGX distribution of alpha in the tangent frame of R (up = +Z, or +X where |R.z| > 0.999;
 // x = normalize(cross(up, R)), y = cross(R, x)), l = reflect(-R, h); samples with n.l <= 0 are dropped.
 // pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) + bias, weight n.l.
 void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
                           std::vector<Tap>& taps);
 
-// As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies).
+// As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
+// settings.samplesAt(level) samples at each level.
 TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
                                           const ImportanceSamplingSettings& settings);
 

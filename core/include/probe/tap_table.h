@@ -55,6 +55,11 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
 // Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
 void validateTable(const TapTable& table, std::string_view what);
 
+// The taps per frame that output level `level` uses: one past the last tap with a weight that is not
+// zero for every (theta, phi) in any frame. A level that uses fewer taps than the table holds is
+// padded with taps of zero weight (probefit mix); they add nothing, so the filters stop before them.
+int tapsInUse(const TapTable& table, int level);
+
 // GGX alpha of output level m of the table (0: a copy of the source).
 inline double tableLevelAlpha(const TapTable& table, int level) {
     return levelAlpha(table.mapping, level, table.levelCount);

@@ -93,6 +93,7 @@ struct FilterSettings {
     RoughnessMapping mapping = RoughnessMapping::gltf;
     PyramidSettings pyramid; // pass 1 (table and fis)
     int fisSamples = 32;     // N Hammersley samples per output texel (fis)
+    std::vector<int> fisLevelSamples; // per output level, level 0 first (fis); empty: fisSamples at every level
     double fisBias = 0.0;    // added to each sample's level (fis); 0 is the accurate setting
     // The tap table (table method; the caller keeps it alive while the Filter is built). Refused
     // with the reason unless its base size, level count, mapping and pyramid equal the settings'.
