@@ -103,7 +103,8 @@ void runFilter(const FilterOptions& o) {
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
     if (s.method == probe::gpu::Method::fis && o.samples.size() > 1 && static_cast<int>(o.samples.size()) != s.levelCount)
-        throw probe::ProbeError(fmt::format("--samples: {} counts for {} output levels (give one, or one per level)", o.samples.size(), s.levelCount));
+        throw probe::ProbeError(
+            fmt::format("--samples: {} counts for {} output levels (give one, or one per level)", o.samples.size(), s.levelCount));
     for (int n : o.samples)
         if (s.method == probe::gpu::Method::fis && n < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", n));
 
@@ -133,8 +134,10 @@ void runFilter(const FilterOptions& o) {
     if (s.method != probe::gpu::Method::reference)
         report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(s.pyramid.kind))},
                              {"weighting", std::string(probe::pyramidWeightingName(s.pyramid.weighting))}};
-    if (s.method == probe::gpu::Method::fis) report["fis"] = {{"samples", s.fisLevelSamples.empty() ? nlohmann::json(s.fisSamples) : nlohmann::json(s.fisLevelSamples)},
-                                                            {"bias", s.fisBias}};
+    if (s.method == probe::gpu::Method::fis) {
+        const nlohmann::json samples = s.fisLevelSamples.empty() ? nlohmann::json(s.fisSamples) : nlohmann::json(s.fisLevelSamples);
+        report["fis"] = {{"samples", samples}, {"bias", s.fisBias}};
+    }
     if (s.method == probe::gpu::Method::table) report["table"] = describeTable(table);
     const probe::gpu::DeviceInfo& info = device.info();
     report["device"] = describeDevice(info, o.validate);

@@ -1,8 +1,9 @@
 // Pass 2 with a tap table (Manson & Sloan), a range of packed output texels per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
-// per constant level), each read trilinearly from the pyramid. After the coefficients, table[usageFirst + m].x
-// is the tap groups of four that level m uses (probe::tapsInUse; the rest are zero-weight padding).
+// per constant level), each read trilinearly from the pyramid. After the coefficients,
+// table[usageFirst + m].x is the tap groups of four that level m uses (probe::tapsInUse; the rest
+// are zero-weight padding).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"

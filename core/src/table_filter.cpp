@@ -6,10 +6,9 @@
 
 namespace probe {
 
-void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, std::vector<Tap>& taps) {
+void tableTaps(const TapTable& table, int level, int used, const glm::dvec3& cubeVector, std::vector<Tap>& taps) {
     taps.clear();
     const std::vector<double>& coefficients = table.levels[level].coefficients;
-    const int used = tapsInUse(table, level);
     for (int axis = 0; axis < kFrameCount; ++axis) {
         const FrameSetup frame = frameSetup(cubeVector, axis);
         if (frame.weight <= 0.0) continue;
@@ -21,10 +20,13 @@ void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, s
 }
 
 TapGenerator tableTapGenerator(const TapTable& table) {
-    return [&table](int level, const Texel& texel, std::vector<Tap>& taps) {
+    // Counted once here, not per texel.
+    std::vector<int> used;
+    for (int m = 0; m < table.levelCount; ++m) used.push_back(tapsInUse(table, m));
+    return [&table, used](int level, const Texel& texel, std::vector<Tap>& taps) {
         if (tableLevelAlpha(table, level) <= 0.0) return false;
         const int size = table.baseSize >> level;
-        tableTaps(table, level, faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)), taps);
+        tableTaps(table, level, used[level], faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)), taps);
         return true;
     };
 }

@@ -30,7 +30,6 @@ struct ImportanceSamplingConstants {
 std::span<const uint32_t> importanceSamplingSpirv() { return kImportanceSamplingSpv; }
 
 std::vector<float> importanceSamplingBufferData(const FilterSettings& s) {
-    if (s.fisSamples < 1) throw ProbeError(fmt::format("--samples {}: must be at least 1", s.fisSamples));
     ImportanceSamplingSettings counts;
     counts.samples = s.fisSamples;
     counts.levelSamples = s.fisLevelSamples;
@@ -47,8 +46,8 @@ void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuf
     const FilterSettings& s = impl.settings;
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * s.faceSize * s.faceSize);
     for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
-        const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, static_cast<float>(s.fisBias), static_cast<float>(texelSolidAngle),
-                                                    impl.copyLevels, r.first, r.end};
+        const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, static_cast<float>(s.fisBias),
+                                                    static_cast<float>(texelSolidAngle), impl.copyLevels, r.first, r.end};
         dispatchPass(impl, commandBuffer, *impl.pass2, "fis", r.level, constants, groupsFor(r.end - r.first));
     }
 }

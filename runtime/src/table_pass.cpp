@@ -1,5 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
-// upload in the published layout (then the tap groups each level uses), and one dispatch for all output levels (or one per level computed).
+// upload in the published layout (then the tap groups each level uses), and one dispatch for all
+// output levels (or one per level computed).
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -54,7 +55,8 @@ std::vector<float> tableBufferData(const TapTable& table) {
         data.insert(data.end(), level.begin(), level.end());
     }
     // Then per level the tap groups of four in use, so that padded levels stop early.
-    for (int m = 0; m < table.levelCount; ++m) data.insert(data.end(), {static_cast<float>((tapsInUse(table, m) + 3) / 4), 0.0f, 0.0f, 0.0f});
+    for (int m = 0; m < table.levelCount; ++m)
+        data.insert(data.end(), {static_cast<float>((tapsInUse(table, m) + 3) / 4), 0.0f, 0.0f, 0.0f});
     return data;
 }
 

@@ -28,9 +28,10 @@ void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelC
 // 1024 (level 0, a copy where alpha = 0, gets N).
 std::vector<int> mixedLevelSamples(int samples, int levelCount);
 
-// The taps for direction R (unit) with settings.samples (levelSamples is the generator's): sample i of N uses the Hammersley point (i / N, radicalInverse2(i)),
-// h from the GGX distribution of alpha in the tangent frame of R (up = +Z, or +X where |R.z| > 0.999;
-// x = normalize(cross(up, R)), y = cross(R, x)), l = reflect(-R, h); samples with n.l <= 0 are dropped.
+// The taps for direction R (unit) with N = settings.samples (levelSamples is the generator's):
+// sample i of N uses the Hammersley point (i / N, radicalInverse2(i)), h from the GGX distribution
+// of alpha in the tangent frame of R (up = +Z, or +X where |R.z| > 0.999; x = normalize(cross(up, R)),
+// y = cross(R, x)), l = reflect(-R, h); samples with n.l <= 0 are dropped.
 // pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) + bias, weight n.l.
 void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
                           std::vector<Tap>& taps);

@@ -11,9 +11,10 @@
 namespace probe {
 
 // The taps of the output texel with cube vector d (faceUvToCubePoint of the texel centre, major
-// component 1) at output level m: frames with weight <= 0 are skipped, tap weights include the
-// frame weight. Clears `taps` first.
-void tableTaps(const TapTable& table, int level, const glm::dvec3& cubeVector, std::vector<Tap>& taps);
+// component 1) at output level m: the first `used` taps of each frame (tapsInUse(table, m): a mix's
+// padding is not evaluated), frames with weight <= 0 skipped, tap weights including the frame
+// weight. Clears `taps` first.
+void tableTaps(const TapTable& table, int level, int used, const glm::dvec3& cubeVector, std::vector<Tap>& taps);
 
 // The table as a TapGenerator (levels with alpha = 0 are copies).
 TapGenerator tableTapGenerator(const TapTable& table);
