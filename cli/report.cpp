@@ -34,7 +34,7 @@ nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validatio
 nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches) {
     nlohmann::json list = nlohmann::json::array();
     for (const probe::gpu::Dispatch& d : dispatches)
-        list.push_back({{"pass", d.pass}, {"level", d.level < 0 ? nlohmann::json("all") : nlohmann::json(d.level)}, {"workgroups", d.groups}});
+        list.push_back({{"pass", d.pass}, {"level", d.level}, {"workgroups", d.groups}});
     return list;
 }
 

@@ -1,24 +1,47 @@
-// The storage buffers every pass binds (probe/runtime.h's layout, one descriptor set):
+// The buffers every pass binds (probe/runtime.h's layout, compute_pipeline.h's one descriptor set):
 // all levels of one cube are packed level after level, each level face-major and row-major
-// (probe::texelIndex), one RGBA32F texel per vec4.
+// (probe::texelIndex), one RGBA32F texel per vec4. The buffers that the hot loops only read are read
+// as uniform texel buffers (tableEntry, pyramidTexel), which SIMD back ends gather without branches.
 #ifndef PROBE_BUFFERS_GLSL
 #define PROBE_BUFFERS_GLSL
 
-// Pass 1's pyramid of the source: level 0 is the source at S_0, down to 1x1.
-layout(std430, set = 0, binding = 0) buffer PyramidBuffer { vec4 pyramid[]; };
+// Pass 1's pyramid of the source: level 0 is the source at S_0, down to 1x1. Each face of each level
+// carries a one-texel border (pyramid.comp fills it from the adjacent faces), so that a bilinear
+// read never leaves its face: a level of face size S holds texels (i, j), i and j in [-1, S].
+// Written here, read through pyramidTexel.
+layout(std430, set = 0, binding = 0) writeonly buffer PyramidBuffer { vec4 pyramid[]; };
 // The filtered output: level m has face size S_0 >> m.
 layout(std430, set = 0, binding = 1) buffer OutputBuffer { vec4 outputTexels[]; };
 // Per level of the pyramid, the texel centre directions (xyz, unit) and exact solid angles (w),
 // computed by probecore's CubeGeometry in double.
 layout(std430, set = 0, binding = 2) readonly buffer GeometryBuffer { vec4 geometry[]; };
-// Pass 2's tap table, or the FIS sample directions.
-layout(std430, set = 0, binding = 3) readonly buffer TableBuffer { vec4 table[]; };
+// Pass 2's tap table, or the FIS samples (the sphere renderer's parameters).
+layout(set = 0, binding = 3) uniform samplerBuffer tableTexels;
+// The pyramid buffer of binding 0, for reads.
+layout(set = 0, binding = 4) uniform samplerBuffer pyramidTexels;
+
+vec4 tableEntry(uint index) { return texelFetch(tableTexels, int(index)); }
+vec3 pyramidTexel(uint index) { return texelFetch(pyramidTexels, int(index)).rgb; }
 
 // Index of the first texel of `level` in a packed cube whose level 0 has face size `baseSize` (a
 // power of two): 6 sum_{k < level} (S >> k)^2 = 8 (S^2 - (S >> level)^2).
 uint levelOffset(int baseSize, int level) {
     uint s0 = uint(baseSize), s = uint(baseSize >> level);
     return 8u * (s0 * s0 - s * s);
+}
+
+// Index of the first texel of pyramid `level`, each face (S + 2)^2 with its border:
+// 6 sum_{k < level} (S_k + 2)^2 = 8 (S_0^2 - S^2) + 48 (S_0 - S) + 24 level.
+uint pyramidLevelOffset(int baseSize, int level) {
+    uint s0 = uint(baseSize), s = uint(baseSize >> level);
+    return 8u * (s0 * s0 - s * s) + 48u * (s0 - s) + 24u * uint(level);
+}
+
+// Index of texel (i, j) of `face`, i and j in [-1, size], within a bordered pyramid level of `size`
+// (probe::gpu::pyramidTexelIndex).
+uint pyramidTexelIndex(int face, int i, int j, int size) {
+    uint row = uint(size + 2);
+    return (uint(face) * row + uint(j + 1)) * row + uint(i + 1);
 }
 
 // The linear invocation index of a dispatch of (x, y) workgroups: dispatches with more than 65535

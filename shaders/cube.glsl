@@ -44,10 +44,4 @@ ivec3 directionToTexel(vec3 d, int size) {
 // Linear index of a texel in a face-major, row-major level (probe::texelIndex).
 uint texelIndex(int face, int i, int j, int size) { return (uint(face) * uint(size) + uint(j)) * uint(size) + uint(i); }
 
-// The texel (face, i, j) of a linear index.
-ivec3 texelOfIndex(uint index, int size) {
-    uint s = uint(size);
-    return ivec3(int(index / (s * s)), int(index % s), int((index / s) % s));
-}
-
 #endif

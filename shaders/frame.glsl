@@ -56,10 +56,8 @@ struct TapSample {
 TapSample evaluateTap(FrameSetup f, float px, float py, float pz, float level, float weight) {
     TapSample s;
     s.direction = f.x * px + f.y * py + f.z * pz;
-    int major = 0;
-    for (int k = 1; k < 3; ++k)
-        if (abs(s.direction[k]) > abs(s.direction[major])) major = k;
-    s.direction = s.direction / abs(s.direction[major]);
+    vec3 a = abs(s.direction);
+    s.direction = s.direction / max(max(a.x, a.y), a.z); // |major component|, as the C++ finds it
     s.level = level + PROBE_LEVEL_JACOBIAN_SCALE * log2(dot(s.direction, s.direction));
     s.weight = weight * f.weight;
     return s;

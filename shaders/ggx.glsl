@@ -16,9 +16,4 @@ float ggxKernel(float cosRL, float distanceSquared, float alpha2) {
     return cosRL > 0.0 ? ggxD(cosRL, distanceSquared, alpha2) * cosRL : 0.0;
 }
 
-// pdf of the reflected direction with v = n = R: D / 4.
-float ggxReflectedPdf(float cosRL, float distanceSquared, float alpha2) {
-    return ggxD(cosRL, distanceSquared, alpha2) * 0.25;
-}
-
 #endif

@@ -1,8 +1,12 @@
-// Pass 1: one level of the pyramid from the next finer one, mirroring core/src/pyramid.cpp.
+// Pass 1: one level of the pyramid with its one-texel border, mirroring core/src/pyramid.cpp.
+// Level 0 is the source: only its border is written. A coarser level comes from the finer one:
 // bspline: four seamless bilinear taps at +-0.75 fine texels around the coarse texel centre, tap k
 // weighing 0.5 J_k / sum(J) + 0.125 with J = (1 + u^2 + v^2)^(-3/2) at the tap (or its inverse).
 // box: the 2x2 children on the same face, each weighing its exact solid angle (or its inverse),
 // normalized.
+// A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
+// than copied, so one dispatch with no barrier writes a level whole; a border corner, which has no
+// counterpart, is the average of the three texels that meet there (what sampling.glsl needs).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probe/shared_constants.h"
@@ -11,14 +15,15 @@
 layout(local_size_x = 64) in;
 
 layout(push_constant) uniform Params {
-    int baseSize;         // S_0
-    int fineLevel;        // writes level fineLevel + 1
-    int boxKind;          // 0: bspline, 1: box
+    int baseSize;          // S_0
+    int level;             // the level written: 0 (the source's border) to log2(S_0)
+    int boxKind;           // 0: bspline, 1: box
     int inverseSolidAngle; // 0: weigh by the solid angle, 1: by its inverse
 } params;
 
 float jacobianWeight(float u, float v) {
-    float density = pow(1.0 + u * u + v * v, -1.5);
+    float r = inversesqrt(1.0 + u * u + v * v);
+    float density = r * r * r; // (1 + u^2 + v^2)^(-3/2)
     return params.inverseSolidAngle == 0 ? density : 1.0 / density;
 }
 
@@ -29,7 +34,7 @@ vec3 bspline(ivec3 coarse, int fineSize) {
     for (int k = 0; k < 4; ++k) {
         float x = 2.0 * float(coarse.y) + 1.0 + ((k & 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
         float y = 2.0 * float(coarse.z) + 1.0 + ((k >> 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
-        value[k] = sampleBilinear(params.baseSize, params.fineLevel, coarse.x, x, y);
+        value[k] = sampleBilinear(params.baseSize, params.level - 1, coarse.x, x, y);
         j[k] = jacobianWeight(2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
         jSum += j[k];
     }
@@ -39,24 +44,59 @@ vec3 bspline(ivec3 coarse, int fineSize) {
 }
 
 vec3 box(ivec3 coarse, int fineSize) {
-    uint first = levelOffset(params.baseSize, params.fineLevel);
+    uint first = pyramidLevelOffset(params.baseSize, params.level - 1);
+    uint firstGeometry = levelOffset(params.baseSize, params.level - 1);
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
     for (int k = 0; k < 4; ++k) {
-        uint child = first + texelIndex(coarse.x, 2 * coarse.y + (k & 1), 2 * coarse.z + (k >> 1), fineSize);
-        float area = geometry[child].w;
+        int i = 2 * coarse.y + (k & 1), j = 2 * coarse.z + (k >> 1);
+        float area = geometry[firstGeometry + texelIndex(coarse.x, i, j, fineSize)].w;
         float w = params.inverseSolidAngle == 0 ? area : 1.0 / area;
-        sum += w * pyramid[child].rgb;
+        sum += w * pyramidTexel(first + pyramidTexelIndex(coarse.x, i, j, fineSize));
         weightSum += w;
     }
     return sum / weightSum;
 }
 
+// The value of texel t (inside its face) of the level written.
+vec3 levelTexel(ivec3 t, int size) {
+    if (params.level == 0) return pyramidTexel(pyramidTexelIndex(t.x, t.y, t.z, size));
+    return params.boxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
+}
+
+// Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre
+// beyond the edge, on the face's extended plane, projected onto the adjacent face.
+ivec3 texelAcrossEdge(int face, int i, int j, int size) {
+    return directionToTexel(faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size)), size);
+}
+
+// Texel k of a face's border ring of 4 size + 4 texels: the rows j = -1 and j = size (i from -1 to
+// size), then the columns i = -1 and i = size (j from 0 to size - 1).
+ivec2 borderTexel(int k, int size) {
+    int row = size + 2;
+    if (k < 2 * row) return ivec2(k % row - 1, k < row ? -1 : size);
+    k -= 2 * row;
+    return ivec2(k < size ? -1 : size, k % size);
+}
+
 void main() {
-    int coarseSize = params.baseSize >> (params.fineLevel + 1);
-    uint texel = invocationIndex();
-    if (texel >= 6u * uint(coarseSize * coarseSize)) return;
-    ivec3 coarse = texelOfIndex(texel, coarseSize);
-    vec3 value = params.boxKind == 0 ? bspline(coarse, 2 * coarseSize) : box(coarse, 2 * coarseSize);
-    pyramid[levelOffset(params.baseSize, params.fineLevel + 1) + texel] = vec4(value, 1.0);
+    int size = params.baseSize >> params.level;
+    int row = size + 2;
+    // Level 0: the border rings only; coarser levels: every texel of each face and its border.
+    int perFace = params.level == 0 ? 4 * size + 4 : row * row;
+    uint index = invocationIndex();
+    if (index >= 6u * uint(perFace)) return;
+    int face = int(index) / perFace, k = int(index) % perFace;
+    ivec2 ij = params.level == 0 ? borderTexel(k, size) : ivec2(k % row - 1, k / row - 1);
+    int i = ij.x, j = ij.y;
+    bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
+
+    // One texel shown here; at a corner, the face's own corner texel and then the other two.
+    int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
+    bool edge = insideI != insideJ;
+    vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
+    if (!insideI && !insideJ)
+        value = (value + levelTexel(texelAcrossEdge(face, i, cj, size), size) + levelTexel(texelAcrossEdge(face, ci, j, size), size)) *
+                (1.0 / 3.0);
+    pyramid[pyramidLevelOffset(params.baseSize, params.level) + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
 }

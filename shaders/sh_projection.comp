@@ -36,7 +36,7 @@ void main() {
         if (item >= params.count) break;
         if (params.fromSource != 0u) {
             vec4 g = geometry[item];
-            vec3 radiance = pyramid[item].rgb * g.w;
+            vec3 radiance = pyramidTexel(item) * g.w;
             float y[PROBE_SH_COUNT];
             shBasis(g.xyz, y);
             for (int c = 0; c < PROBE_SH_COUNT; ++c) sum[c] += radiance * y[c];

@@ -6,9 +6,9 @@
 // with (A, B) read bilinearly from the DFG table at (n.v, perceptual roughness), texel centres at
 // (i + 0.5) / size (probe/dfg.h), and the prefiltered value read trilinearly from the filtered
 // levels at the material's level (probe::roughnessToLevel, computed by the caller).
-// Buffers: pyramid = the filtered levels (packed from S_0); output = the pixels (linear RGB);
-// geometry = the background cube's texels, then the DFG table's (A, B, 0, 0) row by row; table =
-// the 9 irradiance coefficients (rgb), then two vec4 per material.
+// Buffers: pyramid = the filtered levels (packed from S_0 with borders, in the pyramid's layout);
+// output = the pixels (linear RGB); geometry = the background cube's texels, then the DFG table's
+// (A, B, 0, 0) row by row; table = the 9 irradiance coefficients (rgb), then two vec4 per material.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "sampling.glsl"
@@ -26,8 +26,8 @@ layout(push_constant) uniform Params {
     float tanHalfFov;   // of each cell's camera
     float distance;     // of each cell's camera from its unit sphere
 } params;
-// table[k], k < 9: irradiance coefficient k (rgb); then per material m:
-// table[9 + 2m] = (base colour, metallic), table[10 + 2m] = (specular, roughness, level, has specular).
+// tableEntry(k), k < 9: irradiance coefficient k (rgb); then per material m:
+// tableEntry(9 + 2m) = (base colour, metallic), tableEntry(10 + 2m) = (specular, roughness, level, has specular).
 
 vec2 dfgLookup(float nDotV, float roughness) {
     uint first = 6u * uint(params.backgroundSize * params.backgroundSize);
@@ -45,7 +45,7 @@ vec3 irradiance(vec3 n) {
     float y[PROBE_SH_COUNT];
     shBasis(n, y);
     vec3 e = vec3(0.0);
-    for (int k = 0; k < PROBE_SH_COUNT; ++k) e += table[k].rgb * y[k];
+    for (int k = 0; k < PROBE_SH_COUNT; ++k) e += tableEntry(uint(k)).rgb * y[k];
     return max(e, vec3(0.0));
 }
 
@@ -75,7 +75,7 @@ void main() {
         vec3 n = normalize(origin + (-b - sqrt(discriminant)) * direction);
         vec3 v = -direction;
         vec3 r = reflect(direction, n);
-        vec4 m0 = table[PROBE_SH_COUNT + 2 * material], m1 = table[PROBE_SH_COUNT + 2 * material + 1];
+        vec4 m0 = tableEntry(uint(PROBE_SH_COUNT + 2 * material)), m1 = tableEntry(uint(PROBE_SH_COUNT + 2 * material + 1));
         vec3 base = m0.rgb;
         float metallic = m0.a, specularStrength = m1.x, roughness = m1.y, level = m1.z;
         float nDotV = clamp(dot(n, v), 1e-4, 1.0);

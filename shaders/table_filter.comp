@@ -1,9 +1,9 @@
-// Pass 2 with a tap table (Manson & Sloan), a range of packed output texels per dispatch, mirroring core's
+// Pass 2 with a tap table (Manson & Sloan), one output level per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
 // per constant level), each read trilinearly from the pyramid. After the coefficients,
-// table[usageFirst + m].x is the tap groups of four that level m uses (probe::tapsInUse; the rest
-// are zero-weight padding).
+// tableEntry(usageFirst + m).x is the tap groups of four that level m uses (probe::tapsInUse; the
+// rest are zero-weight padding).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "frame.glsl"
@@ -14,11 +14,10 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Params {
     int baseSize;         // S_0
     int pyramidLevels;    // log2(S_0) + 1
-    int levelCount;       // M output levels
+    int level;            // the output level of this dispatch
     int taps;             // N per frame, a multiple of 4
     int coefficientCount; // 3: quadratic, 1: constant
-    uint copyLevels;      // bit m: output level m is a copy (alpha = 0)
-    uint firstTexel;      // the packed output texels [firstTexel, endTexel) of this dispatch
+    uint firstTexel;      // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
     uint usageFirst;      // index of level 0's tap group count in `table`
 } params;
@@ -27,46 +26,37 @@ layout(push_constant) uniform Params {
 vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
     uint groups = uint(3 * params.taps / 4);
     uint first = levelFirst + uint(parameter * params.coefficientCount) * groups + group;
-    if (params.coefficientCount == 1) return table[first];
-    return table[first] + table[first + groups] * f.theta2 + table[first + 2u * groups] * f.phi2;
+    if (params.coefficientCount == 1) return tableEntry(first);
+    return tableEntry(first) + tableEntry(first + groups) * f.theta2 + tableEntry(first + 2u * groups) * f.phi2;
 }
 
 void main() {
     uint index = params.firstTexel + invocationIndex();
     if (index >= params.endTexel) return;
-    int level;
-    uint texel;
-    outputTexelOf(index, params.baseSize, params.levelCount, level, texel);
-    int size = params.baseSize >> level;
-    ivec3 t = texelOfIndex(texel, size);
-
-    vec3 result;
-    if ((params.copyLevels & (1u << uint(level))) != 0u) {
-        result = copyOfSource(geometry[index].xyz, params.baseSize);
-    } else {
-        vec3 d = faceUvToCubePoint(t.x, texelCentreUv(t.y, size), texelCentreUv(t.z, size));
-        uint levelFirst = uint(level) * uint(5 * params.coefficientCount * 3 * params.taps / 4);
-        int groupsInUse = int(table[params.usageFirst + uint(level)].x);
-        vec3 sum = vec3(0.0);
-        float weightSum = 0.0;
-        for (int axis = 0; axis < 3; ++axis) {
-            FrameSetup f = frameSetup(d, axis);
-            if (f.weight <= 0.0) continue;
-            for (int g = 0; g < groupsInUse; ++g) {
-                uint group = uint(axis * params.taps / 4 + g);
-                vec4 px = polynomial(levelFirst, 0, group, f);
-                vec4 py = polynomial(levelFirst, 1, group, f);
-                vec4 pz = polynomial(levelFirst, 2, group, f);
-                vec4 pl = polynomial(levelFirst, 3, group, f);
-                vec4 pw = polynomial(levelFirst, 4, group, f);
-                for (int lane = 0; lane < 4; ++lane) {
-                    TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
-                    sum += s.weight * sampleTrilinear(params.baseSize, params.pyramidLevels, s.direction, s.level);
-                    weightSum += s.weight;
-                }
+    // The texel centre on the cube (major component +-1), from its unit direction: no integer
+    // division to find the texel.
+    vec3 R = geometry[index].xyz, a = abs(R);
+    vec3 d = R / max(max(a.x, a.y), a.z);
+    uint levelFirst = uint(params.level) * uint(5 * params.coefficientCount * 3 * params.taps / 4);
+    int groupsInUse = int(tableEntry(params.usageFirst + uint(params.level)).x);
+    vec3 sum = vec3(0.0);
+    float weightSum = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        FrameSetup f = frameSetup(d, axis);
+        if (f.weight <= 0.0) continue;
+        for (int g = 0; g < groupsInUse; ++g) {
+            uint group = uint(axis * params.taps / 4 + g);
+            vec4 px = polynomial(levelFirst, 0, group, f);
+            vec4 py = polynomial(levelFirst, 1, group, f);
+            vec4 pz = polynomial(levelFirst, 2, group, f);
+            vec4 pl = polynomial(levelFirst, 3, group, f);
+            vec4 pw = polynomial(levelFirst, 4, group, f);
+            for (int lane = 0; lane < 4; ++lane) {
+                TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
+                sum += s.weight * sampleTrilinear(params.baseSize, params.pyramidLevels, s.direction, s.level);
+                weightSum += s.weight;
             }
         }
-        result = finishTapSum(sum, weightSum);
     }
-    outputTexels[index] = vec4(result, 1.0);
+    outputTexels[index] = vec4(finishTapSum(sum, weightSum), 1.0);
 }

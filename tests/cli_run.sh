@@ -61,10 +61,10 @@ check_run mirror '["sky: load", "sky: level 0 (fis)", "dfg-table"]'
 check_run diffuse '["sky: load", "sky: sh-irradiance"]'
 check_run empty '[]'
 # Mixed: r = 0.5 reads levels 1 and 2 (lod = 3 r at 16^2); the pyramid depth is whatever their taps read.
-"$PROBEFILTER" plan mixed.json | grep -q "^sky: pyramid 1\.\." || fail "mixed: no pyramid in the plan"
-mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 1\.\.[0-9]*")
+"$PROBEFILTER" plan mixed.json | grep -q "^sky: pyramid 0\.\." || fail "mixed: no pyramid in the plan"
+mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"sky: level 1 (fis)\", \"sky: level 2 (fis)\", \"sky: sh-irradiance\", \"dfg-table\"]"
-table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 1\.\.[0-9]*")
+table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run table "[\"sky: load\", \"$table_pyramid\", \"sky: level 1 (table)\", \"sky: level 2 (table)\", \"dfg-table\"]"
 
 # The computed levels equal a full filter run's, byte for byte.

@@ -12,25 +12,36 @@
 
 namespace probe {
 
-void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
-                          std::vector<Tap>& taps) {
-    taps.clear();
-    const glm::dvec3 up = std::abs(R.z) < 0.999 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
-    const glm::dvec3 tx = glm::normalize(glm::cross(up, R)), ty = glm::cross(R, tx);
+std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias) {
+    std::vector<Tap> result;
     const double alpha2 = alpha * alpha;
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * baseSize * baseSize);
-    for (int i = 0; i < settings.samples; ++i) {
-        const double e1 = static_cast<double>(i) / settings.samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
-        const glm::dvec3 local = ggxHalfVector(e1, e2, alpha2);
-        const glm::dvec3 h = tx * local.x + ty * local.y + R * local.z;
-        const glm::dvec3 l = 2.0 * glm::dot(R, h) * h - R;
-        const double nl = glm::dot(R, l);
+    const glm::dvec3 n(0.0, 0.0, 1.0);
+    for (int i = 0; i < samples; ++i) {
+        const double e1 = static_cast<double>(i) / samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
+        const glm::dvec3 h = ggxHalfVector(e1, e2, alpha2);
+        const glm::dvec3 l = 2.0 * h.z * h - n;
+        const double nl = l.z;
         if (nl <= 0.0) continue;
-        const glm::dvec3 d = R - l;
+        const glm::dvec3 d = n - l;
         const double pdf = ggxReflectedPdf(nl, glm::dot(d, d), alpha2);
-        const double sampleSolidAngle = 1.0 / (settings.samples * pdf);
-        taps.push_back({l, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + settings.bias, nl});
+        const double sampleSolidAngle = 1.0 / (samples * pdf);
+        result.push_back({l, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + bias, nl});
     }
+    return result;
+}
+
+void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y) {
+    const glm::dvec3 up = std::abs(R.z) < 0.999 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
+    x = glm::normalize(glm::cross(up, R));
+    y = glm::cross(R, x);
+}
+
+void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std::vector<Tap>& taps) {
+    glm::dvec3 x, y;
+    importanceSampleFrame(R, x, y);
+    taps.clear();
+    for (const Tap& s : samples) taps.push_back({x * s.direction.x + y * s.direction.y + R * s.direction.z, s.level, s.weight});
 }
 
 void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount) {
@@ -46,20 +57,24 @@ std::vector<int> mixedLevelSamples(int samples, int levelCount) {
     return counts;
 }
 
+std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, RoughnessMapping mapping,
+                                                        const ImportanceSamplingSettings& settings) {
+    validateSampleCounts(settings, levelCount);
+    std::vector<std::vector<Tap>> perLevel(static_cast<std::size_t>(levelCount));
+    for (int m = 0; m < levelCount; ++m) {
+        const double alpha = levelAlpha(mapping, m, levelCount);
+        if (alpha > 0.0) perLevel[m] = importanceSamples(alpha, baseSize, settings.samplesAt(m), settings.bias);
+    }
+    return perLevel;
+}
+
 TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
                                           const ImportanceSamplingSettings& settings) {
-    validateSampleCounts(settings, levelCount);
-    // One uniform setting per level, made once: the generator runs per texel.
-    std::vector<ImportanceSamplingSettings> perLevel;
-    for (int m = 0; m < levelCount; ++m) {
-        perLevel.push_back(settings);
-        perLevel.back().samples = settings.samplesAt(m);
-        perLevel.back().levelSamples.clear();
-    }
+    // The samples of each level, made once: the generator runs per texel.
+    const std::vector<std::vector<Tap>> perLevel = importanceSamplesPerLevel(baseSize, levelCount, mapping, settings);
     return [=](int level, const Texel& texel, std::vector<Tap>& taps) {
-        const double alpha = levelAlpha(mapping, level, levelCount);
-        if (alpha <= 0.0) return false;
-        importanceSampleTaps(texelDirection(texel, baseSize >> level), alpha, baseSize, perLevel[level], taps);
+        if (levelAlpha(mapping, level, levelCount) <= 0.0) return false;
+        importanceSampleTaps(texelDirection(texel, baseSize >> level), perLevel[level], taps);
         return true;
     };
 }

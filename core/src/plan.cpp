@@ -68,8 +68,9 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.levelReaders.push_back(names);
         }
         p.irradiance = !p.diffuseMaterials.empty();
-        if (!p.levels.empty() && probe.method != FilterMethod::reference)
-            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
+        p.readsPyramid = probe.method != FilterMethod::reference &&
+                         std::any_of(p.levels.begin(), p.levels.end(), [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
+        if (p.readsPyramid) p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
         plan.probes.push_back(std::move(p));
     }
     for (const SceneMaterial& material : scene.materials)
@@ -79,7 +80,7 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
 }
 
 std::string loadPass(const std::string& probe) { return fmt::format("{}: load", probe); }
-std::string pyramidPass(const std::string& probe, int depth) { return fmt::format("{}: pyramid 1..{}", probe, depth); }
+std::string pyramidPass(const std::string& probe, int depth) { return fmt::format("{}: pyramid 0..{}", probe, depth); }
 std::string levelPass(const std::string& probe, int level, FilterMethod method) {
     return fmt::format("{}: level {} ({})", probe, level, filterMethodName(method));
 }
@@ -97,9 +98,10 @@ std::vector<Step> steps(const Plan& plan) {
     for (const ProbePlan& p : plan.probes) {
         if (p.levels.empty() && !p.irradiance) continue;
         out.push_back({loadPass(p.probe), "the probe is read by some material"});
-        if (p.pyramidLevels > 0)
+        if (p.readsPyramid)
             out.push_back({pyramidPass(p.probe, p.pyramidLevels),
-                           fmt::format("the taps of levels {} read down to pyramid level {}", fmt::join(p.levels, ", "), p.pyramidLevels)});
+                           fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source's border)",
+                                       fmt::join(p.levels, ", "), p.pyramidLevels)});
         for (std::size_t k = 0; k < p.levels.size(); ++k)
             out.push_back({levelPass(p.probe, p.levels[k], p.method),
                            fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});

@@ -1,5 +1,6 @@
 #include "buffer.h"
 
+#include <algorithm>
 #include <utility>
 
 #include <fmt/format.h>
@@ -18,7 +19,7 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, Kind kind) : device_(de
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = bytes;
     info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                 (kind == Kind::storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0);
+                 (kind == Kind::storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     vkCheck(vkCreateBuffer(device_, &info, nullptr, &buffer_), "vkCreateBuffer");
 
@@ -72,6 +73,36 @@ std::vector<float> rgbaTexels(const CubeImage& level) {
         const glm::vec3 c = level.texel(t);
         texels.insert(texels.end(), {c.r, c.g, c.b, 1.0f});
     }
+    return texels;
+}
+
+std::size_t pyramidTexelIndex(int face, int i, int j, int size) {
+    const std::size_t row = static_cast<std::size_t>(size) + 2;
+    return (face * row + static_cast<std::size_t>(j + 1)) * row + static_cast<std::size_t>(i + 1);
+}
+
+std::vector<float> borderedRgbaTexels(const CubeImage& level) {
+    const int size = level.size;
+    // The texel of the level that (face, i, j) shows, for i or j (not both) one step outside the face.
+    const auto neighbour = [&](int face, int i, int j) {
+        Texel t;
+        texelNeighbour({face, std::clamp(i, 0, size - 1), std::clamp(j, 0, size - 1)}, i < 0 ? -1 : i >= size ? 1 : 0,
+                       j < 0 ? -1 : j >= size ? 1 : 0, size, t);
+        return level.texel(texelIndex(t, size));
+    };
+    std::vector<float> texels(4 * pyramidTexelIndex(kFaceCount, -1, -1, size));
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = -1; j <= size; ++j)
+            for (int i = -1; i <= size; ++i) {
+                const bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
+                const int ci = std::clamp(i, 0, size - 1), cj = std::clamp(j, 0, size - 1);
+                glm::vec3 c;
+                if (insideI && insideJ) c = level.texel(texelIndex({f, i, j}, size));
+                else if (insideI || insideJ) c = neighbour(f, i, j);
+                else c = (level.texel(texelIndex({f, ci, cj}, size)) + neighbour(f, i, cj) + neighbour(f, ci, j)) * (1.0f / 3.0f);
+                std::copy_n(&c.r, 3, &texels[4 * pyramidTexelIndex(f, i, j, size)]);
+                texels[4 * pyramidTexelIndex(f, i, j, size) + 3] = 1.0f;
+            }
     return texels;
 }
 

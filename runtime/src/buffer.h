@@ -12,7 +12,7 @@ namespace probe::gpu {
 class Buffer {
 public:
     enum class Kind {
-        storage, // device local (preferred), storage + transfer source and destination
+        storage, // device local (preferred), storage and uniform texel buffer, transfer source and destination
         staging, // host visible and coherent, mapped, transfer source and destination
     };
 
@@ -39,5 +39,15 @@ private:
 
 // The texels of a cube level in the storage buffers' layout: RGBA32F, alpha 1, in texelIndex order.
 std::vector<float> rgbaTexels(const CubeImage& level);
+
+// The pyramid buffer's layout (shaders/buffers.glsl): each face of a level of face size S with a
+// one-texel border, (S + 2)^2 texels, texel (i, j) for i, j in [-1, S]. The index of (face, i, j);
+// (kFaceCount, -1, -1) is the texel count of the level.
+std::size_t pyramidTexelIndex(int face, int i, int j, int size);
+
+// A cube level in that layout, RGBA32F, alpha 1, with its border filled as pyramid.comp fills it:
+// the adjacent face's texel (probe::texelNeighbour), and at the corners, the average of the three
+// texels that meet there.
+std::vector<float> borderedRgbaTexels(const CubeImage& level);
 
 } // namespace probe::gpu

@@ -1,14 +1,39 @@
 #include "compute_pipeline.h"
 
+#include <fmt/format.h>
+
+#include "device.h"
+#include "probe/error.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
 
-PipelineLayout::PipelineLayout(VkDevice device, const std::array<const Buffer*, kBindingCount>& buffers) : device_(device) {
+namespace {
+
+constexpr uint32_t kStorageBindings = 3; // pyramid, output, geometry
+constexpr uint32_t kBindingCount = 5;    // and the table and the pyramid as uniform texel buffers
+constexpr VkDeviceSize kTexelBytes = 16; // RGBA32F
+
+} // namespace
+
+PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers)
+    : device_(device.device()) {
+    const Device::Impl& d = device.impl();
+    // The table (binding 3) and the pyramid (binding 4), read as texels.
+    const std::array<const Buffer*, 2> texelBuffers{buffers[3], buffers[0]};
+    VkFormatProperties properties;
+    vkGetPhysicalDeviceFormatProperties(d.physical, VK_FORMAT_R32G32B32A32_SFLOAT, &properties);
+    if (!(properties.bufferFeatures & VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT))
+        throw ProbeError(fmt::format("Vulkan: {} cannot read R32G32B32A32_SFLOAT uniform texel buffers", d.info.name));
+    for (const Buffer* b : texelBuffers)
+        if (b->bytes() / kTexelBytes > d.limits.maxTexelBufferElements)
+            throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller --size",
+                                         d.info.name, d.limits.maxTexelBufferElements, b->bytes() / kTexelBytes));
+
     std::array<VkDescriptorSetLayoutBinding, kBindingCount> bindings{};
     for (uint32_t b = 0; b < kBindingCount; ++b) {
         bindings[b].binding = b;
-        bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[b].descriptorType = b < kStorageBindings ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
         bindings[b].descriptorCount = 1;
         bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -25,11 +50,12 @@ PipelineLayout::PipelineLayout(VkDevice device, const std::array<const Buffer*, 
     layoutInfo.pPushConstantRanges = &range;
     vkCheck(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &layout_), "vkCreatePipelineLayout");
 
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindingCount};
+    const std::array<VkDescriptorPoolSize, 2> poolSizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kStorageBindings},
+                                                         {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kBindingCount - kStorageBindings}}};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
+    poolInfo.poolSizeCount = static_cast<uint32_t>(poolSizes.size());
+    poolInfo.pPoolSizes = poolSizes.data();
     vkCheck(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool_), "vkCreateDescriptorPool");
     VkDescriptorSetAllocateInfo allocate{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     allocate.descriptorPool = pool_;
@@ -37,21 +63,34 @@ PipelineLayout::PipelineLayout(VkDevice device, const std::array<const Buffer*, 
     allocate.pSetLayouts = &setLayout_;
     vkCheck(vkAllocateDescriptorSets(device_, &allocate, &set_), "vkAllocateDescriptorSets");
 
-    std::array<VkDescriptorBufferInfo, kBindingCount> infos{};
+    for (std::size_t v = 0; v < texelViews_.size(); ++v) {
+        VkBufferViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+        viewInfo.buffer = texelBuffers[v]->handle();
+        viewInfo.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        viewInfo.range = VK_WHOLE_SIZE;
+        vkCheck(vkCreateBufferView(device_, &viewInfo, nullptr, &texelViews_[v]), "vkCreateBufferView");
+    }
+    std::array<VkDescriptorBufferInfo, kStorageBindings> infos{};
     std::array<VkWriteDescriptorSet, kBindingCount> writes{};
     for (uint32_t b = 0; b < kBindingCount; ++b) {
-        infos[b] = {buffers[b]->handle(), 0, VK_WHOLE_SIZE};
         writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         writes[b].dstSet = set_;
         writes[b].dstBinding = b;
         writes[b].descriptorCount = 1;
-        writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[b].pBufferInfo = &infos[b];
+        writes[b].descriptorType = bindings[b].descriptorType;
+        if (b < kStorageBindings) {
+            infos[b] = {buffers[b]->handle(), 0, VK_WHOLE_SIZE};
+            writes[b].pBufferInfo = &infos[b];
+        } else {
+            writes[b].pTexelBufferView = &texelViews_[b - kStorageBindings];
+        }
     }
     vkUpdateDescriptorSets(device_, kBindingCount, writes.data(), 0, nullptr);
 }
 
 PipelineLayout::~PipelineLayout() {
+    for (VkBufferView view : texelViews_)
+        if (view) vkDestroyBufferView(device_, view, nullptr);
     vkDestroyDescriptorPool(device_, pool_, nullptr);
     vkDestroyPipelineLayout(device_, layout_, nullptr);
     vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);

@@ -1,4 +1,6 @@
 // Filter: buffers, pipelines, the order of the passes, upload and read-back, the engine path.
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "device.h"
@@ -19,12 +21,18 @@ std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
     return offsets;
 }
 
-std::vector<std::string> passNames(Method method) {
-    switch (method) {
-    case Method::table: return {"pyramid", "table"};
-    case Method::fis: return {"pyramid", "fis"};
-    default: return {"reference"};
-    }
+std::vector<uint32_t> pyramidOffsetsFor(int baseSize, int levels) {
+    std::vector<uint32_t> offsets{0};
+    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidTexelIndex(kFaceCount, -1, -1, baseSize >> m)));
+    return offsets;
+}
+
+// The timed passes, in order: pass 1 where there is one, then pass 2.
+std::vector<std::string> passNames(Method method, bool pyramid) {
+    std::vector<std::string> names;
+    if (pyramid) names.push_back("pyramid");
+    names.push_back(std::string(methodName(method)));
+    return names;
 }
 
 // Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
@@ -47,6 +55,23 @@ CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offset
         level = CubeImage(baseSize >> m);
         const float* first = texels + 4 * std::size_t(offsets[m]);
         for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
+    }
+    return result;
+}
+
+// The levels 0..depth of the pyramid buffer, inside the faces.
+CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, int depth) {
+    CubeLevels result;
+    for (int m = 0; m <= depth; ++m) {
+        CubeImage level(baseSize >> m);
+        const float* first = texels + 4 * std::size_t(offsets[m]);
+        for (int f = 0; f < kFaceCount; ++f)
+            for (int j = 0; j < level.size; ++j)
+                for (int i = 0; i < level.size; ++i) {
+                    const float* c = first + 4 * pyramidTexelIndex(f, i, j, level.size);
+                    level.set(texelIndex({f, i, j}, level.size), {c[0], c[1], c[2]});
+                }
+        result.push_back(std::move(level));
     }
     return result;
 }
@@ -75,9 +100,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
             if (s.levels[k] < 0 || s.levels[k] >= s.levelCount || (k > 0 && s.levels[k] <= s.levels[k - 1]))
                 throw ProbeError(fmt::format("output levels: {} is not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
         levels = s.levels;
-        allLevels = false;
     }
-    pyramidOffsets = packedOffsets(s.faceSize, pyramidLevels);
+    pyramidOffsets = pyramidOffsetsFor(s.faceSize, pyramidLevels);
     outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
         if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) copyLevels |= 1u << m;
@@ -92,7 +116,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
         tableCoefficientCount = coefficientCount(s.table->form);
         tableUsageFirst = gpu::tableUsageFirst(*s.table);
         break;
-    case Method::fis: tableData = importanceSamplingBufferData(s); break;
+    case Method::fis: tableData = importanceSamplingBufferData(s, sampleOffsets); break;
     case Method::reference: break;
     }
     const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
@@ -102,25 +126,21 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
 
-    layout = std::make_unique<PipelineLayout>(d.device(), std::array<const Buffer*, kBindingCount>{&pyramid, &output, &geometry, &table});
+    layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&pyramid, &output, &geometry, &table});
     switch (s.method) {
     case Method::table: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv()); break;
     case Method::fis: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, importanceSamplingSpirv()); break;
     case Method::reference: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, referenceSpirv()); break;
     }
-    if (s.method != Method::reference) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
-    timer = std::make_unique<GpuTimer>(d, passNames(s.method));
+    const bool readsPyramid = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
+    if (s.method != Method::reference && readsPyramid) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
+    if (std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
+        copy = std::make_unique<ComputePipeline>(d.device(), *layout, copyLevelSpirv());
+    timer = std::make_unique<GpuTimer>(d, passNames(s.method, pass1 != nullptr));
 
     submission = std::make_unique<Submission>(d);
     submission->upload(geometry, geometryData.data(), geometry.bytes());
     submission->upload(table, tableData.data(), table.bytes());
-}
-
-std::vector<Filter::Impl::OutputRange> Filter::Impl::outputRanges() const {
-    if (allLevels) return {{-1, 0, outputOffsets.back()}};
-    std::vector<OutputRange> ranges;
-    for (int m : levels) ranges.push_back({m, outputOffsets[m], outputOffsets[m + 1]});
-    return ranges;
 }
 
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
@@ -153,7 +173,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
         throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
     if (repeat < 1) throw ProbeError(fmt::format("--repeat {}: must be at least 1", repeat));
 
-    const std::vector<float> texels = rgbaTexels(source);
+    const std::vector<float> texels = borderedRgbaTexels(source); // pass 1 writes the border again, as for record()
     f.submission->upload(f.pyramid, texels.data(), texels.size() * sizeof(float));
 
     VkCommandBuffer passes = f.submission->begin();
@@ -175,7 +195,10 @@ void Filter::record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage o
     Impl& f = *impl_;
     checkTransferFormat(f.device);
     const auto size = static_cast<uint32_t>(f.settings.faceSize);
-    VkBufferImageCopy in{};
+    VkBufferImageCopy in{}; // into the faces of pyramid level 0, inside their borders
+    in.bufferOffset = pyramidTexelIndex(0, 0, 0, f.settings.faceSize) * kTexelBytes;
+    in.bufferRowLength = size + 2;
+    in.bufferImageHeight = size + 2;
     in.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
     in.imageExtent = {size, size, 1};
     vkCmdCopyImageToBuffer(commandBuffer, sourceCube, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, f.pyramid.handle(), 1, &in);
@@ -206,11 +229,7 @@ CubeLevels Filter::downloadPyramid() const {
     if (!f.pass1) return {};
     std::vector<float> texels(f.pyramid.bytes() / sizeof(float));
     f.submission->download(f.pyramid, texels.data(), f.pyramid.bytes());
-    std::vector<int> built;
-    for (int k = 0; k <= f.pyramidDepth; ++k) built.push_back(k);
-    CubeLevels pyramid = unpackLevels(texels.data(), f.pyramidOffsets, f.settings.faceSize, built);
-    pyramid.resize(built.size());
-    return pyramid;
+    return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
 }
 
 std::string_view methodName(Method method) {

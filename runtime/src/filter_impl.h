@@ -20,8 +20,7 @@ struct Filter::Impl {
     int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                 // pass 1 builds levels 1..pyramidDepth
     std::vector<int> levels;              // the output levels computed, ascending
-    bool allLevels = true;                // levels are every output level (one pass-2 dispatch)
-    std::vector<uint32_t> pyramidOffsets; // first texel of each pyramid level, and the total
+    std::vector<uint32_t> pyramidOffsets; // first texel of each pyramid level (with its borders), and the total
     std::vector<uint32_t> outputOffsets;  // first texel of each output level, and the total
 
     Buffer pyramid;  // binding 0
@@ -31,31 +30,29 @@ struct Filter::Impl {
     std::unique_ptr<PipelineLayout> layout;
     std::unique_ptr<ComputePipeline> pass1; // the pyramid; null for the reference method
     std::unique_ptr<ComputePipeline> pass2; // table, fis or reference
+    std::unique_ptr<ComputePipeline> copy;  // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
     uint32_t copyLevels = 0;       // bit m: output level m has alpha = 0, a copy of the source
     int tableTaps = 0;             // table method: N per frame
     int tableCoefficientCount = 0; // table method: 3 (quadratic) or 1 (constant)
     uint32_t tableUsageFirst = 0;  // table method: where the per-level tap group counts start in the table buffer
+    std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
     std::unique_ptr<Submission> submission;
 
     Impl(const Device& d, const FilterSettings& s);
 
-    // The packed output texels that pass 2 dispatches cover: one range of every level (level -1)
-    // when allLevels, else one range per computed level.
-    struct OutputRange {
-        int level;
-        uint32_t first, end;
-    };
-    std::vector<OutputRange> outputRanges() const;
-
     // Timer reset, boundary 0, the passes with barriers, a boundary after each pass.
     void recordPasses(VkCommandBuffer commandBuffer);
 };
 
-// Pass recorders, one per file (reference_pass.cpp, pyramid_pass.cpp, table_pass.cpp,
-// importance_sampling_pass.cpp): each records its dispatches and appends them to impl.dispatches.
+// Pass recorders, one per file (copy_level_pass.cpp, reference_pass.cpp, pyramid_pass.cpp,
+// table_pass.cpp, importance_sampling_pass.cpp): each records its dispatches and appends them to impl.dispatches.
+std::span<const uint32_t> copyLevelSpirv();
+// Records the copy of output level `level` under `pass` if its alpha is 0; returns whether it did.
+bool recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, const char* pass, int level);
+
 std::span<const uint32_t> referenceSpirv();
 void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
@@ -71,8 +68,10 @@ uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBuffer
 void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
 std::span<const uint32_t> importanceSamplingSpirv();
-// The table buffer for FIS: per output level, vec4(alpha^2, 0, 0, 0).
-std::vector<float> importanceSamplingBufferData(const FilterSettings& settings);
+// The table buffer for FIS: every output level's samples (probe::importanceSamplesPerLevel) as
+// vec4(direction in the tangent frame, pyramid level); sampleOffsets gets each level's first sample
+// and the total.
+std::vector<float> importanceSamplingBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
 void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to

@@ -1,5 +1,5 @@
-// Pass 1 (shaders/pyramid.comp): one dispatch per pyramid level down to the depth, each from the
-// level before it.
+// Pass 1 (shaders/pyramid.comp): one dispatch per pyramid level, with its border, down to the depth:
+// level 0's border, then each level from the one before it.
 #include <cstdint>
 
 #include <pyramid.spv.h>
@@ -12,7 +12,7 @@ namespace {
 
 struct PyramidConstants {
     int32_t baseSize;
-    int32_t fineLevel;
+    int32_t level;
     int32_t boxKind;
     int32_t inverseSolidAngle;
 };
@@ -23,11 +23,12 @@ std::span<const uint32_t> pyramidSpirv() { return kPyramidSpv; }
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    for (int fine = 0; fine < impl.pyramidDepth; ++fine) {
-        if (fine > 0) computeBarrier(commandBuffer);
-        const PyramidConstants constants{s.faceSize, fine, s.pyramid.kind == PyramidKind::box ? 1 : 0,
+    for (int level = 0; level <= impl.pyramidDepth; ++level) {
+        if (level > 0) computeBarrier(commandBuffer);
+        const PyramidConstants constants{s.faceSize, level, s.pyramid.kind == PyramidKind::box ? 1 : 0,
                                          s.pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
-        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", fine + 1, constants, groupsFor(texelCount(s.faceSize >> (fine + 1))));
+        const int size = s.faceSize >> level;
+        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(kFaceCount * (level == 0 ? 4 * size + 4 : (size + 2) * (size + 2))));
     }
 }
 

@@ -22,6 +22,7 @@ std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
 void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     for (int m : impl.levels) {
+        if (recordCopyLevel(impl, commandBuffer, "reference", m)) continue;
         const double alpha = levelAlpha(s.mapping, m, s.levelCount);
         const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
         dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));

@@ -61,7 +61,7 @@ struct ShProjector::Impl {
         blocks = Buffer(d, outFirst * texelBytes, Buffer::Kind::storage);
         geometry = Buffer(d, texels * texelBytes, Buffer::Kind::storage);
         unused = Buffer(d, texelBytes, Buffer::Kind::storage);
-        layout = std::make_unique<PipelineLayout>(d.device(), std::array<const Buffer*, kBindingCount>{&source, &blocks, &geometry, &unused});
+        layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&source, &blocks, &geometry, &unused});
         pipeline = std::make_unique<ComputePipeline>(d.device(), *layout, kShProjectionSpv);
         timer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"sh"});
         submission = std::make_unique<Submission>(d);

@@ -28,17 +28,18 @@ struct SphereConstants {
 constexpr float kCameraDistance = 4.0f;
 constexpr float kTanHalfFov = 0.32f;
 
-// The filtered levels packed from S_0, the empty ones as zeros (no material reads them).
+// The filtered levels packed from S_0 in the pyramid buffer's layout (sampling.glsl reads them), the
+// empty ones as zeros (no material reads them).
 std::vector<float> packedLevels(const CubeLevels& levels, int baseSize) {
     std::vector<float> texels;
     for (std::size_t m = 0; m < levels.size(); ++m) {
         const int size = baseSize >> m;
         if (levels[m].size == 0) {
-            texels.resize(texels.size() + 4 * texelCount(size), 0.0f);
+            texels.resize(texels.size() + 4 * pyramidTexelIndex(kFaceCount, -1, -1, size), 0.0f);
             continue;
         }
         if (levels[m].size != size) throw ProbeError(fmt::format("sphere renderer: level {} has face size {}, not {}", m, levels[m].size, size));
-        const std::vector<float> level = rgbaTexels(levels[m]);
+        const std::vector<float> level = borderedRgbaTexels(levels[m]);
         texels.insert(texels.end(), level.begin(), level.end());
     }
     return texels;
@@ -81,7 +82,7 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
     Buffer lookupBuffer(device, lookup.size() * sizeof(float), Buffer::Kind::storage);
     Buffer parameterBuffer(device, parameters.size() * sizeof(float), Buffer::Kind::storage);
-    PipelineLayout layout(device.device(), {&levelBuffer, &image, &lookupBuffer, &parameterBuffer});
+    PipelineLayout layout(device, {&levelBuffer, &image, &lookupBuffer, &parameterBuffer});
     ComputePipeline pipeline(device.device(), layout, kSpheresSpv);
     Submission submission(device);
     submission.upload(levelBuffer, filtered.data(), levelBuffer.bytes());

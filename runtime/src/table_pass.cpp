@@ -1,6 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
-// upload in the published layout (then the tap groups each level uses), and one dispatch for all
-// output levels (or one per level computed).
+// upload in the published layout (then the tap groups each level uses), and one dispatch per output
+// level computed.
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -17,10 +17,9 @@ namespace {
 struct TableConstants {
     int32_t baseSize;
     int32_t pyramidLevels;
-    int32_t levelCount;
+    int32_t level;
     int32_t taps;
     int32_t coefficientCount;
-    uint32_t copyLevels;
     uint32_t firstTexel;
     uint32_t endTexel;
     uint32_t usageFirst;
@@ -66,10 +65,11 @@ uint32_t tableUsageFirst(const TapTable& table) {
 
 void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    for (const Filter::Impl::OutputRange& r : impl.outputRanges()) {
-        const TableConstants constants{s.faceSize, impl.pyramidLevels, s.levelCount, impl.tableTaps, impl.tableCoefficientCount,
-                                       impl.copyLevels, r.first, r.end, impl.tableUsageFirst};
-        dispatchPass(impl, commandBuffer, *impl.pass2, "table", r.level, constants, groupsFor(r.end - r.first));
+    for (int m : impl.levels) {
+        if (recordCopyLevel(impl, commandBuffer, "table", m)) continue;
+        const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.tableCoefficientCount,
+                                       impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
+        dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
     }
 }
 

@@ -3,6 +3,7 @@
 // texels cover the sample's solid angle, weighted by n.l.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "probe/roughness.h"
@@ -28,13 +29,25 @@ void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelC
 // 1024 (level 0, a copy where alpha = 0, gets N).
 std::vector<int> mixedLevelSamples(int samples, int levelCount);
 
-// The taps for direction R (unit) with N = settings.samples (levelSamples is the generator's):
-// sample i of N uses the Hammersley point (i / N, radicalInverse2(i)), h from the GGX distribution
-// of alpha in the tangent frame of R (up = +Z, or +X where |R.z| > 0.999; x = normalize(cross(up, R)),
-// y = cross(R, x)), l = reflect(-R, h); samples with n.l <= 0 are dropped.
-// pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) + bias, weight n.l.
-void importanceSampleTaps(const glm::dvec3& R, double alpha, int baseSize, const ImportanceSamplingSettings& settings,
-                          std::vector<Tap>& taps);
+// The samples of one output level in the tangent frame of R (R = +z), as taps: they do not depend
+// on R, so a filter makes them once per level and rotates them to each texel (importanceSampleTaps,
+// and the GPU shader from the same list). Sample i of N uses the Hammersley point
+// (i / N, radicalInverse2(i)), h from the GGX distribution of alpha, l = reflect(-z, h); samples
+// with n.l <= 0 are dropped. pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) +
+// bias, weight n.l (= l.z).
+std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias);
+
+// importanceSamples for every output level of a mapping, settings.samplesAt(m) at level m; empty at
+// the levels with alpha = 0, which are copies. Throws ProbeError as validateSampleCounts.
+std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, RoughnessMapping mapping,
+                                                        const ImportanceSamplingSettings& settings);
+
+// The tangent frame of R (unit) that the samples are rotated into: up = +Z, or +X where
+// |R.z| > 0.999; x = normalize(cross(up, R)), y = cross(R, x), z = R.
+void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y);
+
+// The taps for direction R: `samples` (from importanceSamples) rotated into the frame of R.
+void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std::vector<Tap>& taps);
 
 // As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
 // settings.samplesAt(level) samples at each level.

@@ -27,7 +27,8 @@ struct ProbePlan {
     FilterMethod method = FilterMethod::table;
     std::vector<int> levels;                      // output levels to compute, ascending
     std::vector<std::vector<std::string>> levelReaders; // per entry of `levels`: the materials that read it
-    int pyramidLevels = 0;                        // pyramid levels to build below the source (0: none)
+    bool readsPyramid = false;                    // some level is filtered (not a copy of the source)
+    int pyramidLevels = 0;                        // pyramid levels to build below the source
     bool irradiance = false;
     std::vector<std::string> diffuseMaterials;
 };
@@ -46,7 +47,7 @@ struct Plan {
 
 // The name of each pass, as Plan::passes() lists it and a run records what it ran.
 std::string loadPass(const std::string& probe);
-std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 1..depth
+std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 0 (the border) to depth
 std::string levelPass(const std::string& probe, int level, FilterMethod method);
 std::string irradiancePass(const std::string& probe);
 inline constexpr const char* kDfgPass = "dfg-table";

@@ -103,7 +103,8 @@ struct FilterSettings {
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
     // of every level.
     std::vector<int> levels;
-    // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis).
+    // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis), after
+    // the border of level 0; none of it when every level computed is a copy (alpha = 0).
     // The levels computed must read no deeper: probe::deepestPyramidLevelRead of their taps
     // (probe/plan.h) is the depth they need.
     int pyramidDepth = -1;
@@ -119,9 +120,8 @@ struct PassTime {
 // One vkCmdDispatch of a run.
 struct Dispatch {
     std::string pass;
-    int level = 0;          // the pyramid or output level it writes; -1: every output level at once;
-                            // "sh": the summation stage (0 projects the source)
-                            // (table and fis without FilterSettings::levels; with them, one per level)
+    int level = 0;          // the pyramid or output level it writes (pyramid level 0: the source's
+                            // border); "sh": the summation stage (0 projects the source)
     uint32_t groups = 0;    // workgroups (x; y = z = 1)
 };
 

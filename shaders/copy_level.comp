@@ -1,0 +1,21 @@
+// Pass 2 at an output level with alpha = 0, for every method: each texel is a copy of the source
+// texel that contains its centre (DESIGN.md: alpha = 0 means a copy), mirroring core's tap_sum.h.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "buffers.glsl"
+#include "cube.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Params {
+    int baseSize;    // S_0: pyramid level 0 is the source
+    uint firstTexel; // the packed output texels [firstTexel, endTexel) of the level
+    uint endTexel;
+} params;
+
+void main() {
+    uint index = params.firstTexel + invocationIndex();
+    if (index >= params.endTexel) return;
+    ivec3 t = directionToTexel(geometry[index].xyz, params.baseSize);
+    outputTexels[index] = vec4(pyramidTexel(pyramidTexelIndex(t.x, t.y, t.z, params.baseSize)), 1.0);
+}
