@@ -1,10 +1,12 @@
 // probefilter sweep: what accuracy costs in time. One run on one device: for every probe and
 // every method (each compiled-in table of the size, FIS over samples x bias x pyramid), the image
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time
-// (median of --repeat runs). Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it.
+// (median of --repeat runs, interleaved over the methods). Writes sweep.csv, sweep.md and
+// report.json; scripts/plot-sweep draws it.
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <memory>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -132,31 +134,46 @@ void runSweep(const SweepOptions& o) {
     }
 
     std::vector<SweepRow> rows;
+    std::vector<std::unique_ptr<probe::gpu::Filter>> filters;
     std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>> operators;
     for (std::size_t k = 0; k < methods.size(); ++k) {
         Method& method = methods[k];
         method.settings.faceSize = o.size;
         method.settings.levelCount = levelCount;
-        probe::gpu::Filter filter(device, method.settings);
+        filters.push_back(std::make_unique<probe::gpu::Filter>(device, method.settings));
         auto& ops = operators[method.settings.pyramid.kind];
         if (ops.empty()) ops = probe::pyramidOperators(o.size, method.settings.pyramid);
         std::vector<probe::ImpulseError> impulse;
         for (int m = 0; m < levelCount; ++m)
             impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m,
                                                   probe::stratifiedTexels(o.size >> m, o.texelBudget)));
-        // GPU time does not depend on the probe's content: time the first probe --repeat times and
-        // run the others once for their errors.
-        double totalMs = 0.0;
         for (std::size_t p = 0; p < probes.size(); ++p) {
-            const probe::CubeLevels out = filter.run(probes[p].cube, p == 0 ? o.repeat : 1);
-            if (p == 0)
-                for (const probe::gpu::PassTime& t : filter.timings())
-                    if (t.name == "total") totalMs = t.medianMs;
+            const probe::CubeLevels out = filters.back()->run(probes[p].cube);
             for (int m = 0; m < levelCount; ++m)
                 rows.push_back({method.description, probes[p].name, m, probe::imageL1(out[m], references[p][m]), impulse[m].mean,
-                                impulse[m].max, totalMs});
+                                impulse[m].max, 0.0});
         }
         printProgress("methods", k + 1, methods.size());
+    }
+
+    // GPU time does not depend on the probe's content: every method runs the first probe once per
+    // round, --repeat rounds, so that a machine whose speed drifts during the sweep slows every
+    // method alike; the median over the rounds.
+    std::vector<std::vector<double>> runsMs(methods.size());
+    for (int round = 0; round < o.repeat; ++round) {
+        for (std::size_t k = 0; k < methods.size(); ++k) {
+            filters[k]->run(probes.front().cube);
+            for (const probe::gpu::PassTime& t : filters[k]->timings())
+                if (t.name == "total") runsMs[k].push_back(t.medianMs);
+        }
+        printProgress("timing", static_cast<std::size_t>(round + 1), static_cast<std::size_t>(o.repeat));
+    }
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+        std::vector<double>& ms = runsMs[k];
+        std::sort(ms.begin(), ms.end());
+        const double median = ms.empty() ? 0.0 : ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+        for (SweepRow& row : rows)
+            if (row.method.name == methods[k].description.name) row.gpuMs = median;
     }
 
     writeSweepCsv(output.file("sweep.csv"), rows);
@@ -179,7 +196,8 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
     cmd->add_option("--bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
-    cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe (median)");
+    cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe, in rounds over the methods (median)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
     cmd->add_option("--device", o->device, "Vulkan device: index or name substring");
     cmd->add_option("--out", o->out, "Output folder")->required();

@@ -78,6 +78,19 @@ double fastestTime(const std::vector<MethodScore>& scores, const std::string& fa
     return fastest;
 }
 
+// The error of a FIS curve (ascending in samples) at `ms`, interpolated in log error against log
+// time between the two counts around it; the error at the nearer end outside the curve's times.
+double fisErrorAtTime(const std::vector<MethodScore>& curve, double ms, bool impulse) {
+    if (ms <= curve.front().gpuMs) return errorOf(curve.front(), impulse);
+    for (std::size_t k = 1; k < curve.size(); ++k) {
+        if (curve[k].gpuMs < ms) continue;
+        const double t0 = std::log(curve[k - 1].gpuMs), t1 = std::log(curve[k].gpuMs);
+        const double t = t1 == t0 ? 1.0 : (std::log(ms) - t0) / (t1 - t0);
+        return std::exp(std::log(errorOf(curve[k - 1], impulse)) + t * (std::log(errorOf(curve[k], impulse)) - std::log(errorOf(curve[k - 1], impulse))));
+    }
+    return errorOf(curve.back(), impulse);
+}
+
 // The two ratios against one FIS family at one setting. The time budget is uniform FIS-32's at
 // that setting; the table compared is the most accurate one within it (else the fastest), and so is
 // the FIS point: FIS-32 itself for "fis", the most accurate per-level mix for "fis-mix".
@@ -89,14 +102,18 @@ std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::
     const MethodScore* fis = family == "fis" ? &*fis32 : mostAccurateWithin(curve, family, fis32->gpuMs, impulse);
     if (!fis) fis = &curve.front();
     const MethodScore* table = mostAccurateWithin(scores, "table", fis32->gpuMs, impulse);
+    Ratios r;
+    r.tableWithinFis32Time = table != nullptr;
     if (!table) table = mostAccurateWithin(scores, "table", fastestTime(scores, "table"), impulse);
     if (!table) return std::nullopt;
-    Ratios r;
     r.fisSetting = setting;
     r.fisFamily = family;
     r.fisCompared = fis->method.name;
     r.tableName = table->method.name;
+    r.tableMs = table->gpuMs;
+    r.fis32Ms = fis32->gpuMs;
     r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis, impulse);
+    r.errorAtTableTime = errorOf(*table, impulse) / fisErrorAtTime(curve, table->gpuMs, impulse);
     r.fisMaxSamples = curve.back().method.count;
     // FIS's time at the table's error, interpolated in log N (errors and times in log too).
     const double target = errorOf(*table, impulse);
@@ -119,13 +136,17 @@ std::string formatRatios(const std::optional<Ratios>& r, const std::string& labe
     if (!r) return fmt::format("{}: not measured (no table, no FIS-32 or no FIS of that family in the sweep)\n", label);
     const std::string last = fmt::format("{}-{}", r->fisFamily == "fis" ? "FIS" : "FIS-mix", r->fisMaxSamples);
     const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError) : fmt::format("> {} (never reaches it)", last);
-    if (r->fisFamily == "fis")
-        return fmt::format("{} (FIS {}; table {}): at FIS-32's time, table error / FIS-32 error = {:.3f}; "
-                           "at the table's error, FIS time / table time = {}\n",
-                           label, r->fisSetting, r->tableName, r->errorAtFis32Time, time);
-    return fmt::format("{} (FIS {}; table {}; FIS {}): at FIS-32's time, table error / error of the best FIS mix within it = {:.3f}; "
-                       "at the table's error, FIS-mix time / table time = {}\n",
-                       label, r->fisSetting, r->tableName, r->fisCompared, r->errorAtFis32Time, time);
+    const std::string fis = r->fisFamily == "fis" ? "FIS-32" : "the best FIS mix within it";
+    const std::string compared = r->fisFamily == "fis" ? "" : fmt::format("; FIS {}", r->fisCompared);
+    const std::string atBudget =
+        r->tableWithinFis32Time
+            ? fmt::format("at FIS-32's time, table error / {} error = {:.3f}", fis, r->errorAtFis32Time)
+            : fmt::format("no table is as fast as FIS-32 ({:.2f} ms), the fastest takes {:.2f} ms: its error / {} error = {:.3f}",
+                          r->fis32Ms, r->tableMs, fis, r->errorAtFis32Time);
+    return fmt::format("{} (FIS {}; table {}{}): {}; at the table's time, table error / {} error = {:.3f}; "
+                       "at the table's error, {} time / table time = {}\n",
+                       label, r->fisSetting, r->tableName, compared, atBudget, r->fisFamily == "fis" ? "FIS" : "FIS-mix",
+                       r->errorAtTableTime, r->fisFamily == "fis" ? "FIS" : "FIS-mix", time);
 }
 
 nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
@@ -134,7 +155,11 @@ nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
             {"fis_family", r->fisFamily},
             {"fis_compared", r->fisCompared},
             {"table", r->tableName},
+            {"table_within_fis32_time", r->tableWithinFis32Time},
+            {"table_ms", r->tableMs},
+            {"fis32_ms", r->fis32Ms},
             {"error_at_fis32_time", r->errorAtFis32Time},
+            {"error_at_table_time", r->errorAtTableTime},
             {"fis_time_at_table_error", r->timeAtTableError ? nlohmann::json(*r->timeAtTableError) : nlohmann::json(nullptr)},
             {"fis_max_samples", r->fisMaxSamples}};
 }

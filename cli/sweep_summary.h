@@ -41,14 +41,20 @@ struct MethodScore {
     double gpuMs = 0.0;
 };
 
-// The two ratios against one FIS family at one setting, on one error measure.
+// The two ratios against one FIS family at one setting, on one error measure, and the same
+// comparison at the table's own time.
 struct Ratios {
     std::string fisSetting;    // e.g. "bias 0, bspline"
     std::string fisFamily;     // "fis" or "fis-mix"
     std::string fisCompared;   // FIS-32, or the most accurate mix no slower than FIS-32
-    std::string tableName;     // the table compared: the most accurate one no slower than FIS-32
+    std::string tableName;     // the table compared: the most accurate one no slower than FIS-32, else the fastest
+    bool tableWithinFis32Time = false; // false: no table is as fast as FIS-32, and the fastest is compared
+    double tableMs = 0.0, fis32Ms = 0.0;
     double errorAtFis32Time = 0.0; // table error / the compared FIS's error
     std::optional<double> timeAtTableError; // FIS time / table time at the table's error; empty: FIS never gets there
+    // Table error / FIS error at the table's time, FIS interpolated between the counts around that
+    // time (log error against log time); the nearest end of the curve outside it.
+    double errorAtTableTime = 0.0;
     int fisMaxSamples = 0;
 };
 

@@ -58,6 +58,25 @@ TEST(SweepSummary, RatiosAgainstTheBestAndThePapersSetting) {
     EXPECT_NEAR(*s.best->timeAtTableError, 80.0 / 30.0, 1e-9);
     // The paper's setting reaches 0.05 between N = 128 and 256, at N = 128 exactly: 160 / 30.
     EXPECT_NEAR(*s.paper->timeAtTableError, 160.0 / 30.0, 1e-9);
+    // At 30 ms, between FIS-16 (20 ms, 0.2) and FIS-32 (40 ms, 0.1), FIS's error is
+    // 0.2 * (30 / 20)^-1 = 0.1333: 0.05 / 0.1333.
+    EXPECT_TRUE(s.best->tableWithinFis32Time);
+    EXPECT_NEAR(s.best->errorAtTableTime, 0.05 / (0.2 * 20.0 / 30.0), 1e-9);
+}
+
+TEST(SweepSummary, SaysWhenNoTableIsAsFastAsFis32) {
+    std::vector<SweepRow> rows;
+    addFis(rows, 0.0, "bspline", 1.0, "sky");    // FIS-32: 0.1 at 40 ms; FIS-64: 0.05 at 80 ms
+    addTable(rows, "slow", 0.04, 60.0, "sky");   // the fastest table, slower than FIS-32
+    addTable(rows, "slower", 0.01, 900.0, "sky");
+    const SweepSummary s = summarizeSweep(rows);
+    ASSERT_TRUE(s.best);
+    EXPECT_FALSE(s.best->tableWithinFis32Time);
+    EXPECT_EQ(s.best->tableName, "slow");
+    EXPECT_NEAR(s.best->errorAtFis32Time, 0.4, 1e-12);
+    // FIS at 60 ms: 0.1 * (60 / 40)^-1 = 0.0667.
+    EXPECT_NEAR(s.best->errorAtTableTime, 0.04 / (0.1 * 40.0 / 60.0), 1e-9);
+    EXPECT_NE(formatSummary(s).find("no table is as fast as FIS-32"), std::string::npos);
 }
 
 TEST(SweepSummary, InterpolatesInLogNAndSaysWhenFisNeverGetsThere) {
