@@ -91,6 +91,19 @@ double fisErrorAtTime(const std::vector<MethodScore>& curve, double ms, bool imp
     return errorOf(curve.back(), impulse);
 }
 
+// The time at which a FIS curve (ascending in samples) reaches `error`, interpolated in log error
+// against log time between the two counts around it; empty where even the last count does not.
+std::optional<double> fisTimeAtError(const std::vector<MethodScore>& curve, double error, bool impulse) {
+    for (std::size_t k = 0; k < curve.size(); ++k) {
+        if (errorOf(curve[k], impulse) > error) continue;
+        if (k == 0) return curve[0].gpuMs;
+        const double e0 = std::log(errorOf(curve[k - 1], impulse)), e1 = std::log(errorOf(curve[k], impulse));
+        const double t = e0 == e1 ? 1.0 : (e0 - std::log(error)) / (e0 - e1);
+        return std::exp(std::log(curve[k - 1].gpuMs) + t * (std::log(curve[k].gpuMs) - std::log(curve[k - 1].gpuMs)));
+    }
+    return std::nullopt;
+}
+
 // The two ratios against one FIS family at one setting. The time budget is uniform FIS-32's at
 // that setting; the table compared is the most accurate one within it (else the fastest), and so is
 // the FIS point: FIS-32 itself for "fis", the most accurate per-level mix for "fis-mix".
@@ -115,20 +128,7 @@ std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::
     r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis, impulse);
     r.errorAtTableTime = errorOf(*table, impulse) / fisErrorAtTime(curve, table->gpuMs, impulse);
     r.fisMaxSamples = curve.back().method.count;
-    // FIS's time at the table's error, interpolated in log N (errors and times in log too).
-    const double target = errorOf(*table, impulse);
-    for (std::size_t k = 0; k < curve.size(); ++k) {
-        if (errorOf(curve[k], impulse) > target) continue;
-        if (k == 0) {
-            r.timeAtTableError = curve[0].gpuMs / table->gpuMs;
-        } else {
-            const double e0 = std::log(errorOf(curve[k - 1], impulse)), e1 = std::log(errorOf(curve[k], impulse));
-            const double t = e0 == e1 ? 1.0 : (e0 - std::log(target)) / (e0 - e1);
-            const double logTime = std::log(curve[k - 1].gpuMs) + t * (std::log(curve[k].gpuMs) - std::log(curve[k - 1].gpuMs));
-            r.timeAtTableError = std::exp(logTime) / table->gpuMs;
-        }
-        break;
-    }
+    if (const std::optional<double> ms = fisTimeAtError(curve, errorOf(*table, impulse), impulse)) r.timeAtTableError = *ms / table->gpuMs;
     return r;
 }
 
@@ -149,6 +149,17 @@ std::string formatRatios(const std::optional<Ratios>& r, const std::string& labe
                        r->errorAtTableTime, r->fisFamily == "fis" ? "FIS" : "FIS-mix", time);
 }
 
+nlohmann::json tablesJson(const std::vector<TableVersusFis>& tables) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const TableVersusFis& t : tables)
+        list.push_back({{"table", t.table},
+                        {"error", t.error},
+                        {"gpu_ms", t.gpuMs},
+                        {"error_at_table_time", t.errorAtTableTime},
+                        {"fis_time_at_table_error", t.fisTimeAtTableError ? nlohmann::json(*t.fisTimeAtTableError) : nlohmann::json(nullptr)}});
+    return list;
+}
+
 nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
     if (!r) return nullptr;
     return {{"fis_setting", r->fisSetting},
@@ -162,6 +173,20 @@ nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
             {"error_at_table_time", r->errorAtTableTime},
             {"fis_time_at_table_error", r->timeAtTableError ? nlohmann::json(*r->timeAtTableError) : nlohmann::json(nullptr)},
             {"fis_max_samples", r->fisMaxSamples}};
+}
+
+std::vector<TableVersusFis> tablesVersusFis(const std::vector<MethodScore>& scores, const std::string& setting, bool impulse) {
+    std::vector<TableVersusFis> result;
+    const std::vector<MethodScore> curve = fisCurve(scores, "fis", setting);
+    if (curve.empty()) return result;
+    for (const MethodScore& s : scores) {
+        if (s.method.family != "table") continue;
+        TableVersusFis t{s.method.name, errorOf(s, impulse), s.gpuMs, errorOf(s, impulse) / fisErrorAtTime(curve, s.gpuMs, impulse), {}};
+        if (const std::optional<double> ms = fisTimeAtError(curve, t.error, impulse)) t.fisTimeAtTableError = *ms / s.gpuMs;
+        result.push_back(t);
+    }
+    std::sort(result.begin(), result.end(), [](const TableVersusFis& a, const TableVersusFis& b) { return a.gpuMs < b.gpuMs; });
+    return result;
 }
 
 } // namespace
@@ -189,6 +214,8 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
         summary.paper = ratios(summary.images, "fis", "bias 1, box", false);
         summary.bestMix = ratios(summary.images, "fis-mix", summary.bestFisSetting, false);
     }
+    summary.tableImages = tablesVersusFis(summary.images, summary.bestFisSetting, false);
+    summary.tableImpulses = tablesVersusFis(summary.impulses, summary.bestFisSetting, true);
     if (!summary.impulses.empty()) {
         summary.impulseBest = ratios(summary.impulses, "fis", summary.bestFisSetting, true);
         summary.impulseBestMix = ratios(summary.impulses, "fis-mix", summary.bestFisSetting, true);
@@ -224,7 +251,23 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
            "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
            "on one probe (it does not depend on the content).\n\n";
     out << "```\n" << formatSummary(summary) << "```\n\n";
-    out << "| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
+    out << fmt::format("Each table against uniform FIS at the best setting ({}), interpolated in log error against log time: "
+                       "its error over FIS's at the table's time, and FIS's time over the table's at the table's error.\n\n",
+                       summary.bestFisSetting);
+    out << "| table | GPU ms | image L1 | / FIS's at that time | FIS time at that error | impulse L1 | / FIS's at that time | FIS time at that error |\n"
+           "|---|---|---|---|---|---|---|---|\n";
+    const auto timeText = [](const std::optional<double>& x) { return x ? fmt::format("{:.2f}x", *x) : std::string("never"); };
+    for (std::size_t k = 0; k < summary.tableImages.size(); ++k) {
+        const TableVersusFis& image = summary.tableImages[k];
+        const auto impulse = std::find_if(summary.tableImpulses.begin(), summary.tableImpulses.end(),
+                                          [&](const TableVersusFis& t) { return t.table == image.table; });
+        out << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} | {} |", image.table, image.gpuMs, image.error, image.errorAtTableTime,
+                           timeText(image.fisTimeAtTableError));
+        out << (impulse == summary.tableImpulses.end() ? std::string(" - | - | - |\n")
+                                                       : fmt::format(" {:.4f} | {:.3f} | {} |\n", impulse->error, impulse->errorAtTableTime,
+                                                                     timeText(impulse->fisTimeAtTableError)));
+    }
+    out << "\n| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         out << fmt::format("| {} | {} | {} | {} | {} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family, s.method.count,
                            s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1,
@@ -248,6 +291,8 @@ nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& 
             {"impulses_best_fis", ratiosJson(summary.impulseBest)},
             {"images_best_fis_mix", ratiosJson(summary.bestMix)},
             {"impulses_best_fis_mix", ratiosJson(summary.impulseBestMix)},
+            {"tables_images", tablesJson(summary.tableImages)},
+            {"tables_impulses", tablesJson(summary.tableImpulses)},
             {"methods", methods}};
 }
 

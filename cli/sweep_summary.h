@@ -58,12 +58,21 @@ struct Ratios {
     int fisMaxSamples = 0;
 };
 
+// One table against uniform FIS at one setting, at the table's own time and its own error.
+struct TableVersusFis {
+    std::string table;
+    double error = 0.0, gpuMs = 0.0;
+    double errorAtTableTime = 0.0;            // table error / FIS error at the table's time
+    std::optional<double> fisTimeAtTableError; // FIS time / table time at the table's error; empty: never
+};
+
 struct SweepSummary {
     std::vector<MethodScore> images;   // over the non-impulse probes
     std::vector<MethodScore> impulses; // over the impulse probes
     std::string bestFisSetting;        // the best single (bias, pyramid) over the image probes
     std::optional<Ratios> best, paper, impulseBest;
     std::optional<Ratios> bestMix, impulseBestMix; // against the per-level FIS mixes at the best setting
+    std::vector<TableVersusFis> tableImages, tableImpulses; // every table against FIS at the best setting, by time
 };
 
 SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);

@@ -64,6 +64,25 @@ TEST(SweepSummary, RatiosAgainstTheBestAndThePapersSetting) {
     EXPECT_NEAR(s.best->errorAtTableTime, 0.05 / (0.2 * 20.0 / 30.0), 1e-9);
 }
 
+TEST(SweepSummary, EveryTableAgainstFisAtItsTimeAndItsError) {
+    std::vector<SweepRow> rows;
+    addFis(rows, 0.0, "bspline", 1.0, "sky");  // error 0.4 at 10 ms, halving per doubling of time
+    addTable(rows, "b", 0.0125, 60.0, "sky"); // FIS at 60 ms: 0.4 / 6 = 0.0667; FIS reaches 0.0125 at 320 ms
+    addTable(rows, "a", 0.05, 30.0, "sky");   // FIS at 30 ms: 0.1333; FIS reaches 0.05 at 80 ms
+    addTable(rows, "c", 1e-4, 20.0, "sky");   // FIS never gets there
+    const SweepSummary s = summarizeSweep(rows);
+    ASSERT_EQ(s.tableImages.size(), 3u);
+    EXPECT_EQ(s.tableImages[0].table, "c"); // by time
+    EXPECT_FALSE(s.tableImages[0].fisTimeAtTableError);
+    EXPECT_EQ(s.tableImages[1].table, "a");
+    EXPECT_NEAR(s.tableImages[1].errorAtTableTime, 0.05 / (0.4 / 3.0), 1e-9);
+    EXPECT_NEAR(*s.tableImages[1].fisTimeAtTableError, 80.0 / 30.0, 1e-9);
+    EXPECT_EQ(s.tableImages[2].table, "b");
+    EXPECT_NEAR(s.tableImages[2].errorAtTableTime, 0.0125 / (0.4 / 6.0), 1e-9);
+    EXPECT_NEAR(*s.tableImages[2].fisTimeAtTableError, 320.0 / 60.0, 1e-9);
+    EXPECT_TRUE(s.tableImpulses.empty()); // no impulse probes
+}
+
 TEST(SweepSummary, SaysWhenNoTableIsAsFastAsFis32) {
     std::vector<SweepRow> rows;
     addFis(rows, 0.0, "bspline", 1.0, "sky");    // FIS-32: 0.1 at 40 ms; FIS-64: 0.05 at 80 ms
