@@ -90,7 +90,7 @@ std::vector<float> borderedRgbaTexels(const CubeImage& level) {
                        j < 0 ? -1 : j >= size ? 1 : 0, size, t);
         return level.texel(texelIndex(t, size));
     };
-    std::vector<float> texels(4 * pyramidTexelIndex(kFaceCount, -1, -1, size));
+    std::vector<float> texels(4 * pyramidLevelTexels(size));
     for (int f = 0; f < kFaceCount; ++f)
         for (int j = -1; j <= size; ++j)
             for (int i = -1; i <= size; ++i) {

@@ -41,9 +41,10 @@ private:
 std::vector<float> rgbaTexels(const CubeImage& level);
 
 // The pyramid buffer's layout (shaders/buffers.glsl): each face of a level of face size S with a
-// one-texel border, (S + 2)^2 texels, texel (i, j) for i, j in [-1, S]. The index of (face, i, j);
-// (kFaceCount, -1, -1) is the texel count of the level.
+// one-texel border, (S + 2)^2 texels, texel (i, j) for i, j in [-1, S]. The index of (face, i, j) in
+// a level, and the texels of a level.
 std::size_t pyramidTexelIndex(int face, int i, int j, int size);
+inline std::size_t pyramidLevelTexels(int size) { return pyramidTexelIndex(kFaceCount, -1, -1, size); }
 
 // A cube level in that layout, RGBA32F, alpha 1, with its border filled as pyramid.comp fills it:
 // the adjacent face's texel (probe::texelNeighbour), and at the corners, the average of the three

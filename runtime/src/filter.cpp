@@ -21,9 +21,10 @@ std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
     return offsets;
 }
 
+// First texel of each level of the bordered pyramid (buffer.h), and the total.
 std::vector<uint32_t> pyramidOffsetsFor(int baseSize, int levels) {
     std::vector<uint32_t> offsets{0};
-    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidTexelIndex(kFaceCount, -1, -1, baseSize >> m)));
+    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidLevelTexels(baseSize >> m)));
     return offsets;
 }
 

@@ -27,8 +27,10 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         if (level > 0) computeBarrier(commandBuffer);
         const PyramidConstants constants{s.faceSize, level, s.pyramid.kind == PyramidKind::box ? 1 : 0,
                                          s.pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
+        // Level 0: the border rings of 4 S + 4 texels per face; the others: every texel with its border.
         const int size = s.faceSize >> level;
-        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(kFaceCount * (level == 0 ? 4 * size + 4 : (size + 2) * (size + 2))));
+        const std::size_t texels = level == 0 ? std::size_t(kFaceCount) * (4 * size + 4) : pyramidLevelTexels(size);
+        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texels));
     }
 }
 

@@ -35,7 +35,7 @@ std::vector<float> packedLevels(const CubeLevels& levels, int baseSize) {
     for (std::size_t m = 0; m < levels.size(); ++m) {
         const int size = baseSize >> m;
         if (levels[m].size == 0) {
-            texels.resize(texels.size() + 4 * pyramidTexelIndex(kFaceCount, -1, -1, size), 0.0f);
+            texels.resize(texels.size() + 4 * pyramidLevelTexels(size), 0.0f);
             continue;
         }
         if (levels[m].size != size) throw ProbeError(fmt::format("sphere renderer: level {} has face size {}, not {}", m, levels[m].size, size));
