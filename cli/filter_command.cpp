@@ -147,6 +147,9 @@ void runFilter(const FilterOptions& o) {
     for (const probe::gpu::PassTime& p : filter.timings())
         passes.push_back({{"name", p.name}, {"gpu_ms_median", p.medianMs}, {"gpu_ms_runs", p.runsMs}});
     report["passes"] = passes;
+    // Pass 2 level by level (filter computes every level: entry k is level k).
+    const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings();
+    for (std::size_t k = 0; k < levelTimes.size(); ++k) report["levels"][k]["gpu_ms_median"] = levelTimes[k].medianMs;
 
     if (o.againstReference) {
         const probe::CubeLevels reference = probe::referenceFilter(source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) {

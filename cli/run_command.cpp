@@ -158,6 +158,7 @@ private:
         for (const probe::gpu::Dispatch& d : levels) recordPass(probe::levelPass(p.name, d.level, p.method), "gpu", describeDispatches({d}));
 
         json written = json::array();
+        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.levels' order
         for (std::size_t k = 0; k < plan.levels.size(); ++k) {
             const int m = plan.levels[k];
             json level = {{"level", m},
@@ -165,6 +166,7 @@ private:
                           {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
                           {"alpha", probe::levelAlpha(p.mapping, m, p.levelCount)},
                           {"read_by", plan.levelReaders[k]}};
+            if (k < levelTimes.size()) level["gpu_ms"] = levelTimes[k].medianMs;
             if (scene_.outputs.exr) {
                 const std::string file = p.name + "/" + probe::levelFileName(m);
                 probe::writeExr(output_.file(file), probe::cubeToStrip(result.levels[m]));

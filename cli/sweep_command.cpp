@@ -1,7 +1,8 @@
 // probefilter sweep: what accuracy costs in time. One run on one device: for every probe and
 // every method (each compiled-in table of the size, FIS over samples x bias x pyramid), the image
-// L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time
-// (median of --repeat runs, interleaved over the methods). Writes sweep.csv, sweep.md and
+// L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
+// all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
+// methods). Writes sweep.csv, sweep.md and
 // report.json; scripts/plot-sweep draws it.
 #include <algorithm>
 #include <filesystem>
@@ -159,22 +160,28 @@ void runSweep(const SweepOptions& o) {
     // GPU time does not depend on the probe's content: every method runs the first probe once per
     // round, --repeat rounds, so that a machine whose speed drifts during the sweep slows every
     // method alike; the median over the rounds.
-    std::vector<std::vector<double>> runsMs(methods.size());
+    // Per method: the total, then each level's pass-2 dispatch, one entry per round.
+    std::vector<std::vector<std::vector<double>>> runsMs(methods.size(), std::vector<std::vector<double>>(levelCount + 1));
     for (int round = 0; round < o.repeat; ++round) {
         for (std::size_t k = 0; k < methods.size(); ++k) {
             filters[k]->run(probes.front().cube);
             for (const probe::gpu::PassTime& t : filters[k]->timings())
-                if (t.name == "total") runsMs[k].push_back(t.medianMs);
+                if (t.name == "total") runsMs[k][0].push_back(t.medianMs);
+            const std::vector<probe::gpu::PassTime> levels = filters[k]->levelTimings();
+            for (std::size_t m = 0; m < levels.size(); ++m) runsMs[k][m + 1].push_back(levels[m].medianMs);
         }
         printProgress("timing", static_cast<std::size_t>(round + 1), static_cast<std::size_t>(o.repeat));
     }
-    for (std::size_t k = 0; k < methods.size(); ++k) {
-        std::vector<double>& ms = runsMs[k];
+    const auto median = [](std::vector<double> ms) {
         std::sort(ms.begin(), ms.end());
-        const double median = ms.empty() ? 0.0 : ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+        return ms.empty() ? 0.0 : ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+    };
+    for (std::size_t k = 0; k < methods.size(); ++k)
         for (SweepRow& row : rows)
-            if (row.method.name == methods[k].description.name) row.gpuMs = median;
-    }
+            if (row.method.name == methods[k].description.name) {
+                row.gpuMs = median(runsMs[k][0]);
+                row.levelGpuMs = median(runsMs[k][static_cast<std::size_t>(row.level) + 1]);
+            }
 
     writeSweepCsv(output.file("sweep.csv"), rows);
     const SweepSummary summary = summarizeSweep(rows);

@@ -225,11 +225,11 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows) {
     std::ofstream out(path);
-    out << "method,family,count,bias,pyramid,form,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms\n";
+    out << "method,family,count,bias,pyramid,form,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms\n";
     for (const SweepRow& r : rows)
-        out << fmt::format("{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family, r.method.count,
+        out << fmt::format("{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family, r.method.count,
                            r.method.bias, r.method.pyramid, r.method.form, r.probe, r.level, r.imageL1, r.impulseL1Mean,
-                           r.impulseL1Max, r.gpuMs);
+                           r.impulseL1Max, r.gpuMs, r.levelGpuMs);
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 

@@ -29,7 +29,8 @@ struct SweepRow {
     double imageL1 = 0.0;
     double impulseL1Mean = 0.0;
     double impulseL1Max = 0.0;
-    double gpuMs = 0.0; // the method's GPU time for all levels, median of the repeats
+    double gpuMs = 0.0;      // the method's GPU time for all levels, median of the repeats
+    double levelGpuMs = 0.0; // the part of it that this level's pass-2 dispatch takes, median of the repeats
 };
 
 // One method over a probe set: image L1 averaged over probes and levels >= 1, impulse L1 averaged

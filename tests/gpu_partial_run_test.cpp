@@ -72,6 +72,21 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
     if (method != gpu::Method::reference && !copiesOnly) {
         EXPECT_EQ(partial.downloadPyramid().size(), std::size_t(s.pyramidDepth + 1)) << what;
     }
+
+    // One time per level computed, named by it, adding up to the pass-2 time (when the queue has
+    // timestamps at all).
+    const std::vector<gpu::PassTime> passes = partial.timings(), perLevel = partial.levelTimings();
+    if (passes.empty()) return;
+    ASSERT_EQ(perLevel.size(), levels.size()) << what;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+        EXPECT_EQ(perLevel[k].name, fmt::format("level {}", levels[k])) << what;
+        EXPECT_GE(perLevel[k].medianMs, 0.0) << what;
+        sum += perLevel[k].medianMs; // one run: the medians are the runs
+    }
+    const auto pass2 = std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == gpu::methodName(method); });
+    ASSERT_NE(pass2, passes.end()) << what;
+    EXPECT_NEAR(sum, pass2->medianMs, 1e-9 + 1e-9 * pass2->medianMs) << what;
 }
 
 } // namespace

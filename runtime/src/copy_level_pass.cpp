@@ -20,11 +20,10 @@ struct CopyLevelConstants {
 
 std::span<const uint32_t> copyLevelSpirv() { return kCopyLevelSpv; }
 
-bool recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, const char* pass, int level) {
-    if ((impl.copyLevels & (1u << level)) == 0) return false;
+void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {
     const CopyLevelConstants constants{impl.settings.faceSize, impl.outputOffsets[level], impl.outputOffsets[level + 1]};
-    dispatchPass(impl, commandBuffer, *impl.copy, pass, level, constants, groupsFor(impl.outputOffsets[level + 1] - impl.outputOffsets[level]));
-    return true;
+    dispatchPass(impl, commandBuffer, *impl.copy, methodName(impl.settings.method), level, constants,
+                 groupsFor(impl.outputOffsets[level + 1] - impl.outputOffsets[level]));
 }
 
 } // namespace probe::gpu

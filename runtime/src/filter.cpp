@@ -28,12 +28,12 @@ std::vector<uint32_t> pyramidOffsetsFor(int baseSize, int levels) {
     return offsets;
 }
 
-// The timed passes, in order: pass 1 where there is one, then pass 2.
-std::vector<std::string> passNames(Method method, bool pyramid) {
-    std::vector<std::string> names;
-    if (pyramid) names.push_back("pyramid");
-    names.push_back(std::string(methodName(method)));
-    return names;
+// The timed segments, named by their pass: pass 1 where there is one, then each output level of pass 2.
+std::vector<std::string> segmentPasses(Method method, bool pyramid, std::size_t levelCount) {
+    std::vector<std::string> passes;
+    if (pyramid) passes.push_back("pyramid");
+    passes.resize(passes.size() + levelCount, std::string(methodName(method)));
+    return passes;
 }
 
 // Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
@@ -137,7 +137,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     if (s.method != Method::reference && readsPyramid) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
     if (std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
         copy = std::make_unique<ComputePipeline>(d.device(), *layout, copyLevelSpirv());
-    timer = std::make_unique<GpuTimer>(d, passNames(s.method, pass1 != nullptr));
+    timer = std::make_unique<GpuTimer>(d, segmentPasses(s.method, pass1 != nullptr, levels.size()));
 
     submission = std::make_unique<Submission>(d);
     submission->upload(geometry, geometryData.data(), geometry.bytes());
@@ -156,13 +156,14 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
         computeBarrier(commandBuffer);
         timer->boundary(commandBuffer, boundary++);
     }
-    switch (settings.method) {
-    case Method::table: recordTablePass(*this, commandBuffer); break;
-    case Method::fis: recordImportanceSamplingPass(*this, commandBuffer); break;
-    case Method::reference: recordReferencePass(*this, commandBuffer); break;
+    for (int m : levels) {
+        if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
+        else if (settings.method == Method::table) recordTableLevel(*this, commandBuffer, m);
+        else if (settings.method == Method::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
+        else recordReferenceLevel(*this, commandBuffer, m);
+        timer->boundary(commandBuffer, boundary++);
     }
     computeBarrier(commandBuffer);
-    timer->boundary(commandBuffer, boundary++);
 }
 
 Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings)) {}
@@ -221,6 +222,16 @@ std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.
     if (impl_->timer->timings().empty()) impl_->timer->collect();
     return impl_->timer->timings();
+}
+
+std::vector<PassTime> Filter::levelTimings() const {
+    if (impl_->timer->timings().empty()) impl_->timer->collect();
+    std::vector<std::string> names;
+    if (impl_->pass1) names.push_back("pyramid");
+    for (int m : impl_->levels) names.push_back(fmt::format("level {}", m));
+    std::vector<PassTime> segments = impl_->timer->segmentTimings(names);
+    if (impl_->pass1 && !segments.empty()) segments.erase(segments.begin());
+    return segments;
 }
 
 const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatches; }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "buffer.h"
@@ -43,21 +44,23 @@ struct Filter::Impl {
 
     Impl(const Device& d, const FilterSettings& s);
 
-    // Timer reset, boundary 0, the passes with barriers, a boundary after each pass.
+    // Timer reset, boundary 0, pass 1 and a barrier, a boundary; then each output level and a boundary
+    // after it (no barrier between levels: they write disjoint texels and read only the pyramid).
     void recordPasses(VkCommandBuffer commandBuffer);
 };
 
-// Pass recorders, one per file (copy_level_pass.cpp, reference_pass.cpp, pyramid_pass.cpp,
-// table_pass.cpp, importance_sampling_pass.cpp): each records its dispatches and appends them to impl.dispatches.
-std::span<const uint32_t> copyLevelSpirv();
-// Records the copy of output level `level` under `pass` if its alpha is 0; returns whether it did.
-bool recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, const char* pass, int level);
-
-std::span<const uint32_t> referenceSpirv();
-void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
-
+// Pass recorders, one per file (pyramid_pass.cpp; for pass 2, one output level at a time:
+// copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, importance_sampling_pass.cpp): each records
+// its dispatches and appends them to impl.dispatches.
 std::span<const uint32_t> pyramidSpirv();
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+
+std::span<const uint32_t> copyLevelSpirv();
+// Records output level `level` (alpha = 0: a copy of the source) under the method's pass name.
+void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+
+std::span<const uint32_t> referenceSpirv();
+void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 std::span<const uint32_t> tableSpirv();
 // Throws ProbeError with every reason why `table` cannot serve `settings`.
@@ -65,23 +68,23 @@ void checkTableFits(const TapTable& table, const FilterSettings& settings);
 // The table buffer: every level in the published layout, level 0 first.
 std::vector<float> tableBufferData(const TapTable& table);
 uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBufferData
-void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 std::span<const uint32_t> importanceSamplingSpirv();
 // The table buffer for FIS: every output level's samples (probe::importanceSamplesPerLevel) as
 // vec4(direction in the tangent frame, pyramid level); sampleOffsets gets each level's first sample
 // and the total.
 std::vector<float> importanceSamplingBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
-void recordImportanceSamplingPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
 // impl.dispatches.
 template <typename Constants>
-void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, const char* pass,
+void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, std::string_view pass,
                   int level, const Constants& constants, uint32_t groups) {
     static_assert(sizeof(Constants) <= kPushConstantBytes);
     pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups);
-    impl.dispatches.push_back({pass, level, groups});
+    impl.dispatches.push_back({std::string(pass), level, groups});
 }
 
 } // namespace probe::gpu

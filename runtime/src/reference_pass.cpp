@@ -19,14 +19,11 @@ struct ReferenceConstants {
 
 std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
 
-void recordReferencePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    for (int m : impl.levels) {
-        if (recordCopyLevel(impl, commandBuffer, "reference", m)) continue;
-        const double alpha = levelAlpha(s.mapping, m, s.levelCount);
-        const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
-        dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
-    }
+    const double alpha = levelAlpha(s.mapping, m, s.levelCount);
+    const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
+    dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
 }
 
 } // namespace probe::gpu

@@ -1,6 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
 // upload in the published layout (then the tap groups each level uses), and one dispatch per output
-// level computed.
+// level computed (copy_level_pass.cpp does the levels with alpha = 0).
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -63,14 +63,11 @@ uint32_t tableUsageFirst(const TapTable& table) {
     return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4);
 }
 
-void recordTablePass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    for (int m : impl.levels) {
-        if (recordCopyLevel(impl, commandBuffer, "table", m)) continue;
-        const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.tableCoefficientCount,
-                                       impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
-        dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
-    }
+    const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.tableCoefficientCount,
+                                   impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
+    dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
 }
 
 } // namespace probe::gpu

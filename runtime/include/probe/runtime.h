@@ -148,6 +148,10 @@ public:
     // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
     // the queue has no timestamps.
     std::vector<PassTime> timings() const;
+    // Per output level computed, named "level <m>": the time of its pass-2 dispatch (timestamps around
+    // it), over the same runs. Levels run with no barrier between them, so on a GPU that overlaps
+    // dispatches the split is approximate; their sum is the pass-2 time.
+    std::vector<PassTime> levelTimings() const;
     // The dispatches of one run.
     const std::vector<Dispatch>& dispatches() const;
     // The pyramid of the last run (levels 0..pyramidDepth, log2(S_0) by default); empty for the
