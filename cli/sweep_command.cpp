@@ -117,6 +117,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
 }
 
 void runSweep(const SweepOptions& o) {
+    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
     const int levelCount = probe::defaultLevelCount(o.size);
     probe::validateSizeAndLevels(o.size, levelCount);
     probe::StagedOutput output(o.out);
@@ -203,8 +204,7 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
     cmd->add_option("--bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
-    cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe, in rounds over the methods (median)")
-        ->check(CLI::PositiveNumber);
+    cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe, in rounds over the methods (median)");
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
     cmd->add_option("--device", o->device, "Vulkan device: index or name substring");
     cmd->add_option("--out", o->out, "Output folder")->required();
