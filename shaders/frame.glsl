@@ -12,11 +12,17 @@ struct FrameSetup {
     float theta2, phi2;
 };
 
+// The weight of frame `axis` at cube vector d: (max(|d_b|, |d_c|) - 0.75) / 0.25.
+float frameWeight(vec3 d, int axis) {
+    int b = axis == 0 ? 1 : 0, c = axis == 2 ? 1 : 2;
+    return (max(abs(d[b]), abs(d[c])) - PROBE_FRAME_BAND_START) / PROBE_FRAME_BAND_WIDTH;
+}
+
 // Frame `axis` of the output texel with cube vector d (major component exactly 1 in magnitude).
 FrameSetup frameSetup(vec3 d, int axis) {
     int b = axis == 0 ? 1 : 0, c = axis == 2 ? 1 : 2;
     FrameSetup f;
-    f.weight = (max(abs(d[b]), abs(d[c])) - PROBE_FRAME_BAND_START) / PROBE_FRAME_BAND_WIDTH;
+    f.weight = frameWeight(d, axis);
     f.x = vec3(0.0);
     f.y = vec3(0.0);
     f.z = vec3(0.0);

@@ -27,10 +27,12 @@ void main() {
     vec3 tx = normalize(cross(up, R)), ty = cross(R, tx);
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
-    for (uint k = params.firstSample; k < params.firstSample + params.sampleCount; ++k) {
+    // Tested at the bottom, as table_filter.comp's loops (the host makes at least one sample a level).
+    uint k = params.firstSample;
+    do {
         vec4 s = tableEntry(k);
         sum += s.z * sampleTrilinear(params.baseSize, params.pyramidLevels, tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
-    }
+    } while (++k < params.firstSample + params.sampleCount);
     outputTexels[index] = vec4(finishTapSum(sum, weightSum), 1.0);
 }

@@ -5,8 +5,8 @@
 // box: the 2x2 children on the same face, each weighing its exact solid angle (or its inverse),
 // normalized.
 // A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
-// than copied, so one dispatch with no barrier writes a level whole; a border corner, which has no
-// counterpart, is the average of the three texels that meet there (what sampling.glsl needs).
+// than copied, so one dispatch with no barrier writes a level's faces and edges; a border corner,
+// which has no counterpart, is left to pyramid_corners.comp.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probe/shared_constants.h"
@@ -14,17 +14,19 @@
 
 layout(local_size_x = 64) in;
 
+// The pyramid's settings, fixed per pipeline so that the other paths are compiled out.
+layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
+layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
+
 layout(push_constant) uniform Params {
-    int baseSize;          // S_0
-    int level;             // the level written: 0 (the source's border) to log2(S_0)
-    int boxKind;           // 0: bspline, 1: box
-    int inverseSolidAngle; // 0: weigh by the solid angle, 1: by its inverse
+    int baseSize; // S_0
+    int level;    // the level written: 0 (the source's border) to log2(S_0)
 } params;
 
 float jacobianWeight(float u, float v) {
     float r = inversesqrt(1.0 + u * u + v * v);
     float density = r * r * r; // (1 + u^2 + v^2)^(-3/2)
-    return params.inverseSolidAngle == 0 ? density : 1.0 / density;
+    return kInverseSolidAngle == 0 ? density : 1.0 / density;
 }
 
 vec3 bspline(ivec3 coarse, int fineSize) {
@@ -51,7 +53,7 @@ vec3 box(ivec3 coarse, int fineSize) {
     for (int k = 0; k < 4; ++k) {
         int i = 2 * coarse.y + (k & 1), j = 2 * coarse.z + (k >> 1);
         float area = geometry[firstGeometry + texelIndex(coarse.x, i, j, fineSize)].w;
-        float w = params.inverseSolidAngle == 0 ? area : 1.0 / area;
+        float w = kInverseSolidAngle == 0 ? area : 1.0 / area;
         sum += w * pyramidTexel(first + pyramidTexelIndex(coarse.x, i, j, fineSize));
         weightSum += w;
     }
@@ -61,7 +63,7 @@ vec3 box(ivec3 coarse, int fineSize) {
 // The value of texel t (inside its face) of the level written.
 vec3 levelTexel(ivec3 t, int size) {
     if (params.level == 0) return pyramidTexel(pyramidTexelIndex(t.x, t.y, t.z, size));
-    return params.boxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
+    return kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
 }
 
 // Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre
@@ -91,12 +93,10 @@ void main() {
     int i = ij.x, j = ij.y;
     bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
 
-    // One texel shown here; at a corner, the face's own corner texel and then the other two.
+    // One texel shown here; a border corner gets the face's own corner texel, which
+    // pyramid_corners.comp then replaces.
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     bool edge = insideI != insideJ;
     vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
-    if (!insideI && !insideJ)
-        value = (value + levelTexel(texelAcrossEdge(face, i, cj, size), size) + levelTexel(texelAcrossEdge(face, ci, j, size), size)) *
-                (1.0 / 3.0);
     pyramid[pyramidLevelOffset(params.baseSize, params.level) + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
 }

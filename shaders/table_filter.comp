@@ -11,12 +11,14 @@
 
 layout(local_size_x = 64) in;
 
+// The table's form, fixed per pipeline so that the other form's reads are compiled out.
+layout(constant_id = 0) const int kCoefficientCount = 3; // 3: quadratic, 1: constant
+
 layout(push_constant) uniform Params {
     int baseSize;         // S_0
     int pyramidLevels;    // log2(S_0) + 1
     int level;            // the output level of this dispatch
     int taps;             // N per frame, a multiple of 4
-    int coefficientCount; // 3: quadratic, 1: constant
     uint firstTexel;      // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
     uint usageFirst;      // index of level 0's tap group count in `table`
@@ -25,8 +27,8 @@ layout(push_constant) uniform Params {
 // P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
 vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
     uint groups = uint(3 * params.taps / 4);
-    uint first = levelFirst + uint(parameter * params.coefficientCount) * groups + group;
-    if (params.coefficientCount == 1) return tableEntry(first);
+    uint first = levelFirst + uint(parameter * kCoefficientCount) * groups + group;
+    if (kCoefficientCount == 1) return tableEntry(first);
     return tableEntry(first) + tableEntry(first + groups) * f.theta2 + tableEntry(first + 2u * groups) * f.phi2;
 }
 
@@ -37,14 +39,22 @@ void main() {
     // division to find the texel.
     vec3 R = geometry[index].xyz, a = abs(R);
     vec3 d = R / max(max(a.x, a.y), a.z);
-    uint levelFirst = uint(params.level) * uint(5 * params.coefficientCount * 3 * params.taps / 4);
+    uint levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
     int groupsInUse = int(tableEntry(params.usageFirst + uint(params.level)).x);
+    // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is d's
+    // major one); the frame about the face's own axis only near its edges, so it comes last and
+    // only where it counts. The loops test at the bottom: a SIMD back end such as lavapipe runs a
+    // top-tested loop's body once more, with every lane off, before it sees that all are done.
+    int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    int frames = frameWeight(d, major) > 0.0 ? 3 : 2;
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
-    for (int axis = 0; axis < 3; ++axis) {
+    int k = 0;
+    do {
+        int axis = (major + 1 + k) % 3;
         FrameSetup f = frameSetup(d, axis);
-        if (f.weight <= 0.0) continue;
-        for (int g = 0; g < groupsInUse; ++g) {
+        int g = 0;
+        do {
             uint group = uint(axis * params.taps / 4 + g);
             vec4 px = polynomial(levelFirst, 0, group, f);
             vec4 py = polynomial(levelFirst, 1, group, f);
@@ -56,7 +66,7 @@ void main() {
                 sum += s.weight * sampleTrilinear(params.baseSize, params.pyramidLevels, s.direction, s.level);
                 weightSum += s.weight;
             }
-        }
-    }
+        } while (++g < groupsInUse);
+    } while (++k < frames);
     outputTexels[index] = vec4(finishTapSum(sum, weightSum), 1.0);
 }

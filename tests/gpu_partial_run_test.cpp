@@ -59,12 +59,12 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
         EXPECT_EQ(some[m].rgb, all[m].rgb) << what << ": level " << m << " differs from the full run";
     }
 
-    // Exactly the dispatches asked for: the pyramid to the depth (level 0: the source's border), then
-    // one per level.
+    // Exactly the dispatches asked for: the pyramid to the depth, two per level (its faces and edges,
+    // level 0 only the source's border; then its border corners), then one per output level.
     std::vector<std::pair<std::string, int>> expected;
     const bool copiesOnly = std::all_of(levels.begin(), levels.end(), [&](int m) { return levelAlpha(s.mapping, m, kLevels) == 0.0; });
     if (method != gpu::Method::reference && !copiesOnly)
-        for (int k = 0; k <= s.pyramidDepth; ++k) expected.emplace_back("pyramid", k);
+        for (int k = 0; k <= s.pyramidDepth; ++k) expected.insert(expected.end(), 2, {"pyramid", k});
     for (int m : levels) expected.emplace_back(std::string(gpu::methodName(method)), m);
     std::vector<std::pair<std::string, int>> ran;
     for (const gpu::Dispatch& d : partial.dispatches()) ran.emplace_back(d.pass, d.level);

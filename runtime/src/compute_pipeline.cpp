@@ -1,5 +1,7 @@
 #include "compute_pipeline.h"
 
+#include <vector>
+
 #include <fmt/format.h>
 
 #include "device.h"
@@ -100,7 +102,8 @@ void PipelineLayout::bind(VkCommandBuffer commandBuffer) const {
     vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
 }
 
-ComputePipeline::ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv)
+ComputePipeline::ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
+                                 std::span<const int32_t> specialization)
     : device_(device), layout_(layout.handle()) {
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     moduleInfo.codeSize = spirv.size_bytes();
@@ -112,6 +115,11 @@ ComputePipeline::ComputePipeline(VkDevice device, const PipelineLayout& layout, 
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, i * uint32_t(sizeof(int32_t)), sizeof(int32_t)});
+    const VkSpecializationInfo specializationInfo{static_cast<uint32_t>(entries.size()), entries.data(), specialization.size_bytes(),
+                                                  specialization.data()};
+    if (!specialization.empty()) info.stage.pSpecializationInfo = &specializationInfo;
     info.layout = layout_;
     const VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device_, module, nullptr);

@@ -41,10 +41,12 @@ private:
     std::array<VkBufferView, 2> texelViews_{}; // bindings 3 and 4
 };
 
-// One compute pipeline from embedded SPIR-V.
+// One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
+// choices fixed per pipeline, whose untaken paths the driver then compiles out.
 class ComputePipeline {
 public:
-    ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv);
+    ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
+                    std::span<const int32_t> specialization = {});
     ~ComputePipeline();
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;

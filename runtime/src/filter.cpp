@@ -1,5 +1,6 @@
 // Filter: buffers, pipelines, the order of the passes, upload and read-back, the engine path.
 #include <algorithm>
+#include <array>
 
 #include <fmt/format.h>
 
@@ -129,12 +130,19 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
 
     layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&pyramid, &output, &geometry, &table});
     switch (s.method) {
-    case Method::table: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv()); break;
+    case Method::table: {
+        const std::array<int32_t, 1> form{tableCoefficientCount}; // table_filter.comp's kCoefficientCount
+        pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv(), form);
+        break;
+    }
     case Method::fis: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, importanceSamplingSpirv()); break;
     case Method::reference: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, referenceSpirv()); break;
     }
     const bool readsPyramid = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
-    if (s.method != Method::reference && readsPyramid) pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv());
+    if (s.method != Method::reference && readsPyramid) {
+        pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv(), pyramidSpecialization(s.pyramid));
+        pass1Corners = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidCornersSpirv());
+    }
     if (std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
         copy = std::make_unique<ComputePipeline>(d.device(), *layout, copyLevelSpirv());
     timer = std::make_unique<GpuTimer>(d, segmentPasses(s.method, pass1 != nullptr, levels.size()));

@@ -1,6 +1,7 @@
 // The state of a probe::gpu::Filter, shared by the pass recorders.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -29,7 +30,8 @@ struct Filter::Impl {
     Buffer geometry; // binding 2: per pyramid level, (texel direction, solid angle)
     Buffer table;    // binding 3: tap table or FIS samples (one vec4 when unused)
     std::unique_ptr<PipelineLayout> layout;
-    std::unique_ptr<ComputePipeline> pass1; // the pyramid; null for the reference method
+    std::unique_ptr<ComputePipeline> pass1;        // the pyramid; null for the reference method
+    std::unique_ptr<ComputePipeline> pass1Corners; // the border corners of each pyramid level, with pass1
     std::unique_ptr<ComputePipeline> pass2; // table, fis or reference
     std::unique_ptr<ComputePipeline> copy;  // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<GpuTimer> timer;
@@ -53,6 +55,9 @@ struct Filter::Impl {
 // copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, importance_sampling_pass.cpp): each records
 // its dispatches and appends them to impl.dispatches.
 std::span<const uint32_t> pyramidSpirv();
+std::span<const uint32_t> pyramidCornersSpirv();
+// pyramid.comp's specialization constants: kBoxKind, kInverseSolidAngle.
+std::array<int32_t, 2> pyramidSpecialization(const PyramidSettings& pyramid);
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
 std::span<const uint32_t> copyLevelSpirv();

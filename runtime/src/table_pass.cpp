@@ -19,7 +19,6 @@ struct TableConstants {
     int32_t pyramidLevels;
     int32_t level;
     int32_t taps;
-    int32_t coefficientCount;
     uint32_t firstTexel;
     uint32_t endTexel;
     uint32_t usageFirst;
@@ -65,8 +64,8 @@ uint32_t tableUsageFirst(const TapTable& table) {
 
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.tableCoefficientCount,
-                                   impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
+    const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.outputOffsets[m],
+                                   impl.outputOffsets[m + 1], impl.tableUsageFirst};
     dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
 }
 
