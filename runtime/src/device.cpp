@@ -139,9 +139,13 @@ const Candidate& chooseDevice(const std::vector<Candidate>& candidates, const st
 }
 
 void readProperties(Device::Impl& impl) {
-    VkPhysicalDeviceProperties properties;
-    vkGetPhysicalDeviceProperties(impl.physical, &properties);
-    impl.limits = properties.limits;
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    properties.pNext = &subgroup;
+    vkGetPhysicalDeviceProperties2(impl.physical, &properties);
+    impl.limits = properties.properties.limits;
+    impl.computeSubgroupVote =
+        (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT);
     vkGetPhysicalDeviceMemoryProperties(impl.physical, &impl.memory);
     uint32_t count = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(impl.physical, &count, nullptr);

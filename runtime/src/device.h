@@ -23,6 +23,7 @@ struct Device::Impl {
     VkPhysicalDeviceLimits limits{};
     VkPhysicalDeviceMemoryProperties memory{};
     uint32_t timestampValidBits = 0;
+    bool computeSubgroupVote = false; // subgroupAny in compute shaders (table_filter.comp needs it)
 
     mutable std::mutex messagesMutex;
     std::vector<std::string> messages;

@@ -131,6 +131,9 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&pyramid, &output, &geometry, &table});
     switch (s.method) {
     case Method::table: {
+        if (!d.impl().computeSubgroupVote)
+            throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method needs",
+                                        d.info().name));
         const std::array<int32_t, 1> form{tableCoefficientCount}; // table_filter.comp's kCoefficientCount
         pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv(), form);
         break;
