@@ -47,8 +47,8 @@ void main() {
     // major one); the frame about the face's own axis only near its edges, so it comes last, and
     // only for subgroups where some invocation needs it, the others giving it weight 0. Loops that
     // exit together and test at the bottom: a SIMD back end such as lavapipe runs a top-tested
-    // loop's body once more with every lane off, and Mesa 22.3's miscompiles some loops whose exit
-    // diverges (GpuTest.TableFilterEqualsCpuModel catches it).
+    // loop's body once more with every lane off, and Mesa 22.3's lavapipe miscompiles some loops
+    // whose exit diverges (GpuTest.TableFilterEqualsCpuModel catches it).
     int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
     int frames = subgroupAny(frameWeight(d, major) > 0.0) ? 3 : 2;
     vec3 sum = vec3(0.0);
