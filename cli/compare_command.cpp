@@ -3,6 +3,10 @@
 // spheres of a few roughnesses are rendered with each (probe::gpu::renderSpheres) and laid out with
 // heat maps of their error against the reference's (sheet.png); report.json holds the image L1 per
 // level, the spheres' L1 and the GPU times.
+#include <array>
+#include <memory>
+#include <vector>
+
 #include <fmt/format.h>
 
 #include "commands.h"
@@ -45,12 +49,26 @@ struct MethodRun {
     double gpuMs = 0.0;
 };
 
-MethodRun runOnGpu(const probe::gpu::Device& device, const probe::gpu::FilterSettings& settings, const probe::CubeImage& source, int repeat) {
-    probe::gpu::Filter filter(device, settings);
-    MethodRun run{filter.run(source, repeat), 0.0};
-    for (const probe::gpu::PassTime& t : filter.timings())
-        if (t.name == "total") run.gpuMs = t.medianMs;
-    return run;
+// The table and FIS filter the probe once each (their outputs; a first run also pays one-time
+// costs), then run in turns, `repeat` rounds, so that a machine whose speed drifts slows both alike:
+// each one's GPU time is the median over the rounds.
+std::array<MethodRun, 2> runInTurns(const probe::gpu::Device& device, const std::array<probe::gpu::FilterSettings, 2>& settings,
+                                    const probe::CubeImage& source, int repeat) {
+    std::array<std::unique_ptr<probe::gpu::Filter>, 2> filters;
+    std::array<MethodRun, 2> runs;
+    for (std::size_t k = 0; k < filters.size(); ++k) {
+        filters[k] = std::make_unique<probe::gpu::Filter>(device, settings[k]);
+        runs[k].levels = filters[k]->run(source);
+    }
+    std::array<std::vector<double>, 2> totals;
+    for (int round = 0; round < repeat; ++round)
+        for (std::size_t k = 0; k < filters.size(); ++k) {
+            filters[k]->run(source);
+            for (const probe::gpu::PassTime& t : filters[k]->timings())
+                if (t.name == "total") totals[k].push_back(t.medianMs);
+        }
+    for (std::size_t k = 0; k < runs.size(); ++k) runs[k].gpuMs = median(totals[k]);
+    return runs;
 }
 
 json levelErrors(const probe::CubeLevels& levels, const probe::CubeLevels& reference) {
@@ -102,8 +120,7 @@ void runCompare(const CompareOptions& o) {
         printProgress("reference", done, total);
     });
     const double referenceSeconds = referenceClock.seconds();
-    const MethodRun tableRun = runOnGpu(device, tableSettings, source, o.repeat);
-    const MethodRun fisRun = runOnGpu(device, fisSettings, source, o.repeat);
+    const auto [tableRun, fisRun] = runInTurns(device, {tableSettings, fisSettings}, source, o.repeat);
 
     const probe::Image dfg = probe::dfgTable(probe::kDfgTableSize, probe::kDfgTableSamples);
     probe::gpu::SphereScene scene;
@@ -174,7 +191,7 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--roughness", o->roughness, "Perceptual roughness of each sphere")->capture_default_str()->delimiter(',');
     cmd->add_option("--cell", o->cell, "Pixels per sphere")->capture_default_str();
     cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
-    cmd->add_option("--repeat", o->repeat, "GPU runs per method; times are the median")->capture_default_str();
+    cmd->add_option("--repeat", o->repeat, "Timed GPU runs per method, in turns after an untimed one; times are the median")->capture_default_str();
     cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");

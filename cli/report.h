@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,9 @@ nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validatio
 
 // One object per dispatch: pass, level ("all" for -1), workgroups.
 nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches);
+
+// The median of timings (the mean of the middle two for an even count; 0 for none).
+double median(std::vector<double> values);
 
 // Wall-clock stopwatch in seconds.
 class Stopwatch {

@@ -173,10 +173,6 @@ void runSweep(const SweepOptions& o) {
         }
         printProgress("timing", static_cast<std::size_t>(round + 1), static_cast<std::size_t>(o.repeat));
     }
-    const auto median = [](std::vector<double> ms) {
-        std::sort(ms.begin(), ms.end());
-        return ms.empty() ? 0.0 : ms.size() % 2 ? ms[ms.size() / 2] : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
-    };
     for (std::size_t k = 0; k < methods.size(); ++k)
         for (SweepRow& row : rows)
             if (row.method.name == methods[k].description.name) {
