@@ -81,7 +81,7 @@ private:
 };
 
 enum class Method {
-    table,     // pass 1 pyramid + pass 2 tap table (Manson & Sloan)
+    table,     // pass 1 pyramid + pass 2 tap table (Manson & Sloan); needs subgroup vote in compute shaders
     fis,       // pass 1 pyramid + filtered importance sampling (Krivanek & Colbert)
     reference, // brute force, every source texel for every output texel
 };
