@@ -31,12 +31,18 @@ struct FrameSetup {
     double theta2 = 0.0, phi2 = 0.0;   // the polynomial domain, squared
 };
 
+// The weight of frame `axis` at cube vector d: (max(|d_b|, |d_c|) - 0.75) / 0.25.
+inline double frameWeight(const glm::dvec3& d, int axis) {
+    const auto [b, c] = frameOtherAxes(axis);
+    return (std::max(std::abs(d[b]), std::abs(d[c])) - PROBE_FRAME_BAND_START) / PROBE_FRAME_BAND_WIDTH;
+}
+
 // The frame `axis` of the output texel with cube vector d (major component exactly 1 in magnitude,
 // as faceUvToCubePoint gives it).
 inline FrameSetup frameSetup(const glm::dvec3& d, int axis) {
     const auto [b, c] = frameOtherAxes(axis);
     FrameSetup f;
-    f.weight = (std::max(std::abs(d[b]), std::abs(d[c])) - PROBE_FRAME_BAND_START) / PROBE_FRAME_BAND_WIDTH;
+    f.weight = frameWeight(d, axis);
     if (f.weight <= 0.0) return f;
 
     glm::dvec3 up(0.0);
