@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "device.h" // runtime/src: Device::Impl
 #include "gpu_test_support.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
@@ -217,4 +218,25 @@ TEST_F(GpuTest, ImportanceSampling1024NearReferenceOnSky) {
         ::testing::Test::RecordProperty(fmt::format("level{}_image_l1", m), fmt::format("{:.4f}", error));
         EXPECT_LT(error, 0.03) << "level " << m;
     }
+}
+
+// The table shader takes a texel's third frame per subgroup (subgroupAny): on a device without
+// subgroup vote in compute shaders the table method is refused, naming the device; FIS still runs.
+TEST_F(GpuTest, TableMethodNeedsSubgroupVote) {
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().computeSubgroupVote = false; // what a device without it reports
+    const TapTable table = randomTable(16, 4, 4, TableForm::quadratic, RoughnessMapping::gltf, kAllPyramids[0], 50);
+    gpu::FilterSettings s = settingsFor(gpu::Method::table, 16, 4, RoughnessMapping::gltf, kAllPyramids[0]);
+    s.table = &table;
+    try {
+        gpu::Filter filter(device, s);
+        ADD_FAILURE() << "the table method was not refused";
+    } catch (const ProbeError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("subgroup vote"), std::string::npos) << message;
+        EXPECT_NE(message.find(device.info().name), std::string::npos) << message;
+    }
+    s.method = gpu::Method::fis;
+    EXPECT_NO_THROW(gpu::Filter(device, s));
 }
