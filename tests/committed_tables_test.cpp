@@ -1,5 +1,6 @@
 // Every committed table under tables/: the table file parses, its name says what it records
-// (mapping, size, form, taps; a mix: the taps of level 1), and the generated header and GLSL
+// (mapping, size, form, taps; a mix: the taps of level 1, and "lean" for the cheaper of two mixes
+// with those taps), and the generated header and GLSL
 // include are exactly what the table file generates (so they carry the same sizes, levels, mapping,
 // pyramid and coefficients). The headers also compile: committed_table_headers.cpp includes them all.
 #include <filesystem>
@@ -33,11 +34,12 @@ TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
         const TapTable table = readTable(entry.path());
         std::smatch m;
         const std::string stem = entry.path().stem().string();
-        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors)([0-9]+)_(const|quad)(mix)?([0-9]+)")));
+        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?")));
         EXPECT_EQ(roughnessMappingName(table.mapping), m[1].str());
         EXPECT_EQ(table.baseSize, std::stoi(m[2].str()));
         EXPECT_EQ(tableFormName(table.form), m[3].str());
         // A mix (probefit mix) is named by the taps of level 1, which sets its time.
+        EXPECT_TRUE(m[4].matched || !m[6].matched) << "only a mix is lean";
         EXPECT_EQ(m[4].matched ? tapsInUse(table, 1) : table.taps, std::stoi(m[5].str()));
         EXPECT_EQ(table.levelCount, table.mapping == RoughnessMapping::authors ? 7 : defaultLevelCount(table.baseSize));
         EXPECT_EQ(table.pyramid, (PyramidSettings{PyramidKind::bspline, PyramidWeighting::solidAngle}));
