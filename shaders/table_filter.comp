@@ -3,7 +3,8 @@
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
 // per constant level), each read trilinearly from the pyramid. After the coefficients,
 // tableEntry(usageFirst + m).x is the tap groups of four that level m uses (probe::tapsInUse; the
-// rest are zero-weight padding).
+// rest are zero-weight padding). Invocations take each face's interior first, then its edge ring
+// (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -34,9 +35,38 @@ vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
     return tableEntry(first) + tableEntry(first + groups) * f.theta2 + tableEntry(first + 2u * groups) * f.phi2;
 }
 
+// The texel (its index within the level) that invocation k computes, in a level of face size
+// `size`. Per face, the interior comes first and the ring where the face's own frame counts
+// (max(|u|, |v|) > PROBE_FRAME_BAND_START: size / 8 texels wide) last, so that a subgroup seldom
+// holds both and only the ring's subgroups take the third frame. In row order, every subgroup of a
+// face at most two subgroups wide would reach the ring (16^2 on lavapipe's 8 invocations, 64^2 for a
+// 32-wide warp), and many of a wider face's would. Outputs do not depend on the order.
+uint texelOfInvocation(uint k, int size) {
+    uint s = uint(size), perFace = s * s;
+    uint w = uint(float(s) * 0.5 * (1.0 - PROBE_FRAME_BAND_START)), n = s - 2u * w;
+    uint face = k / perFace, r = k % perFace, i, j;
+    if (r < n * n) {
+        i = w + r % n;
+        j = w + r / n;
+    } else if (r - n * n < 2u * w * s) { // the w rows at the top, then the w at the bottom
+        r -= n * n;
+        j = r / s;
+        j = j < w ? j : j + n;
+        i = r % s;
+    } else { // the rows between: w texels on each side
+        r -= n * n + 2u * w * s;
+        uint side = max(2u * w, 1u);
+        j = w + r / side;
+        i = r % side;
+        i = i < w ? i : i + n;
+    }
+    return (face * s + j) * s + i;
+}
+
 void main() {
-    uint index = params.firstTexel + invocationIndex();
-    if (index >= params.endTexel) return;
+    uint invocation = invocationIndex();
+    if (invocation >= params.endTexel - params.firstTexel) return;
+    uint index = params.firstTexel + texelOfInvocation(invocation, params.baseSize >> params.level);
     // The texel centre on the cube (major component +-1), from its unit direction: no integer
     // division to find the texel.
     vec3 R = geometry[index].xyz, a = abs(R);
