@@ -30,7 +30,7 @@ using nlohmann::json;
 struct CompareOptions {
     std::string input;
     int size = 128;
-    int levels = 0; // 0: the default for the size
+    int levels = 0;    // 0: the default for the size
     std::string table; // a table file; default: the compiled-in table for the settings
     int samples = 32;
     std::vector<double> roughness{0.15, 0.3, 0.5, 0.75, 1.0};
@@ -42,7 +42,6 @@ struct CompareOptions {
     bool repairPixels = false;
     std::string out;
 };
-
 
 struct MethodRun {
     probe::CubeLevels levels;
@@ -99,7 +98,8 @@ void runCompare(const CompareOptions& o) {
     } else if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(o.size, levelCount, mapping, {})) {
         table = compiled->table;
     } else {
-        throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table FILE", o.size, levelCount));
+        throw probe::ProbeError(
+            fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table FILE", o.size, levelCount));
     }
     tableSettings.table = &table;
     probe::gpu::FilterSettings fisSettings = tableSettings;
@@ -116,9 +116,8 @@ void runCompare(const CompareOptions& o) {
     const probe::gpu::Device device(deviceOptions);
 
     const Stopwatch referenceClock;
-    const probe::CubeLevels reference = probe::referenceFilter(source, levelCount, mapping, [](std::size_t done, std::size_t total) {
-        printProgress("reference", done, total);
-    });
+    const probe::CubeLevels reference = probe::referenceFilter(
+        source, levelCount, mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
     const double referenceSeconds = referenceClock.seconds();
     const auto [tableRun, fisRun] = runInTurns(device, {tableSettings, fisSettings}, source, o.repeat);
 
@@ -149,7 +148,8 @@ void runCompare(const CompareOptions& o) {
     writeComparisonSheet(output.file("sheet.png"), rows, autoExposure(source), o.maxError);
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
-        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+        throw probe::ProbeError(
+            fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
     json report = describeLevels(o.size, levelCount, mapping);
     report["command"] = "compare";
@@ -191,7 +191,8 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--roughness", o->roughness, "Perceptual roughness of each sphere")->capture_default_str()->delimiter(',');
     cmd->add_option("--cell", o->cell, "Pixels per sphere")->capture_default_str();
     cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
-    cmd->add_option("--repeat", o->repeat, "Timed GPU runs per method, in turns after an untimed one; times are the median")->capture_default_str();
+    cmd->add_option("--repeat", o->repeat, "Timed GPU runs per method, in turns after an untimed one; times are the median")
+        ->capture_default_str();
     cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");

@@ -31,7 +31,8 @@ std::array<std::uint8_t, 3> heatColour(double t) {
 // Copies a panel of 8-bit RGB pixels into the sheet at (x, y).
 void blit(std::vector<std::uint8_t>& sheet, int sheetWidth, const std::vector<std::uint8_t>& panel, int width, int height, int x, int y) {
     for (int row = 0; row < height; ++row)
-        std::copy_n(&panel[static_cast<std::size_t>(row) * width * 3], width * 3, &sheet[(static_cast<std::size_t>(y + row) * sheetWidth + x) * 3]);
+        std::copy_n(&panel[static_cast<std::size_t>(row) * width * 3], width * 3,
+                    &sheet[(static_cast<std::size_t>(y + row) * sheetWidth + x) * 3]);
 }
 
 } // namespace
@@ -86,7 +87,8 @@ void writeComparisonSheet(const std::filesystem::path& png, const std::vector<Sh
     const int barHeight = std::max(8, panelHeight / 8);
     for (int x = 0; x < barWidth; ++x) {
         const auto c = heatColour(double(x) / (barWidth - 1));
-        for (int y = 0; y < barHeight; ++y) std::copy(c.begin(), c.end(), &sheet[(static_cast<std::size_t>(barTop + y) * width + barLeft + x) * 3]);
+        for (int y = 0; y < barHeight; ++y)
+            std::copy(c.begin(), c.end(), &sheet[(static_cast<std::size_t>(barTop + y) * width + barLeft + x) * 3]);
     }
     drawText(sheet, width, height, barLeft, barTop - kLabelBand + kPad, "RELATIVE ERROR PER PIXEL", kTextScale, kWhite);
     drawText(sheet, width, height, barLeft, barTop + barHeight + kPad, "0%", kTextScale, kWhite);

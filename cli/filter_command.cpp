@@ -22,9 +22,9 @@ namespace {
 struct FilterOptions {
     std::string input;
     std::string method = "table";
-    std::string table;       // a table file (project JSON or published text) or a compiled-in table's name
-    int tableTaps = 0;       // published text layout: taps per frame
-    std::string tableForm;   // published text layout: const or quad
+    std::string table;            // a table file (project JSON or published text) or a compiled-in table's name
+    int tableTaps = 0;            // published text layout: taps per frame
+    std::string tableForm;        // published text layout: const or quad
     std::vector<int> samples{32}; // one count for every level, or one per level
     double fisBias = 0.0;
     std::string pyramid = "bspline";
@@ -67,8 +67,10 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
             throw probe::ProbeError(fmt::format("--table {}: no such file and no compiled-in table of that name", o.table));
         if (looksLikeJson(path)) return probe::readTable(path);
         if (o.tableTaps <= 0 || o.tableForm.empty())
-            throw probe::ProbeError(fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
-        return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping, s.pyramid);
+            throw probe::ProbeError(
+                fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
+        return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping,
+                                           s.pyramid);
     }
     const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, s.pyramid);
     if (!best)
@@ -125,7 +127,8 @@ void runFilter(const FilterOptions& o) {
     const probe::CubeLevels levels = filter.run(source, o.repeat);
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
-        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+        throw probe::ProbeError(
+            fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
     nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
     report["command"] = "filter";
@@ -152,9 +155,8 @@ void runFilter(const FilterOptions& o) {
     for (std::size_t k = 0; k < levelTimes.size(); ++k) report["levels"][k]["gpu_ms_median"] = levelTimes[k].medianMs;
 
     if (o.againstReference) {
-        const probe::CubeLevels reference = probe::referenceFilter(source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) {
-            printProgress("reference", done, total);
-        });
+        const probe::CubeLevels reference = probe::referenceFilter(
+            source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
         nlohmann::json errors = nlohmann::json::array();
         for (int m = 0; m < s.levelCount; ++m) errors.push_back({{"level", m}, {"image_l1", probe::imageL1(levels[m], reference[m])}});
         report["errors_against_reference"] = errors;
@@ -175,17 +177,21 @@ void runFilter(const FilterOptions& o) {
 
 void addFilterCommand(CLI::App& app) {
     auto o = std::make_shared<FilterOptions>();
-    CLI::App* cmd = app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
+    CLI::App* cmd =
+        app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
     cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
-    cmd->add_option("--table", o->table, "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
+    cmd->add_option("--table", o->table,
+                    "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
     cmd->add_option("--table-taps", o->tableTaps, "Published text layout: taps per frame");
     cmd->add_option("--table-form", o->tableForm, "Published text layout: const or quad");
     cmd->add_option("--samples", o->samples, "fis: samples per output texel: one count, or one per output level (level 0 first)")
         ->capture_default_str();
-    cmd->add_option("--fis-bias", o->fisBias, "fis: added to each sample's pyramid level (0 is the accurate setting, Filament uses 1)")->capture_default_str();
+    cmd->add_option("--fis-bias", o->fisBias, "fis: added to each sample's pyramid level (0 is the accurate setting, Filament uses 1)")
+        ->capture_default_str();
     cmd->add_option("--pyramid", o->pyramid, "Pass 1 pyramid: bspline or box")->capture_default_str();
-    cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")->capture_default_str();
+    cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")
+        ->capture_default_str();
     cmd->add_option("--size", o->size, "Output face size S_0 (a power of two)")->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();

@@ -50,7 +50,8 @@ void writePng(const std::filesystem::path& png, int width, int height, const std
 
 void writeLevelsPreview(const std::filesystem::path& png, const probe::CubeLevels& levels) {
     const int width = 512, height = 256;
-    probe::Image panoramas{width, static_cast<int>(height * levels.size()), std::vector<float>(std::size_t(width) * height * 3 * levels.size())};
+    probe::Image panoramas{width, static_cast<int>(height * levels.size()),
+                           std::vector<float>(std::size_t(width) * height * 3 * levels.size())};
     for (std::size_t m = 0; m < levels.size(); ++m)
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {

@@ -34,14 +34,14 @@ void runReference(const ReferenceOptions& o) {
     Stopwatch loadTime;
     probe::Image image = probe::readImage(o.input);
     const probe::ProbeLayout layout = probe::detectLayout(image, o.input);
-    const std::size_t repaired = probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+    const std::size_t repaired =
+        probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
     const probe::CubeImage source = probe::imageToCube(image, layout, o.size);
     const double loadSeconds = loadTime.seconds();
 
     Stopwatch filterTime;
-    const probe::CubeLevels levels = probe::referenceFilter(source, levelCount, mapping, [](std::size_t done, std::size_t total) {
-        printProgress("reference", done, total);
-    });
+    const probe::CubeLevels levels = probe::referenceFilter(
+        source, levelCount, mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
     const double filterSeconds = filterTime.seconds();
 
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
@@ -57,8 +57,8 @@ void runReference(const ReferenceOptions& o) {
     report["passes"] = {{{"name", "load"}, {"seconds", loadSeconds}}, {{"name", "reference"}, {"seconds", filterSeconds}}};
     writeJson(output.file("report.json"), report);
     output.commit();
-    fmt::print("reference: {} levels of {}^2 in {:.2f} s on {} threads -> {}\n", levelCount, o.size, filterSeconds,
-               omp_get_max_threads(), o.out);
+    fmt::print("reference: {} levels of {}^2 in {:.2f} s on {} threads -> {}\n", levelCount, o.size, filterSeconds, omp_get_max_threads(),
+               o.out);
 }
 
 } // namespace

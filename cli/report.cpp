@@ -26,7 +26,11 @@ nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapp
 }
 
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {
-    return {{"kind", "vulkan"}, {"index", info.index}, {"name", info.name}, {"driver", info.driver}, {"type", info.type},
+    return {{"kind", "vulkan"},
+            {"index", info.index},
+            {"name", info.name},
+            {"driver", info.driver},
+            {"type", info.type},
             {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(info.apiVersion), VK_API_VERSION_MINOR(info.apiVersion),
                                 VK_API_VERSION_PATCH(info.apiVersion))},
             {"validation", validation}};
@@ -34,14 +38,11 @@ nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validatio
 
 nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches) {
     nlohmann::json list = nlohmann::json::array();
-    for (const probe::gpu::Dispatch& d : dispatches)
-        list.push_back({{"pass", d.pass}, {"level", d.level}, {"workgroups", d.groups}});
+    for (const probe::gpu::Dispatch& d : dispatches) list.push_back({{"pass", d.pass}, {"level", d.level}, {"workgroups", d.groups}});
     return list;
 }
 
-static double now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+static double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 double median(std::vector<double> values) {
     std::sort(values.begin(), values.end());
@@ -55,8 +56,7 @@ double Stopwatch::seconds() const { return now() - start_; }
 void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
     std::ofstream out(path);
     out << json.dump(2) << "\n";
-    if (!out)
-        throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 
 void printProgress(const std::string& label, std::size_t done, std::size_t total) {

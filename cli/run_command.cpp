@@ -32,7 +32,7 @@ struct RunOptions {
 };
 
 constexpr int kIrradianceSize = 16; // face size of irradiance.exr
-constexpr int kSphereCell = 192; // pixels per sphere in spheres.png
+constexpr int kSphereCell = 192;    // pixels per sphere in spheres.png
 
 probe::gpu::Method gpuMethod(probe::FilterMethod method) {
     switch (method) {
@@ -64,7 +64,7 @@ struct ProbeResult {
 };
 
 class SceneRun {
-public:
+  public:
     SceneRun(const RunOptions& options, const probe::Scene& scene, probe::StagedOutput& output, const probe::gpu::Device& device)
         : options_(options), scene_(scene), output_(output), device_(device) {}
 
@@ -84,7 +84,7 @@ public:
         if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.levels.empty())
             entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping,
                                            scene_.outputs.ktx2 == probe::Ktx2Format::rgba16f ? probe::Ktx2PixelFormat::rgba16f
-                                                                                            : probe::Ktx2PixelFormat::rgba32f);
+                                                                                             : probe::Ktx2PixelFormat::rgba32f);
         probes_.push_back(std::move(entry));
         results_.push_back(std::move(result));
     }
@@ -93,7 +93,10 @@ public:
         dfg_ = probe::dfgTable(probe::kDfgTableSize, probe::kDfgTableSamples);
         probe::writeExr(output_.file("dfg.exr"), *dfg_);
         recordPass(probe::kDfgPass, "cpu");
-        report_["dfg"] = {{"file", "dfg.exr"}, {"size", probe::kDfgTableSize}, {"samples", probe::kDfgTableSamples}, {"convention", probe::kDfgConvention}};
+        report_["dfg"] = {{"file", "dfg.exr"},
+                          {"size", probe::kDfgTableSize},
+                          {"samples", probe::kDfgTableSamples},
+                          {"convention", probe::kDfgConvention}};
     }
 
     // spheres.png per probe: its materials, lit by what the plan computed.
@@ -129,7 +132,7 @@ public:
 
     std::size_t passCount() const { return ran_.size(); }
 
-private:
+  private:
     void recordPass(const std::string& name, const char* on, json dispatches = json::array()) {
         ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
     }
@@ -155,7 +158,8 @@ private:
         std::vector<probe::gpu::Dispatch> pyramid, levels;
         for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : levels).push_back(d);
         if (!pyramid.empty()) recordPass(probe::pyramidPass(p.name, pyramid.back().level), "gpu", describeDispatches(pyramid));
-        for (const probe::gpu::Dispatch& d : levels) recordPass(probe::levelPass(p.name, d.level, p.method), "gpu", describeDispatches({d}));
+        for (const probe::gpu::Dispatch& d : levels)
+            recordPass(probe::levelPass(p.name, d.level, p.method), "gpu", describeDispatches({d}));
 
         json written = json::array();
         const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.levels' order
@@ -222,7 +226,8 @@ void runScene(const RunOptions& o) {
     if (scene.outputs.spheres) run.renderSpheres();
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
-        throw probe::ProbeError(fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
+        throw probe::ProbeError(
+            fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
     run.finish();
     output.commit();
     fmt::print("run: {} pass(es) of {} on {} -> {}\n", run.passCount(), o.scene, device.info().name, o.out);

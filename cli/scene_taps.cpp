@@ -18,16 +18,15 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
             return compiled->table;
         throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
                                             "(probefit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
-                                            scene.path.string(), p.name, p.faceSize, p.levelCount,
-                                            probe::roughnessMappingName(p.mapping), p.faceSize, p.levelCount,
-                                            probe::roughnessMappingName(p.mapping)));
+                                            scene.path.string(), p.name, p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping),
+                                            p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping)));
     }
     probe::TapTable table = probe::readTable(*p.table);
     if (table.baseSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
-        throw probe::ProbeError(fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",
-                                            p.table->string(), table.baseSize, table.levelCount,
-                                            probe::roughnessMappingName(table.mapping), p.name, scene.path.string(), p.faceSize,
-                                            p.levelCount, probe::roughnessMappingName(p.mapping)));
+        throw probe::ProbeError(
+            fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",
+                        p.table->string(), table.baseSize, table.levelCount, probe::roughnessMappingName(table.mapping), p.name,
+                        scene.path.string(), p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping)));
     return table;
 }
 

@@ -14,8 +14,8 @@
 
 #include "commands.h"
 #include "probe/error.h"
-#include "probe/impulse_error.h"
 #include "probe/importance_sampling.h"
+#include "probe/impulse_error.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
@@ -57,8 +57,7 @@ std::vector<NamedProbe> sweepProbes(const SweepOptions& o) {
         else probes.push_back({name, probe::syntheticProbe(name, s)});
     }
     if (!o.hdriDir.empty()) {
-        if (!std::filesystem::is_directory(o.hdriDir))
-            throw probe::ProbeError(fmt::format("{}: --hdri-dir is not a folder", o.hdriDir));
+        if (!std::filesystem::is_directory(o.hdriDir)) throw probe::ProbeError(fmt::format("{}: --hdri-dir is not a folder", o.hdriDir));
         std::vector<std::filesystem::path> files;
         for (const auto& entry : std::filesystem::directory_iterator(o.hdriDir))
             if (entry.path().extension() == ".exr") files.push_back(entry.path());
@@ -84,7 +83,11 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
     for (const probe::gpu::CompiledTable& t : probe::gpu::compiledTables()) {
         if (t.table.baseSize != o.size || t.table.levelCount != levelCount || t.table.mapping != probe::RoughnessMapping::gltf) continue;
         Method m;
-        m.description = {t.name, "table", t.table.taps, 0.0, std::string(probe::pyramidKindName(t.table.pyramid.kind)),
+        m.description = {t.name,
+                         "table",
+                         t.table.taps,
+                         0.0,
+                         std::string(probe::pyramidKindName(t.table.pyramid.kind)),
                          std::string(probe::tableFormName(t.table.form))};
         m.settings.method = probe::gpu::Method::table;
         m.settings.pyramid = t.table.pyramid;
@@ -104,7 +107,11 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
                     fis.pyramid.kind = probe::parsePyramidKind(pyramid);
                     if (mix) fis.levelSamples = probe::mixedLevelSamples(samples, levelCount);
                     m.description = {fmt::format("{}{}-bias{}-{}", mix ? "fismix" : "fis", samples, bias, pyramid),
-                                     mix ? "fis-mix" : "fis", samples, bias, pyramid, ""};
+                                     mix ? "fis-mix" : "fis",
+                                     samples,
+                                     bias,
+                                     pyramid,
+                                     ""};
                     m.settings.method = probe::gpu::Method::fis;
                     m.settings.pyramid = fis.pyramid;
                     m.settings.fisSamples = samples;
@@ -194,7 +201,8 @@ void addSweepCommand(CLI::App& app) {
     auto o = std::make_shared<SweepOptions>();
     CLI::App* cmd = app.add_subcommand("sweep", "Error against time for every table and FIS setting on a probe set (one device, one run)");
     cmd->add_option("--size", o->size, "Face size S_0");
-    cmd->add_option("--synthetic", o->synthetic, "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
+    cmd->add_option("--synthetic", o->synthetic,
+                    "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
     cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");
     cmd->add_option("--samples", o->samples, "FIS sample counts");
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");

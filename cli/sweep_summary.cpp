@@ -86,7 +86,8 @@ double fisErrorAtTime(const std::vector<MethodScore>& curve, double ms, bool imp
         if (curve[k].gpuMs < ms) continue;
         const double t0 = std::log(curve[k - 1].gpuMs), t1 = std::log(curve[k].gpuMs);
         const double t = t1 == t0 ? 1.0 : (std::log(ms) - t0) / (t1 - t0);
-        return std::exp(std::log(errorOf(curve[k - 1], impulse)) + t * (std::log(errorOf(curve[k], impulse)) - std::log(errorOf(curve[k - 1], impulse))));
+        return std::exp(std::log(errorOf(curve[k - 1], impulse)) +
+                        t * (std::log(errorOf(curve[k], impulse)) - std::log(errorOf(curve[k - 1], impulse))));
     }
     return errorOf(curve.back(), impulse);
 }
@@ -135,7 +136,8 @@ std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::
 std::string formatRatios(const std::optional<Ratios>& r, const std::string& label) {
     if (!r) return fmt::format("{}: not measured (no table, no FIS-32 or no FIS of that family in the sweep)\n", label);
     const std::string last = fmt::format("{}-{}", r->fisFamily == "fis" ? "FIS" : "FIS-mix", r->fisMaxSamples);
-    const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError) : fmt::format("> {} (never reaches it)", last);
+    const std::string time =
+        r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError) : fmt::format("> {} (never reaches it)", last);
     const std::string fis = r->fisFamily == "fis" ? "FIS-32" : "the best FIS mix within it";
     const std::string compared = r->fisFamily == "fis" ? "" : fmt::format("; FIS {}", r->fisCompared);
     const std::string atBudget =
@@ -152,11 +154,12 @@ std::string formatRatios(const std::optional<Ratios>& r, const std::string& labe
 nlohmann::json tablesJson(const std::vector<TableVersusFis>& tables) {
     nlohmann::json list = nlohmann::json::array();
     for (const TableVersusFis& t : tables)
-        list.push_back({{"table", t.table},
-                        {"error", t.error},
-                        {"gpu_ms", t.gpuMs},
-                        {"error_at_table_time", t.errorAtTableTime},
-                        {"fis_time_at_table_error", t.fisTimeAtTableError ? nlohmann::json(*t.fisTimeAtTableError) : nlohmann::json(nullptr)}});
+        list.push_back(
+            {{"table", t.table},
+             {"error", t.error},
+             {"gpu_ms", t.gpuMs},
+             {"error_at_table_time", t.errorAtTableTime},
+             {"fis_time_at_table_error", t.fisTimeAtTableError ? nlohmann::json(*t.fisTimeAtTableError) : nlohmann::json(nullptr)}});
     return list;
 }
 
@@ -228,8 +231,8 @@ void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow
     out << "method,family,count,bias,pyramid,form,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms\n";
     for (const SweepRow& r : rows)
         out << fmt::format("{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family, r.method.count,
-                           r.method.bias, r.method.pyramid, r.method.form, r.probe, r.level, r.imageL1, r.impulseL1Mean,
-                           r.impulseL1Max, r.gpuMs, r.levelGpuMs);
+                           r.method.bias, r.method.pyramid, r.method.form, r.probe, r.level, r.imageL1, r.impulseL1Mean, r.impulseL1Max,
+                           r.gpuMs, r.levelGpuMs);
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 
@@ -254,7 +257,8 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
     out << fmt::format("Each table against uniform FIS at the best setting ({}), interpolated in log error against log time: "
                        "its error over FIS's at the table's time, and FIS's time over the table's at the table's error.\n\n",
                        summary.bestFisSetting);
-    out << "| table | GPU ms | image L1 | / FIS's at that time | FIS time at that error | impulse L1 | / FIS's at that time | FIS time at that error |\n"
+    out << "| table | GPU ms | image L1 | / FIS's at that time | FIS time at that error | impulse L1 | / FIS's at that time | FIS time at "
+           "that error |\n"
            "|---|---|---|---|---|---|---|---|\n";
     const auto timeText = [](const std::optional<double>& x) { return x ? fmt::format("{:.2f}x", *x) : std::string("never"); };
     for (std::size_t k = 0; k < summary.tableImages.size(); ++k) {
@@ -270,8 +274,8 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
     out << "\n| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         out << fmt::format("| {} | {} | {} | {} | {} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family, s.method.count,
-                           s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1,
-                           s.impulseL1, s.gpuMs);
+                           s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1, s.impulseL1,
+                           s.gpuMs);
     out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }

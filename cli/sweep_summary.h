@@ -45,13 +45,13 @@ struct MethodScore {
 // The two ratios against one FIS family at one setting, on one error measure, and the same
 // comparison at the table's own time.
 struct Ratios {
-    std::string fisSetting;    // e.g. "bias 0, bspline"
-    std::string fisFamily;     // "fis" or "fis-mix"
-    std::string fisCompared;   // FIS-32, or the most accurate mix no slower than FIS-32
-    std::string tableName;     // the table compared: the most accurate one no slower than FIS-32, else the fastest
+    std::string fisSetting;            // e.g. "bias 0, bspline"
+    std::string fisFamily;             // "fis" or "fis-mix"
+    std::string fisCompared;           // FIS-32, or the most accurate mix no slower than FIS-32
+    std::string tableName;             // the table compared: the most accurate one no slower than FIS-32, else the fastest
     bool tableWithinFis32Time = false; // false: no table is as fast as FIS-32, and the fastest is compared
     double tableMs = 0.0, fis32Ms = 0.0;
-    double errorAtFis32Time = 0.0; // table error / the compared FIS's error
+    double errorAtFis32Time = 0.0;          // table error / the compared FIS's error
     std::optional<double> timeAtTableError; // FIS time / table time at the table's error; empty: FIS never gets there
     // Table error / FIS error at the table's time, FIS interpolated between the counts around that
     // time (log error against log time); the nearest end of the curve outside it.
@@ -63,7 +63,7 @@ struct Ratios {
 struct TableVersusFis {
     std::string table;
     double error = 0.0, gpuMs = 0.0;
-    double errorAtTableTime = 0.0;            // table error / FIS error at the table's time
+    double errorAtTableTime = 0.0;             // table error / FIS error at the table's time
     std::optional<double> fisTimeAtTableError; // FIS time / table time at the table's error; empty: never
 };
 
@@ -72,7 +72,7 @@ struct SweepSummary {
     std::vector<MethodScore> impulses; // over the impulse probes
     std::string bestFisSetting;        // the best single (bias, pyramid) over the image probes
     std::optional<Ratios> best, paper, impulseBest;
-    std::optional<Ratios> bestMix, impulseBestMix; // against the per-level FIS mixes at the best setting
+    std::optional<Ratios> bestMix, impulseBestMix;          // against the per-level FIS mixes at the best setting
     std::vector<TableVersusFis> tableImages, tableImpulses; // every table against FIS at the best setting, by time
 };
 

@@ -47,8 +47,7 @@ LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
     return combine(texels, results);
 }
 
-LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks,
-                                 const std::vector<OutputTexel>& texels) {
+LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {
     std::vector<ImpulseModel::Result> results(texels.size());
     std::vector<WeightedTexel> weighted(texels.size());
 #pragma omp parallel

@@ -23,7 +23,6 @@ std::vector<probe::WeightedTexel> levelTexels(const probe::TapTable& table, int 
 LevelEvaluation evaluateLevel(const probe::TapTable& table, int level, TexelSet set);
 
 // The same from prepared texels and coefficient blocks (what the fit uses).
-LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks,
-                                 const std::vector<OutputTexel>& texels);
+LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels);
 
 } // namespace probefit

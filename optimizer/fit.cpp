@@ -11,8 +11,8 @@
 #include "evaluate.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
-#include "seam_term.h"
 #include "probe/error.h"
+#include "seam_term.h"
 
 namespace probefit {
 
@@ -37,7 +37,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 // start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). Terms are
 // computed in parallel and summed in order, so the result does not depend on the number of threads.
 class LevelObjective {
-public:
+  public:
     LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
                    const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight)
         : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight) {
@@ -56,8 +56,7 @@ public:
     // Per term n (texels first, then seam pairs): its term and, with gradients, d error_n / d theta in
     // errorGradient[n * P ...] and (texels) d weightSum_n / d theta in weightGradient[n * P ...]
     // (P = parameterCount()).
-    void evaluate(const double* const* blocks, std::vector<Term>& terms, double* errorGradient,
-                  double* weightGradient) const {
+    void evaluate(const double* const* blocks, std::vector<Term>& terms, double* errorGradient, double* weightGradient) const {
         const std::size_t count = texels_.size(), p = static_cast<std::size_t>(parameterCount());
         terms.assign(termCount(), Term{});
         const auto start = Clock::now();
@@ -67,9 +66,8 @@ public:
             std::vector<double> scratch;
 #pragma omp for schedule(dynamic, 4)
             for (std::size_t n = 0; n < count; ++n) {
-                const ImpulseModel::Result r =
-                    model_.evaluate(blocks, texels_[n], ws, errorGradient ? errorGradient + n * p : nullptr,
-                                    errorGradient ? weightGradient + n * p : nullptr);
+                const ImpulseModel::Result r = model_.evaluate(blocks, texels_[n], ws, errorGradient ? errorGradient + n * p : nullptr,
+                                                               errorGradient ? weightGradient + n * p : nullptr);
                 const double deficit = kMinWeightSum - r.weightSum / weightScale_;
                 Term& t = terms[n];
                 t.a = texels_[n].weight / weightTotal_;
@@ -82,8 +80,7 @@ public:
                 const std::size_t n = count + k;
                 Term& t = terms[n];
                 t.a = seamWeight_ / static_cast<double>(pairs_.size());
-                t.error = seamError(model_, blocks, pairs_[k], basis_, errorGradient ? errorGradient + n * p : nullptr,
-                                    scratch);
+                t.error = seamError(model_, blocks, pairs_[k], basis_, errorGradient ? errorGradient + n * p : nullptr, scratch);
                 if (errorGradient) std::fill(weightGradient + n * p, weightGradient + (n + 1) * p, 0.0);
             }
         }
@@ -94,7 +91,7 @@ public:
     double seconds() const { return seconds_; }
     int evaluations() const { return evaluations_; }
 
-private:
+  private:
     const ImpulseModel& model_;
     const std::vector<OutputTexel>& texels_;
     double weightScale_;
@@ -117,7 +114,7 @@ std::vector<const double*> blockPointers(const ImpulseModel& model, const double
 // from the true gradients: measured on 128^2 quad 8, 60 iterations reach 0.087 / 0.113 / 0.132 at
 // levels 2 / 5 / 6 where Levenberg-Marquardt's reach 0.093 / 0.126 / 0.156.
 class LevelFunction final : public ceres::FirstOrderFunction {
-public:
+  public:
     LevelFunction(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {}
     int NumParameters() const override { return objective_.parameterCount(); }
 
@@ -128,8 +125,7 @@ public:
             errorGradient_.resize(objective_.termCount() * p);
             weightGradient_.resize(errorGradient_.size());
         }
-        objective_.evaluate(blocks.data(), terms_, gradient ? errorGradient_.data() : nullptr,
-                            gradient ? weightGradient_.data() : nullptr);
+        objective_.evaluate(blocks.data(), terms_, gradient ? errorGradient_.data() : nullptr, gradient ? weightGradient_.data() : nullptr);
         double f = 0.0;
         for (const auto& t : terms_) f += t.a * (t.error + t.penalty * t.penalty);
         *cost = f;
@@ -147,7 +143,7 @@ public:
         return true;
     }
 
-private:
+  private:
     const ImpulseModel& model_;
     const LevelObjective& objective_;
     mutable std::vector<LevelObjective::Term> terms_;
@@ -157,7 +153,7 @@ private:
 // Levenberg-Marquardt on the same f as a sum of squares: residuals 0..R-1 are sqrt(a_R e_R) (texels,
 // then seam pairs), residuals R..2R-1 sqrt(a_R) p_R; Ceres's cost 0.5 * sum r^2 is f / 2.
 class LevelCost final : public ceres::CostFunction {
-public:
+  public:
     LevelCost(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {
         set_num_residuals(static_cast<int>(2 * objective.termCount()));
         for (int b = 0; b < model.blockCount(); ++b) mutable_parameter_block_sizes()->push_back(model.blockSize());
@@ -169,8 +165,7 @@ public:
             errorGradient_.resize(count * p);
             weightGradient_.resize(count * p);
         }
-        objective_.evaluate(parameters, terms_, jacobians ? errorGradient_.data() : nullptr,
-                            jacobians ? weightGradient_.data() : nullptr);
+        objective_.evaluate(parameters, terms_, jacobians ? errorGradient_.data() : nullptr, jacobians ? weightGradient_.data() : nullptr);
         const int blockSize = model_.blockSize();
         for (std::size_t n = 0; n < count; ++n) {
             const auto& t = terms_[n];
@@ -193,7 +188,7 @@ public:
         return true;
     }
 
-private:
+  private:
     const ImpulseModel& model_;
     const LevelObjective& objective_;
     mutable std::vector<LevelObjective::Term> terms_;
@@ -201,9 +196,8 @@ private:
 };
 
 class ProgressCallback final : public ceres::IterationCallback {
-public:
-    ProgressCallback(const std::function<void(const FitProgress&)>& progress, int level, Clock::time_point start,
-                     double costScale)
+  public:
+    ProgressCallback(const std::function<void(const FitProgress&)>& progress, int level, Clock::time_point start, double costScale)
         : progress_(progress), level_(level), start_(start), costScale_(costScale) {}
     ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
         // Rejected trial steps report the trial's cost; show the accepted state only.
@@ -212,7 +206,7 @@ public:
         return ceres::SOLVER_CONTINUE;
     }
 
-private:
+  private:
     const std::function<void(const FitProgress&)>& progress_;
     int level_;
     Clock::time_point start_;
@@ -257,17 +251,16 @@ std::string solverDescription(const FitSettings& s) {
     case FitSolver::bfgs: method = fmt::format("at most {} iterations of {}", s.maxIterations, bfgs); break;
     case FitSolver::lm: method = fmt::format("at most {} iterations of {}", s.maxIterations, lm); break;
     }
-    const std::string seam =
-        s.seamWeight > 0.0 ? fmt::format(" plus {} x the mean seam term over at most {} face-edge pairs (the change of "
-                                         "the response's order-1 and order-2 SH moments across the edge against the "
-                                         "reference's)",
-                                         s.seamWeight, s.seamPairBudget)
-                           : "";
+    const std::string seam = s.seamWeight > 0.0
+                                 ? fmt::format(" plus {} x the mean seam term over at most {} face-edge pairs (the change of "
+                                               "the response's order-1 and order-2 SH moments across the edge against the "
+                                               "reference's)",
+                                               s.seamWeight, s.seamPairBudget)
+                                 : "";
     return fmt::format("Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels{}, per level; "
                        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
                        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}",
-                       CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty,
-                       initDescription(s));
+                       CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s));
 }
 
 struct SolveReport {
@@ -290,8 +283,8 @@ SolveReport solveBfgs(const ImpulseModel& model, const LevelObjective& objective
     return {summary.iterations.empty() ? 0 : summary.iterations.back().iteration, summary.total_time_in_seconds};
 }
 
-SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObjective& objective,
-                                    const std::vector<double*>& blocks, int iterations, ProgressCallback& callback) {
+SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObjective& objective, const std::vector<double*>& blocks,
+                                    int iterations, ProgressCallback& callback) {
     ceres::Problem problem;
     problem.AddResidualBlock(new LevelCost(model, objective), nullptr, blocks);
     ceres::Solver::Options options;
@@ -325,18 +318,17 @@ FitSolver parseFitSolver(const std::string& name) {
 }
 
 TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress) {
-    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping,
-                                settings.pyramid);
+    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
     table.seamWeight = settings.seamWeight;
     for (const TapTable& init : settings.inits) {
         if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)
-            throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize,
-                                         init.levelCount, settings.baseSize, settings.levelCount));
+            throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize, init.levelCount,
+                                         settings.baseSize, settings.levelCount));
         if (init.taps != settings.taps && init.taps * 2 != settings.taps)
-            throw ProbeError(fmt::format("--init: table has {} taps per frame, expected {} or {}", init.taps, settings.taps,
-                                         settings.taps / 2));
+            throw ProbeError(
+                fmt::format("--init: table has {} taps per frame, expected {} or {}", init.taps, settings.taps, settings.taps / 2));
     }
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
@@ -412,8 +404,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             std::vector<double*> blocks;
             for (const double* b : constBlocks) blocks.push_back(const_cast<double*>(b));
             const int iterations = settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
-            report = solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()),
-                                             callback);
+            report = solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()), callback);
         }
         if (settings.solver != FitSolver::lm) {
             ProgressCallback callback(progress, m, start, 1.0);

@@ -2,11 +2,11 @@
 // stratified texels (BFGS on the L1 itself, or Levenberg-Marquardt with one residual per texel).
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <optional>
-#include <vector>
-#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "probe/tap_table.h"
 
@@ -34,7 +34,7 @@ struct FitSettings {
     // edge pairs per level.
     double seamWeight = 0.0;
     int seamPairBudget = 128;
-    bool measureAll = true;     // also measure every output texel after the fit (recorded in the table)
+    bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
 };
 

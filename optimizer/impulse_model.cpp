@@ -76,8 +76,7 @@ struct L1Measure {
 // Every tap of the output texel (frames with weight > 0), with derivatives in its block's coefficients:
 // visit(block, weight, footprint).
 template <int K, typename Visit>
-void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps, int baseSize, int pyramidLevels,
-                Visit&& visit) {
+void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps, int baseSize, int pyramidLevels, Visit&& visit) {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     for (int f = 0; f < kFrameCount; ++f) {
@@ -117,23 +116,21 @@ MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
     }
 }
 
-ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
-                                            double* gradient, double* weightSumGradient) const {
+ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
+                                            double* weightSumGradient) const {
     return form_ == TableForm::quadratic ? evaluateWith<3>(blocks, texel, ws, gradient, weightSumGradient)
                                          : evaluateWith<1>(blocks, texel, ws, gradient, weightSumGradient);
 }
 
 void ImpulseModel::moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
                            const double* c, double* gradient) const {
-    if (form_ == TableForm::quadratic)
-        momentsWith<3>(blocks, texel, basis, moments, c, gradient);
-    else
-        momentsWith<1>(blocks, texel, basis, moments, c, gradient);
+    if (form_ == TableForm::quadratic) momentsWith<3>(blocks, texel, basis, moments, c, gradient);
+    else momentsWith<1>(blocks, texel, basis, moments, c, gradient);
 }
 
 template <int K>
-void ImpulseModel::momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis,
-                               double* moments, const double* c, double* gradient) const {
+void ImpulseModel::momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
+                               const double* c, double* gradient) const {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     // Per tap i: its weight W_i, and A_i = sum over its footprint of b_ip Y(p) (the pulled-up basis),
@@ -182,8 +179,8 @@ void ImpulseModel::momentsWith(const double* const* blocks, const OutputTexel& t
 }
 
 template <int K>
-ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws,
-                                                double* gradient, double* weightSumGradient) const {
+ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
+                                                double* weightSumGradient) const {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     struct TapRecord {
@@ -266,8 +263,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     if (gradient) {
         // d e / d c_p = G_p (the pulled-up slope); c_p = sum_i W_i b_ip / S, so
         // d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip and Ebar = sum_i W_i A_i / S.
-        if (dense)
-            pullUpFromBase(operators_, ws.adjoint, top);
+        if (dense) pullUpFromBase(operators_, ws.adjoint, top);
         else // every row of a touched texel lies in the touched texels of the level below
             for (int k = 1; k <= top; ++k) {
                 const DownsampleOperator& op = operators_[k - 1];
@@ -298,8 +294,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     }
     // Leave the weights zero for the next call (the adjoint is only read where it was written).
     for (int k = 0; k <= top; ++k)
-        if (dense)
-            std::fill(ws.weights[k].begin(), ws.weights[k].end(), 0.0);
+        if (dense) std::fill(ws.weights[k].begin(), ws.weights[k].end(), 0.0);
         else
             for (const std::uint32_t p : ws.touched[k]) ws.weights[k][p] = 0.0;
     return result;

@@ -26,12 +26,10 @@ struct OutputTexel {
 };
 
 // One texel of output level m (alpha > 0), its kernel included; `geometry` is that of the base.
-OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level,
-                            double alpha);
+OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha);
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
-std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level,
-                                       double alpha);
+std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha);
 
 // The smooth functions whose moments the seam term of the fit compares: the order-1 and order-2 real
 // SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel,
@@ -39,19 +37,19 @@ std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& 
 // pyramid texel p is that weight times the pulled-up basis at p, and no response needs building.
 inline constexpr int kMomentCount = 8;
 class MomentBasis {
-public:
+  public:
     MomentBasis(int baseSize, probe::PyramidSettings pyramid);
     const double* at(std::uint32_t texel) const { return at(0, texel); }
     const double* at(int level, std::uint32_t texel) const {
         return &levels_[static_cast<std::size_t>(level)][static_cast<std::size_t>(texel) * kMomentCount];
     }
 
-private:
+  private:
     std::vector<std::vector<double>> levels_; // per pyramid level, kMomentCount values per texel
 };
 
 class ImpulseModel {
-public:
+  public:
     ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form);
 
     int taps() const { return taps_; }
@@ -85,13 +83,13 @@ public:
     void moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
                  const double* c = nullptr, double* gradient = nullptr) const;
 
-private:
+  private:
     template <int K>
     Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
                         double* weightSumGradient) const;
     template <int K>
-    void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
-                     const double* c, double* gradient) const;
+    void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments, const double* c,
+                     double* gradient) const;
 
     int baseSize_;
     int pyramidLevels_;

@@ -10,10 +10,10 @@
 
 #include "evaluate.h"
 #include "fit.h"
-#include "seam_select.h"
-#include "table_mix.h"
 #include "probe/error.h"
 #include "probe/table_io.h"
+#include "seam_select.h"
+#include "table_mix.h"
 #include "table_outputs.h"
 
 namespace {
@@ -30,32 +30,27 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
     }
 }
 
-int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping,
-           const std::string& pyramid, const std::string& weighting, const std::string& solver, const std::vector<std::string>& init,
-           const std::string& out) {
+int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping, const std::string& pyramid,
+           const std::string& weighting, const std::string& solver, const std::vector<std::string>& init, const std::string& out) {
     settings.form = parseOption("--form", form, parseTableForm);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
-    settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind),
-                        parseOption("--weighting", weighting, parsePyramidWeighting)};
+    settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
     if (log2Exact(settings.baseSize) < 1)
         throw ProbeError(fmt::format("--size: face size {} is not a power of two >= 2", settings.baseSize));
     if (settings.levelCount == 0) settings.levelCount = defaultLevelCount(settings.baseSize);
     if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
-        throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount,
-                                     settings.baseSize, maxLevelCount(settings.baseSize)));
+        throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount, settings.baseSize,
+                                     maxLevelCount(settings.baseSize)));
     if (settings.taps < 4 || settings.taps % 4 != 0)
         throw ProbeError(fmt::format("--taps: {} is not a positive multiple of 4", settings.taps));
-    if (settings.maxIterations < 1)
-        throw ProbeError(fmt::format("--iterations: {} is not a positive count", settings.maxIterations));
-    if (settings.lmIterations < 0)
-        throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
+    if (settings.maxIterations < 1) throw ProbeError(fmt::format("--iterations: {} is not a positive count", settings.maxIterations));
+    if (settings.lmIterations < 0) throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
     if (settings.roughIterationFactor < 1)
         throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
     if (settings.seamWeight < 0.0 || !std::isfinite(settings.seamWeight))
         throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
-    if (settings.seamPairBudget < 1)
-        throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
+    if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
     for (const std::string& path : init) {
@@ -64,15 +59,13 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
             (t.taps != settings.taps && 2 * t.taps != settings.taps))
             throw ProbeError(fmt::format("--init {}: table is for size {}, {} levels, {} taps; this fit is size {}, {} "
                                          "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
-                                         path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount,
-                                         settings.taps));
+                                         path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount, settings.taps));
     }
     probefit::checkWritable(out);
 
     fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
-               settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting,
-               settings.stratifiedBudget, solver);
+               settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting, settings.stratifiedBudget, solver);
     // Where the time goes, summed over levels: reference kernels, the model inside the solver, the
     // solver's own work, and everything else (start candidates, the measurement over all texels).
     double kernels = 0.0, evaluation = 0.0, solverOwn = 0.0;
@@ -84,21 +77,19 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         else if (p.stage == "done") {
             fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
                        "evaluations, solver {:.1f} s)\n",
-                       p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations,
-                       p.solverSeconds);
+                       p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations, p.solverSeconds);
             kernels += p.kernelSeconds;
             evaluation += p.evaluationSeconds;
             solverOwn += p.solverSeconds;
             evaluations += p.evaluations;
         } else
-            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage,
-                       p.stage.starts_with("seam term") ? "mean s" : "L1", p.l1, p.seconds);
+            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, p.stage.starts_with("seam term") ? "mean s" : "L1", p.l1,
+                       p.seconds);
         std::fflush(stdout);
     });
     fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
                "solver's own work {:.1f} s, other (start candidates, measuring all texels) {:.1f} s\n",
-               table.fitSeconds, kernels, evaluation, evaluations, solverOwn,
-               table.fitSeconds - kernels - evaluation - solverOwn);
+               table.fitSeconds, kernels, evaluation, evaluations, solverOwn, table.fitSeconds - kernels - evaluation - solverOwn);
     probefit::writeTableOutputs(out, table);
     for (const std::string& line : tableSummary(table)) fmt::print("{}\n", line);
     fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", out);
@@ -108,8 +99,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 // Prints the L1 per level; with a tolerance, exits 1 where it differs from the recorded value.
 int runEval(const std::string& path, const std::string& texels, double tolerance) {
     const TapTable table = readTable(path);
-    if (texels != "all" && texels != "stratified")
-        throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
+    if (texels != "all" && texels != "stratified") throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
     const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
     fmt::print("{}: impulse-response L1 over {} texels\n", path, texels);
     bool mismatch = false;
@@ -126,9 +116,8 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
             comparison = fmt::format("recorded {:.6f} / {:.6f}, difference {:.2e}", recorded.mean, recorded.max, difference);
             if (tolerance >= 0.0 && difference > tolerance) mismatch = true;
         }
-        fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m,
-                   e.error.mean, e.error.max, e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum,
-                   comparison);
+        fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
+                   e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);
     }
     if (mismatch) fmt::print(stderr, "probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance);
     return mismatch ? 1 : 0;
@@ -145,7 +134,8 @@ int runSelect(const std::vector<std::string>& paths, const std::string& out) {
         const probefit::LevelSelection& level = selection.levels[m];
         std::string ratios;
         for (std::size_t k = 0; k < candidates.size(); ++k)
-            ratios += fmt::format("  {} {:.4f} (L1 {:.4f})", candidates[k].name, level.seamRatios[k], candidates[k].table.levels[m].all.mean);
+            ratios +=
+                fmt::format("  {} {:.4f} (L1 {:.4f})", candidates[k].name, level.seamRatios[k], candidates[k].table.levels[m].all.mean);
         fmt::print("level {} bound {:.4f}:{}\n  -> {}{}\n", m, level.bound, ratios, candidates[level.chosen].name,
                    level.withinBound ? "" : " (no fit within the bound: the nearest)");
         allWithin = allWithin && level.withinBound;
@@ -188,12 +178,9 @@ int main(int argc, char** argv) {
                    "keeps its filter where it cannot beat it")
         ->allow_extra_args(false);
     app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
-    app.add_option("--solver", solver,
-                   "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
-    app.add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")
-        ->capture_default_str();
-    app.add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")
-        ->capture_default_str();
+    app.add_option("--solver", solver, "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
+    app.add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")->capture_default_str();
+    app.add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")->capture_default_str();
     app.add_option("--rough-factor", settings.roughIterationFactor,
                    "levels with fewer stratified texels get up to this many times the iterations")
         ->capture_default_str();
@@ -201,8 +188,7 @@ int main(int argc, char** argv) {
                    "weight of the seam term (the step of the response's smooth moments across face edges against "
                    "the reference's) beside the mean L1; 0: off")
         ->capture_default_str();
-    app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")
-        ->capture_default_str();
+    app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
     app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
@@ -244,7 +230,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.baseSize == 0},
-                                            {"--taps", settings.taps == 0}, {"--form", form.empty()}, {"--out", out.empty()}})
+                                            {"--taps", settings.taps == 0},
+                                            {"--form", form.empty()},
+                                            {"--out", out.empty()}})
             if (missing) throw ProbeError(fmt::format("{} is required", name));
         return runFit(settings, form, mapping, pyramid, weighting, solver, init, out);
     } catch (const CLI::CallForHelp& e) {

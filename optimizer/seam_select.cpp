@@ -21,8 +21,8 @@ void checkSameShape(const std::vector<SeamCandidate>& candidates) {
         const TapTable& t = c.table;
         if (t.baseSize != first.baseSize || t.levelCount != first.levelCount || t.taps != first.taps || t.form != first.form ||
             t.mapping != first.mapping || t.pyramid.kind != first.pyramid.kind || t.pyramid.weighting != first.pyramid.weighting)
-            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping and pyramid must agree)",
-                                         c.name, candidates.front().name));
+            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping and pyramid must agree)", c.name,
+                                         candidates.front().name));
     }
 }
 
@@ -54,7 +54,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
             const double ratio = level.bound > 0.0 ? seamRatio(filtered[k][m]) : 0.0;
             level.seamRatios.push_back(ratio);
             if (ratio < level.seamRatios[nearest]) nearest = k;
-            const bool better = !found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all);
+            const bool better =
+                !found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all);
             if (ratio <= level.bound && better) {
                 level.chosen = k;
                 found = true;
@@ -73,7 +74,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     for (const LevelSelection& level : selection.levels)
         if (candidates[level.chosen].table.seamWeight != selection.table.seamWeight) selection.table.seamWeight = 0.0;
     std::vector<std::string> fits;
-    for (const SeamCandidate& c : candidates) fits.push_back(fmt::format("[{}: seam weight {}, {}]", c.name, c.table.seamWeight, c.table.solver));
+    for (const SeamCandidate& c : candidates)
+        fits.push_back(fmt::format("[{}: seam weight {}, {}]", c.name, c.table.seamWeight, c.table.solver));
     selection.table.solver = fmt::format("probefit select: per level, the lowest impulse L1 among {} fits whose seams stay within "
                                          "the bound of seam_measure.h (level: fit) {}; the fits: {}",
                                          candidates.size(), sources, fmt::join(fits, " "));

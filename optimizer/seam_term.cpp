@@ -55,8 +55,8 @@ std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, in
     return pairs;
 }
 
-double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis,
-                 double* gradient, std::vector<double>& scratch) {
+double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis, double* gradient,
+                 std::vector<double>& scratch) {
     std::array<double, kMomentCount> ma, mb, slope;
     model.moments(blocks, pair.a, basis, ma.data());
     model.moments(blocks, pair.b, basis, mb.data());

@@ -13,7 +13,7 @@
 namespace probefit {
 
 struct SeamPair {
-    OutputTexel a, b; // neighbours across a face edge (their kernels dropped: only moments are compared)
+    OutputTexel a, b;                                 // neighbours across a face edge (their kernels dropped: only moments are compared)
     std::array<double, kMomentCount> referenceStep{}; // r(a) - r(b)
 };
 
@@ -23,7 +23,7 @@ std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, in
 
 // s of one pair; with `gradient` (blockCount * blockSize values, overwritten) also d s / d coefficient,
 // using `scratch` (resized as needed).
-double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis,
-                 double* gradient, std::vector<double>& scratch);
+double seamError(const ImpulseModel& model, const double* const* blocks, const SeamPair& pair, const MomentBasis& basis, double* gradient,
+                 std::vector<double>& scratch);
 
 } // namespace probefit

@@ -24,7 +24,8 @@ void checkMixable(const std::vector<MixSource>& perLevel) {
         const TapTable& t = s.table;
         if (t.baseSize != first.table.baseSize || t.levelCount != first.table.levelCount || t.form != first.table.form ||
             t.mapping != first.table.mapping || !(t.pyramid == first.table.pyramid))
-            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, form, mapping and pyramid must agree)", s.name, first.name));
+            throw ProbeError(
+                fmt::format("{}: not the shape of {} (size, levels, form, mapping and pyramid must agree)", s.name, first.name));
     }
 }
 

@@ -29,9 +29,8 @@ void checkWritable(const std::filesystem::path& prefix) {
 
 void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table) {
     const std::string name = tableIdentifier(prefix);
-    const std::vector<std::pair<std::string, std::string>> files{{".json", probe::tableToJson(table)},
-                                                                 {".h", probe::tableCppHeader(table, name)},
-                                                                 {".glsl", probe::tableGlslInclude(table, name)}};
+    const std::vector<std::pair<std::string, std::string>> files{
+        {".json", probe::tableToJson(table)}, {".h", probe::tableCppHeader(table, name)}, {".glsl", probe::tableGlslInclude(table, name)}};
     std::vector<std::filesystem::path> written;
     for (const auto& [extension, text] : files) {
         const std::filesystem::path temporary = prefix.string() + extension + ".partial";

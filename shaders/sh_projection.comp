@@ -52,5 +52,6 @@ void main() {
         barrier();
     }
     if (local == 0u)
-        for (int c = 0; c < PROBE_SH_COUNT; ++c) outputTexels[params.outFirst + group * uint(PROBE_SH_COUNT) + uint(c)] = vec4(partial[0][c], 0.0);
+        for (int c = 0; c < PROBE_SH_COUNT; ++c)
+            outputTexels[params.outFirst + group * uint(PROBE_SH_COUNT) + uint(c)] = vec4(partial[0][c], 0.0);
 }

@@ -19,7 +19,10 @@ expect_refused() { # name, expected text in the message, args...
     lines=$(wc -l <"$work/stderr")
     if [[ $code -ne 2 ]]; then echo "FAIL $name: exit code $code, expected 2"; failures=$((failures + 1)); fi
     if [[ $lines -ne 1 ]]; then echo "FAIL $name: $lines lines on stderr, expected 1"; cat "$work/stderr"; failures=$((failures + 1)); fi
-    if ! grep -qF -- "$text" "$work/stderr"; then echo "FAIL $name: message lacks '$text': $(cat "$work/stderr")"; failures=$((failures + 1)); fi
+    if ! grep -qF -- "$text" "$work/stderr"; then
+        echo "FAIL $name: message lacks '$text': $(cat "$work/stderr")"
+        failures=$((failures + 1))
+    fi
     if [[ -e $out ]] || compgen -G "$work/.out.partial-*" >/dev/null; then echo "FAIL $name: output written"; failures=$((failures + 1)); fi
     rm -rf "$out"
     echo "ok $name: $(cat "$work/stderr")"

@@ -24,7 +24,8 @@ assert r["method"] == "table" and r["device"]["name"] and r["device"]["driver"],
 assert [p["name"] for p in r["passes"]] == ["pyramid", "table", "total"], r["passes"]
 assert all(len(p["gpu_ms_runs"]) == 3 and p["gpu_ms_median"] > 0 for p in r["passes"]), r["passes"]
 assert all(l["gpu_ms_median"] >= 0 for l in r["levels"]) and len(r["levels"]) == 4, r["levels"]
-assert [(d["pass"], d["level"]) for d in r["dispatches"]] == [("pyramid", k) for k in range(5) for _ in range(2)] + [("table", m) for m in range(4)], r["dispatches"]
+expected = [("pyramid", k) for k in range(5) for _ in range(2)] + [("table", m) for m in range(4)]
+assert [(d["pass"], d["level"]) for d in r["dispatches"]] == expected, r["dispatches"]
 errors = r["errors_against_reference"]
 assert len(errors) == 4 and errors[0]["image_l1"] == 0 and all(0 < e["image_l1"] < 0.2 for e in errors[1:]), errors
 PY
@@ -36,7 +37,8 @@ for m in 0 1 2 3; do cmp -s table/level_$m.exr published/level_$m.exr || fail "p
 # Without --table, the compiled-in table for the settings (tables/*.json), quad 8 taps preferred.
 if [[ -f "$fixtures/../../tables/gltf16_quad8.json" ]]; then
     "$PROBEFILTER" filter sky.exr --method table --size 16 --validate --out compiled >/dev/null 2>&1 || fail "compiled-in table"
-    python3 -c "import json,sys; t=json.load(open('compiled/report.json'))['table']; sys.exit(not (t['taps_per_frame'] == 8 and t['form'] == 'quad'))" \
+    python3 -c "import json,sys; t=json.load(open('compiled/report.json'))['table']
+sys.exit(not (t['taps_per_frame'] == 8 and t['form'] == 'quad'))" \
         || fail "compiled-in table: not the quad 8 table"
 fi
 
@@ -54,8 +56,10 @@ refused() { # expected stderr fragment, then the arguments
     [[ ! -e refused ]] || fail "$*: wrote output"
 }
 refused "it is for base size 16, not 32" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 32
-refused "for the gltf roughness mapping, not authors" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
-refused "fitted over the bspline solid-angle pyramid, not box" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --pyramid box
+refused "for the gltf roughness mapping, not authors" \
+    --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
+refused "fitted over the bspline solid-angle pyramid, not box" \
+    --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --pyramid box
 refused "make one with \`probefit --size 16 --levels 3" --method table --size 16 --levels 3
 refused "needs --table-taps" --method table --table "$fixtures/table_16_quad4_gltf.txt" --size 16
 refused "no Vulkan device of that name" --method fis --device no-such-device --size 16

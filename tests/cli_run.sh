@@ -24,11 +24,15 @@ scene mirror '"method": "fis"' '{"name": "chrome", "roughness": 0, "metallic": 1
 scene diffuse '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"spheres": true'
 scene mixed '"method": "fis", "samples": 32' \
     '{"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1}' '"ktx2": "rgba32f", "spheres": true'
-scene table "\"method\": \"table\", \"table\": \"$fixtures/table_16_quad4_gltf.json\"" '{"name": "satin", "roughness": 0.5, "metallic": 1}' ''
+scene table "\"method\": \"table\", \"table\": \"$fixtures/table_16_quad4_gltf.json\"" \
+    '{"name": "satin", "roughness": 0.5, "metallic": 1}' ''
 scene empty '"method": "fis"' '' ''
 
 # The passes `plan` prints (the text before " because "), as JSON.
-planned() { "$PROBEFILTER" plan "$1.json" | python3 -c 'import json, sys; print(json.dumps([l.split(" because ")[0].strip() for l in sys.stdin if " because " in l]))'; }
+planned() {
+    "$PROBEFILTER" plan "$1.json" |
+        python3 -c 'import json, sys; print(json.dumps([l.split(" because ")[0].strip() for l in sys.stdin if " because " in l]))'
+}
 
 check_run() { # scene name, expected passes as a JSON list
     "$PROBEFILTER" run "$1.json" --validate --out "out-$1" >/dev/null 2>err.txt || fail "$1: run failed: $(cat err.txt)"
@@ -63,7 +67,8 @@ check_run empty '[]'
 # Mixed: r = 0.5 reads levels 1 and 2 (lod = 3 r at 16^2); the pyramid depth is whatever their taps read.
 "$PROBEFILTER" plan mixed.json | grep -q "^sky: pyramid 0\.\." || fail "mixed: no pyramid in the plan"
 mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
-check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"sky: level 1 (fis)\", \"sky: level 2 (fis)\", \"sky: sh-irradiance\", \"dfg-table\"]"
+check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"sky: level 1 (fis)\", \"sky: level 2 (fis)\", \
+\"sky: sh-irradiance\", \"dfg-table\"]"
 table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run table "[\"sky: load\", \"$table_pyramid\", \"sky: level 1 (table)\", \"sky: level 2 (table)\", \"dfg-table\"]"
 

@@ -32,8 +32,7 @@ std::vector<std::vector<std::vector<double>>> gpuImpulseResponses(gpu::Filter& f
         const CubeLevels out = filter.run(probe);
         for (int m = 0; m < levels; ++m)
             for (std::size_t t = 0; t < texelCount(kSize >> m); ++t)
-                for (std::size_t c = 0; c < 3 && first + c < sources; ++c)
-                    weights[m][t][first + c] = double(out[m].rgb[3 * t + c]) - 1.0;
+                for (std::size_t c = 0; c < 3 && first + c < sources; ++c) weights[m][t][first + c] = double(out[m].rgb[3 * t + c]) - 1.0;
     }
     return weights;
 }
@@ -62,14 +61,12 @@ std::vector<ImpulseError> impulseL1PerLevel(int levels, RoughnessMapping mapping
 
 std::vector<ImpulseError> gpuImpulseL1(gpu::Filter& filter, int levels, RoughnessMapping mapping) {
     const auto weights = gpuImpulseResponses(filter, levels);
-    return impulseL1PerLevel(levels, mapping,
-                             [&](int m, const Texel& texel) { return weights[m][texelIndex(texel, kSize >> m)]; });
+    return impulseL1PerLevel(levels, mapping, [&](int m, const Texel& texel) { return weights[m][texelIndex(texel, kSize >> m)]; });
 }
 
 // Per filtered level, the impulse L1 over every output texel measured on the GPU and by the CPU
 // model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
-void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const Response& model,
-                            const std::string& what) {
+void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const Response& model, const std::string& what) {
     const std::vector<ImpulseError> gpuErrors = gpuImpulseL1(filter, levels, mapping);
     const std::vector<ImpulseError> cpuErrors = impulseL1PerLevel(levels, mapping, model);
     for (int m = 0; m < levels; ++m) {
@@ -88,9 +85,9 @@ TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
     ASSERT_EQ(table.baseSize, kSize);
     gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, table.pyramid);
-    expectImpulseL1Matches(filter, table.levelCount, table.mapping,
-                           [&](int level, const Texel& texel) { return tableImpulseResponse(table, operators, level, texel); },
-                           "table fixture");
+    expectImpulseL1Matches(
+        filter, table.levelCount, table.mapping,
+        [&](int level, const Texel& texel) { return tableImpulseResponse(table, operators, level, texel); }, "table fixture");
 }
 
 TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
@@ -103,11 +100,12 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
     gpu::Filter filter(probetest::testDevice(), s);
     const ImportanceSamplingSettings cpu{32, 0.0, s.pyramid, {}};
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.pyramid);
-    expectImpulseL1Matches(filter, levels, s.mapping,
-                           [&](int level, const Texel& texel) {
-                               return importanceSampleImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel);
-                           },
-                           "fis 32");
+    expectImpulseL1Matches(
+        filter, levels, s.mapping,
+        [&](int level, const Texel& texel) {
+            return importanceSampleImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel);
+        },
+        "fis 32");
 }
 
 // What probefit eval recorded for a committed table (over every output texel of all six faces)

@@ -31,14 +31,11 @@ const PyramidSettings kAllPyramids[] = {
     {PyramidKind::box, PyramidWeighting::inverseSolidAngle},
 };
 
-std::string describe(const PyramidSettings& p) {
-    return fmt::format("{} {}", pyramidKindName(p.kind), pyramidWeightingName(p.weighting));
-}
+std::string describe(const PyramidSettings& p) { return fmt::format("{} {}", pyramidKindName(p.kind), pyramidWeightingName(p.weighting)); }
 
 // A random table shaped like a real one: per level, taps around the frame's z axis spread with the
 // lobe, levels near the output level, positive weights, small quadratic terms.
-TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid,
-                     unsigned seed) {
+TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid, unsigned seed) {
     TapTable table = emptyTable(size, levels, taps, form, mapping, pyramid);
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -48,8 +45,8 @@ TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMa
         for (int frame = 0; frame < kFrameCount; ++frame)
             for (int t = 0; t < taps; ++t) {
                 double* c = &table.levels[m].coefficients[table.offset(frame, t)];
-                const double base[kTapParameterCount] = {spread * unit(random), spread * unit(random), 1.0,
-                                                         m + 0.8 * unit(random), 1.0 + 0.5 * unit(random)};
+                const double base[kTapParameterCount] = {spread * unit(random), spread * unit(random), 1.0, m + 0.8 * unit(random),
+                                                         1.0 + 0.5 * unit(random)};
                 for (int p = 0; p < kTapParameterCount; ++p) {
                     c[p * k] = base[p];
                     for (int q = 1; q < k; ++q) c[p * k + q] = 0.1 * spread * unit(random);

@@ -84,7 +84,8 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
         EXPECT_GE(perLevel[k].medianMs, 0.0) << what;
         sum += perLevel[k].medianMs; // one run: the medians are the runs
     }
-    const auto pass2 = std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == gpu::methodName(method); });
+    const auto pass2 =
+        std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == gpu::methodName(method); });
     ASSERT_NE(pass2, passes.end()) << what;
     EXPECT_NEAR(sum, pass2->medianMs, 1e-9 + 1e-9 * pass2->medianMs) << what;
 }

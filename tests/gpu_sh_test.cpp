@@ -72,7 +72,8 @@ TEST_F(GpuSh, BandLimitedRadianceGivesTheExactIrradiance) {
     const CubeGeometry g(size);
     for (std::size_t t = 0; t < texelCount(size); ++t) {
         const glm::dvec3& d = g.directions[t];
-        radiance.set(t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y), float(2.0 - 0.4 * d.x), float(0.5 + 0.2 * (d.x * d.x - d.y * d.y))));
+        radiance.set(
+            t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y), float(2.0 - 0.4 * d.x), float(0.5 + 0.2 * (d.x * d.x - d.y * d.y))));
     }
     gpu::ShProjector projector(probetest::testDevice(), size);
     const CubeImage sh = shToCube(radianceToIrradiance(projector.project(radiance)), 8);

@@ -102,8 +102,7 @@ TEST_F(HardCases, TinyFacesEveryLevelCountAndMappingFisAndReference) {
             for (const std::string& name : roughnessMappingNames())
                 for (gpu::Method method : {gpu::Method::fis, gpu::Method::reference}) {
                     // The brute-force reference at 64^2 costs seconds on lavapipe: once, glTF.
-                    if (method == gpu::Method::reference && size == 64 && (name != "gltf" || levels != defaultLevelCount(size)))
-                        continue;
+                    if (method == gpu::Method::reference && size == 64 && (name != "gltf" || levels != defaultLevelCount(size))) continue;
                     gpu::Filter filter(probetest::testDevice(), settings(method, size, levels, parseRoughnessMapping(name)));
                     const std::string what = fmt::format("{} {}^2 {} levels {}", gpu::methodName(method), size, levels, name);
                     for (const HardProbe& probe : probes) expectStable(filter.run(probe.cube), probe, what);
@@ -160,8 +159,8 @@ TEST_F(HardCases, EveryCommittedTable) {
                 const SeamSteps steps = steepestSteps(out[m]), exact = steepestSteps(check.reference[m]);
                 fmt::print("{} level {}: seam ratio {:.4f} (bound {:.4f}, {:.3f}x); steepest step over the "
                            "reference's: edges {:.3f}x, quarter lines {:.3f}x\n",
-                           path.filename().string(), m, seamRatio(out[m]), k, seamRatio(out[m]) / k,
-                           steps.edge / exact.edge, steps.quarterLine / exact.quarterLine);
+                           path.filename().string(), m, seamRatio(out[m]), k, seamRatio(out[m]) / k, steps.edge / exact.edge,
+                           steps.quarterLine / exact.quarterLine);
                 EXPECT_LE(seamRatio(out[m]), k) << path.filename() << " level " << m;
             }
         }

@@ -67,8 +67,8 @@ TEST(ProbeIo, HalfRgbaExrInEveryCompression) {
     Imf::Array2D<Imf::Rgba> pixels(h, w);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) pixels[y][x] = Imf::Rgba(float(x) / w, float(y) / h, 0.5f + 0.01f * float(x % 7), 1.0f);
-    const Imf::Compression compressions[] = {Imf::NO_COMPRESSION, Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
-                                             Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION,
+    const Imf::Compression compressions[] = {Imf::NO_COMPRESSION,  Imf::RLE_COMPRESSION,  Imf::ZIPS_COMPRESSION,
+                                             Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION,  Imf::PXR24_COMPRESSION,
                                              Imf::B44_COMPRESSION, Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
     for (Imf::Compression c : compressions) {
         const fs::path file = dir.path / fmt::format("c{}.exr", int(c));
@@ -162,8 +162,8 @@ TEST(ProbeIo, SmallSunKeepsItsEnergyAtEverySize) {
         for (int x = 0; x < image.width; ++x) pixelEnergy += (image.pixel(x, y).r - sky.pixel(x, y).r) * solidAngle;
     }
     for (int size : {4, 8, 16, 32, 64, 128}) {
-        const double sun = energy(imageToCube(image, ProbeLayout::equirectangular, size)) -
-                           energy(imageToCube(sky, ProbeLayout::equirectangular, size));
+        const double sun =
+            energy(imageToCube(image, ProbeLayout::equirectangular, size)) - energy(imageToCube(sky, ProbeLayout::equirectangular, size));
         EXPECT_NEAR(sun, pixelEnergy, 0.01 * pixelEnergy) << "face size " << size;
     }
 }

@@ -10,10 +10,12 @@ fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 # A small fit; eval must reproduce what it recorded, over the stratified set and over all texels.
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/small" >"$work/fit.log" || fail "small fit: exit $?"
 for f in small.json small.h small.glsl; do [[ -s $work/$f ]] || fail "small fit: $f missing"; done
-"$PROBEFIT" eval "$work/small.json" --texels stratified --check 1e-3 >"$work/eval.log" || fail "eval stratified differs: $(cat "$work/eval.log")"
+"$PROBEFIT" eval "$work/small.json" --texels stratified --check 1e-3 >"$work/eval.log" ||
+    fail "eval stratified differs: $(cat "$work/eval.log")"
 "$PROBEFIT" eval "$work/small.json" --texels all --check 1e-3 >"$work/eval.log" || fail "eval all differs: $(cat "$work/eval.log")"
 # The fitted levels are far better than the lobe-shaped start (0.29 to 0.6 at this size).
-awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" || fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
+awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" ||
+    fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
 
 # The same inputs give the same table, whatever the number of threads.
 OMP_NUM_THREADS=1 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/single" >/dev/null || fail "single-thread fit"
@@ -74,11 +76,13 @@ expect_refused select-shape    "other: not the shape of small" select "$work/sma
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
 expect_refused select-unwritable "--out"                select "$work/small.json" --out "$work/no/such/dir/out"
 expect_refused mix-count       "1 source tables for 4 output levels" mix "$work/small.json" --out "$work/out"
-expect_refused mix-unwritable  "--out"                  mix "$work/small.json" "$work/small.json" "$work/small.json" "$work/small.json" --out "$work/no/such/dir/out"
+expect_refused mix-unwritable  "--out" \
+    mix "$work/small.json" "$work/small.json" "$work/small.json" "$work/small.json" --out "$work/no/such/dir/out"
 
 # select from one table keeps it: the same coefficients and errors at every level.
 "$PROBEFIT" select "$work/small.json" --out "$work/kept" >"$work/select.log" || fail "select one table: exit $?"
 cmp -s <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") ||
-    fail "select from one table changed it: $(diff <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") | head -5)"
+    fail "select from one table changed it: \
+$(diff <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") | head -5)"
 
 [[ $failures -eq 0 ]] || { echo "$failures failures"; exit 1; }

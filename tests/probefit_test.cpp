@@ -7,19 +7,19 @@
 #include <gtest/gtest.h>
 
 #include "evaluate.h"
-#include "impulse_model.h"
 #include "fit.h"
+#include "impulse_model.h"
 #include "initial_layout.h"
+#include "probe/error.h"
+#include "probe/importance_sampling.h"
+#include "probe/reference.h"
+#include "probe/seam_measure.h"
+#include "probe/synthetic.h"
+#include "probe/table_filter.h"
+#include "probe/table_io.h"
 #include "seam_select.h"
 #include "seam_term.h"
 #include "table_mix.h"
-#include "probe/error.h"
-#include "probe/importance_sampling.h"
-#include "probe/seam_measure.h"
-#include "probe/synthetic.h"
-#include "probe/table_io.h"
-#include "probe/reference.h"
-#include "probe/table_filter.h"
 
 namespace probefit {
 namespace {
@@ -47,8 +47,7 @@ TEST(ImpulseModel, EqualsTheSharedModel) {
             const double alpha = tableLevelAlpha(table, m);
             const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 40), 16, m, alpha);
             for (const OutputTexel& t : texels) {
-                const double expected = impulseL1(tableImpulseResponse(table, ops, m, t.texel),
-                                                  referenceKernel(t.cubeVector, 16, alpha));
+                const double expected = impulseL1(tableImpulseResponse(table, ops, m, t.texel), referenceKernel(t.cubeVector, 16, alpha));
                 EXPECT_NEAR(model.evaluate(levelBlocks(table, m).data(), t, ws).error, expected, 1e-6);
             }
         }
@@ -250,7 +249,8 @@ TEST(TableMix, EachLevelFiltersAsItsSource) {
 TEST(TableMix, PaddingIsHarmlessWhereNotSkipped) {
     // A consumer that evaluates every tap of the published layout reads the padding as zero weight
     // along R: a finite direction, so nothing turns into NaN.
-    const TapTable mixed = mixTables({{"four", lobeTable(16, 2, 4, TableForm::constant)}, {"eight", lobeTable(16, 2, 8, TableForm::constant)}});
+    const TapTable mixed =
+        mixTables({{"four", lobeTable(16, 2, 4, TableForm::constant)}, {"eight", lobeTable(16, 2, 8, TableForm::constant)}});
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int t = 4; t < 8; ++t) {
             const double* c = &mixed.levels[0].coefficients[mixed.offset(frame, t)];
@@ -290,7 +290,8 @@ TEST(FisLevelSamples, TheMixAndItsChecks) {
     std::vector<Tap> a, b;
     for (int m = 1; m < 3; ++m) {
         mixed(m, {2, 5, 1}, a);
-        importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf, ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}})(m, {2, 5, 1}, b);
+        importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf,
+                                     ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}})(m, {2, 5, 1}, b);
         ASSERT_EQ(a.size(), b.size()) << "level " << m;
         for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].direction, b[k].direction);
     }

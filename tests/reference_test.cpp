@@ -59,8 +59,7 @@ TEST(Reference, WhiteFurnaceEveryMapping) {
             for (int m = 0; m < levels; ++m) {
                 ASSERT_EQ(out[m].size, 16 >> m);
                 for (std::size_t t = 0; t < texelCount(out[m].size); ++t)
-                    for (int c = 0; c < 3; ++c)
-                        ASSERT_NEAR(out[m].texel(t)[c], radiance[c], 1e-5 * radiance[c]) << name << " level " << m;
+                    for (int c = 0; c < 3; ++c) ASSERT_NEAR(out[m].texel(t)[c], radiance[c], 1e-5 * radiance[c]) << name << " level " << m;
             }
         }
 }

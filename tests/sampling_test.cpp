@@ -88,8 +88,8 @@ TEST(CubeSampling, SeamlessAcrossEdgesAndCorners) {
                             if (glm::dot(n, p) < 1.0 - 1e-12) continue; // p is not on that face
                             double u, v;
                             faceCoordinates(other, d, u, v);
-                            const double value = footprintValue(
-                                bilinearFootprint(size, other, (u + 1.0) * 0.5 * size, (v + 1.0) * 0.5 * size), image);
+                            const double value =
+                                footprintValue(bilinearFootprint(size, other, (u + 1.0) * 0.5 * size, (v + 1.0) * 0.5 * size), image);
                             if (first < 0.0) first = value;
                             EXPECT_NEAR(value, first, 1e-12) << "size " << size << " face " << face << " other " << other;
                         }
@@ -261,9 +261,7 @@ TEST(TableFilter, CopyLevelIsTheSource) {
     EXPECT_EQ(tableFilter(source, table)[0].rgb, source.rgb);
 }
 
-std::filesystem::path tempFile(const std::string& name) {
-    return std::filesystem::temp_directory_path() / ("probe_sampling_test_" + name);
-}
+std::filesystem::path tempFile(const std::string& name) { return std::filesystem::temp_directory_path() / ("probe_sampling_test_" + name); }
 
 TEST(TableIo, RoundTrip) {
     TapTable table = randomTable(16, 4, 8, TableForm::quadratic, 9);

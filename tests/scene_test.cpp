@@ -20,9 +20,9 @@ namespace fs = std::filesystem;
 namespace {
 
 class SceneTest : public ::testing::Test {
-protected:
-    fs::path dir = fs::temp_directory_path() / fmt::format("scene_test_{}_{}", ::getpid(),
-                                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  protected:
+    fs::path dir = fs::temp_directory_path() /
+                   fmt::format("scene_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
     void SetUp() override {
         fs::create_directories(dir);
         writeExr(dir / "sky.exr", cubeToStrip(skyProbe(16)));

@@ -17,7 +17,8 @@ TEST(Sh, BasisIsOrthonormalUnderCubeQuadrature) {
     for (int a = 0; a < kShCount; ++a)
         for (int b = 0; b < kShCount; ++b) {
             double dot = 0.0;
-            for (std::size_t t = 0; t < texelCount(size); ++t) dot += shBasis(g.directions[t])[a] * shBasis(g.directions[t])[b] * g.solidAngles[t];
+            for (std::size_t t = 0; t < texelCount(size); ++t)
+                dot += shBasis(g.directions[t])[a] * shBasis(g.directions[t])[b] * g.solidAngles[t];
             // Texel-centre quadrature of the quadratic band at 64^2 is good to ~1e-4.
             EXPECT_NEAR(dot, a == b ? 1.0 : 0.0, 2e-4) << a << "," << b;
         }

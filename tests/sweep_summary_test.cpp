@@ -44,8 +44,8 @@ TEST(SweepSummary, RatiosAgainstTheBestAndThePapersSetting) {
         addFis(rows, 0.0, "bspline", 1.0, probe); // the best setting
         addFis(rows, 1.0, "box", 2.0, probe);     // the paper's, twice the error
         // FIS-32 takes 40 ms and has error 0.1 (image) at the best setting.
-        addTable(rows, "fast", 0.05, 30.0, probe);   // no slower than FIS-32: compared
-        addTable(rows, "slow", 0.01, 500.0, probe);  // more accurate but slower
+        addTable(rows, "fast", 0.05, 30.0, probe);  // no slower than FIS-32: compared
+        addTable(rows, "slow", 0.01, 500.0, probe); // more accurate but slower
     }
     const SweepSummary s = summarizeSweep(rows);
     EXPECT_EQ(s.bestFisSetting, "bias 0, bspline");
@@ -66,7 +66,7 @@ TEST(SweepSummary, RatiosAgainstTheBestAndThePapersSetting) {
 
 TEST(SweepSummary, EveryTableAgainstFisAtItsTimeAndItsError) {
     std::vector<SweepRow> rows;
-    addFis(rows, 0.0, "bspline", 1.0, "sky");  // error 0.4 at 10 ms, halving per doubling of time
+    addFis(rows, 0.0, "bspline", 1.0, "sky"); // error 0.4 at 10 ms, halving per doubling of time
     addTable(rows, "b", 0.0125, 60.0, "sky"); // FIS at 60 ms: 0.4 / 6 = 0.0667; FIS reaches 0.0125 at 320 ms
     addTable(rows, "a", 0.05, 30.0, "sky");   // FIS at 30 ms: 0.1333; FIS reaches 0.05 at 80 ms
     addTable(rows, "c", 1e-4, 20.0, "sky");   // FIS never gets there
@@ -85,8 +85,8 @@ TEST(SweepSummary, EveryTableAgainstFisAtItsTimeAndItsError) {
 
 TEST(SweepSummary, SaysWhenNoTableIsAsFastAsFis32) {
     std::vector<SweepRow> rows;
-    addFis(rows, 0.0, "bspline", 1.0, "sky");    // FIS-32: 0.1 at 40 ms; FIS-64: 0.05 at 80 ms
-    addTable(rows, "slow", 0.04, 60.0, "sky");   // the fastest table, slower than FIS-32
+    addFis(rows, 0.0, "bspline", 1.0, "sky");  // FIS-32: 0.1 at 40 ms; FIS-64: 0.05 at 80 ms
+    addTable(rows, "slow", 0.04, 60.0, "sky"); // the fastest table, slower than FIS-32
     addTable(rows, "slower", 0.01, 900.0, "sky");
     const SweepSummary s = summarizeSweep(rows);
     ASSERT_TRUE(s.best);

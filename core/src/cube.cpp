@@ -21,10 +21,8 @@ glm::dvec3 faceUvToCubePoint(int face, double u, double v) {
 FaceUv directionToFaceUv(const glm::dvec3& d) {
     const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
     // Ties go to X, then Y, so that every direction has exactly one face.
-    if (ax >= ay && ax >= az)
-        return d.x >= 0 ? FaceUv{0, -d.z / ax, -d.y / ax} : FaceUv{1, d.z / ax, -d.y / ax};
-    if (ay >= az)
-        return d.y >= 0 ? FaceUv{2, d.x / ay, d.z / ay} : FaceUv{3, d.x / ay, -d.z / ay};
+    if (ax >= ay && ax >= az) return d.x >= 0 ? FaceUv{0, -d.z / ax, -d.y / ax} : FaceUv{1, d.z / ax, -d.y / ax};
+    if (ay >= az) return d.y >= 0 ? FaceUv{2, d.x / ay, d.z / ay} : FaceUv{3, d.x / ay, -d.z / ay};
     return d.z >= 0 ? FaceUv{4, d.x / az, -d.y / az} : FaceUv{5, -d.x / az, -d.y / az};
 }
 
@@ -59,8 +57,7 @@ bool texelNeighbour(const Texel& t, int di, int dj, int size, Texel& neighbour) 
         neighbour = {t.face, i, j};
         return true;
     }
-    if (!insideI && !insideJ)
-        return false;
+    if (!insideI && !insideJ) return false;
     // The texel centre beyond the edge, on the face's extended plane, projects into the first
     // texel row of the adjacent face at the same place along the edge.
     const glm::dvec3 p = faceUvToCubePoint(t.face, texelCentreUv(i, size), texelCentreUv(j, size));

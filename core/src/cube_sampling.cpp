@@ -10,11 +10,9 @@ glm::dvec3 sampleBilinear(const CubeImage& level, const glm::dvec3& direction) {
 }
 
 glm::dvec3 sampleTrilinear(const CubeLevels& pyramid, const glm::dvec3& direction, double level) {
-    const TrilinearFootprint f =
-        trilinearFootprint(pyramid[0].size, static_cast<int>(pyramid.size()), toArray(direction), level);
+    const TrilinearFootprint f = trilinearFootprint(pyramid[0].size, static_cast<int>(pyramid.size()), toArray(direction), level);
     glm::dvec3 sum(0.0);
-    for (int k = 0; k < f.count; ++k)
-        sum += f.taps[k].weight * glm::dvec3(pyramid[f.taps[k].level].texel(f.taps[k].index));
+    for (int k = 0; k < f.count; ++k) sum += f.taps[k].weight * glm::dvec3(pyramid[f.taps[k].level].texel(f.taps[k].index));
     return sum;
 }
 

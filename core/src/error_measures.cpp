@@ -8,8 +8,7 @@
 namespace probe {
 
 double impulseL1(const std::vector<double>& w, const std::vector<double>& k) {
-    if (w.size() != k.size())
-        throw ProbeError("impulse L1: weight vectors of different sizes");
+    if (w.size() != k.size()) throw ProbeError("impulse L1: weight vectors of different sizes");
     const double sw = std::accumulate(w.begin(), w.end(), 0.0), sk = std::accumulate(k.begin(), k.end(), 0.0);
     double e = 0.0;
     for (std::size_t t = 0; t < w.size(); ++t) e += std::abs(w[t] / sw - k[t] / sk);
@@ -32,8 +31,7 @@ ImpulseError ImpulseErrorAccumulator::result() const {
 }
 
 double imageL1(const CubeImage& out, const CubeImage& ref) {
-    if (out.size != ref.size)
-        throw ProbeError("image L1: levels of different sizes");
+    if (out.size != ref.size) throw ProbeError("image L1: levels of different sizes");
     const CubeGeometry geometry(ref.size);
     double difference = 0.0, magnitude = 0.0;
     for (std::size_t t = 0; t < texelCount(ref.size); ++t)

@@ -48,7 +48,8 @@ void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelC
     if (!settings.levelSamples.empty() && static_cast<int>(settings.levelSamples.size()) != levelCount)
         throw ProbeError(fmt::format("FIS samples per level: {} counts for {} output levels", settings.levelSamples.size(), levelCount));
     for (int m = 0; m < levelCount; ++m)
-        if (settings.samplesAt(m) < 1) throw ProbeError(fmt::format("FIS samples at level {}: {} is not at least 1", m, settings.samplesAt(m)));
+        if (settings.samplesAt(m) < 1)
+            throw ProbeError(fmt::format("FIS samples at level {}: {} is not at least 1", m, settings.samplesAt(m)));
 }
 
 std::vector<int> mixedLevelSamples(int samples, int levelCount) {
@@ -86,12 +87,10 @@ CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, Rough
                           importanceSampleTapGenerator(source.size, levelCount, mapping, settings));
 }
 
-std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize,
-                                                    int levelCount, RoughnessMapping mapping,
-                                                    const ImportanceSamplingSettings& settings, int level,
+std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+                                                    RoughnessMapping mapping, const ImportanceSamplingSettings& settings, int level,
                                                     const Texel& texel) {
-    return impulseWithTaps(operators, baseSize, level, texel,
-                           importanceSampleTapGenerator(baseSize, levelCount, mapping, settings));
+    return impulseWithTaps(operators, baseSize, level, texel, importanceSampleTapGenerator(baseSize, levelCount, mapping, settings));
 }
 
 } // namespace probe

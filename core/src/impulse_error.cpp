@@ -4,8 +4,8 @@
 
 namespace probe {
 
-ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize,
-                          int levelCount, RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels) {
+ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+                          RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels) {
     const double alpha = levelAlpha(mapping, level, levelCount);
     const CubeGeometry source(baseSize);
     const int size = baseSize >> level;

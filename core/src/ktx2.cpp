@@ -22,7 +22,7 @@ constexpr float kHalfMax = 65504.0f;
 std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
 
 class ByteWriter {
-public:
+  public:
     std::vector<std::uint8_t> bytes;
     template <typename T>
     void put(T value) {
@@ -36,14 +36,14 @@ public:
 std::vector<std::uint8_t> dataFormatDescriptor(std::uint32_t bytesPerChannel) {
     ByteWriter w;
     const std::uint32_t samples = 4, blockSize = 24 + 16 * samples;
-    w.put<std::uint32_t>(4 + blockSize);                // dfdTotalSize
-    w.put<std::uint32_t>(0);                            // vendorId 0 (Khronos), descriptorType 0 (basic)
-    w.put<std::uint32_t>(2u | (blockSize << 16));       // versionNumber 2, descriptorBlockSize
-    w.put<std::uint32_t>(1u | (1u << 8) | (1u << 16));  // colorModel RGBSDA, primaries BT709, transfer LINEAR, flags 0
-    w.put<std::uint32_t>(0);                            // texelBlockDimension 1x1x1x1 (stored minus one)
-    w.put<std::uint32_t>(4 * bytesPerChannel);          // bytesPlane0
-    w.put<std::uint32_t>(0);                            // bytesPlane4..7
-    const std::uint8_t channels[] = {0, 1, 2, 15};      // R, G, B, A
+    w.put<std::uint32_t>(4 + blockSize);               // dfdTotalSize
+    w.put<std::uint32_t>(0);                           // vendorId 0 (Khronos), descriptorType 0 (basic)
+    w.put<std::uint32_t>(2u | (blockSize << 16));      // versionNumber 2, descriptorBlockSize
+    w.put<std::uint32_t>(1u | (1u << 8) | (1u << 16)); // colorModel RGBSDA, primaries BT709, transfer LINEAR, flags 0
+    w.put<std::uint32_t>(0);                           // texelBlockDimension 1x1x1x1 (stored minus one)
+    w.put<std::uint32_t>(4 * bytesPerChannel);         // bytesPlane0
+    w.put<std::uint32_t>(0);                           // bytesPlane4..7
+    const std::uint8_t channels[] = {0, 1, 2, 15};     // R, G, B, A
     for (std::uint32_t c = 0; c < samples; ++c) {
         const std::uint32_t bits = 8 * bytesPerChannel;
         const std::uint32_t channelType = channels[c] | 0x80u | 0x40u; // FLOAT | SIGNED
@@ -105,8 +105,7 @@ T readAt(const std::vector<std::uint8_t>& bytes, std::size_t offset, const std::
 
 } // namespace
 
-std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format,
-                          const KeyValues& metadata) {
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata) {
     const bool half = format == Ktx2PixelFormat::rgba16f;
     const std::uint32_t bytesPerChannel = half ? 2 : 4, texelBytes = 4 * bytesPerChannel;
     const auto levelCount = static_cast<std::uint32_t>(levels.size());
@@ -127,8 +126,9 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
 
     ByteWriter w;
     w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
-    for (std::uint32_t v : {half ? kVkFormatRgba16f : kVkFormatRgba32f, bytesPerChannel, std::uint32_t(levels[0].size),
-                            std::uint32_t(levels[0].size), 0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
+    for (std::uint32_t v :
+         {half ? kVkFormatRgba16f : kVkFormatRgba32f, bytesPerChannel, std::uint32_t(levels[0].size), std::uint32_t(levels[0].size),
+          0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
         w.put<std::uint32_t>(v);
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
@@ -184,7 +184,8 @@ Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
     for (std::size_t p = kvdOffset; p + 4 <= kvdOffset + kvdLength;) {
         const auto length = readAt<std::uint32_t>(bytes, p, path);
         if (p + 4 + length > bytes.size()) throw ProbeError(fmt::format("{}: truncated KTX2 metadata", path.string()));
-        const std::string entry(bytes.begin() + static_cast<std::ptrdiff_t>(p + 4), bytes.begin() + static_cast<std::ptrdiff_t>(p + 4 + length));
+        const std::string entry(bytes.begin() + static_cast<std::ptrdiff_t>(p + 4),
+                                bytes.begin() + static_cast<std::ptrdiff_t>(p + 4 + length));
         const std::size_t nul = entry.find('\0');
         std::string value = entry.substr(nul + 1);
         if (!value.empty() && value.back() == '\0') value.pop_back();

@@ -41,7 +41,7 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const s
                         // lands on (or just below), and then reads the next level with a tiny weight.
                         const double level = std::clamp(tap.level, 0.0, double(maxLevel));
                         const int reads = level == 0.0 || level == maxLevel ? static_cast<int>(level)
-                                                                             : static_cast<int>(std::floor(level + kLevelMargin)) + 1;
+                                                                            : static_cast<int>(std::floor(level + kLevelMargin)) + 1;
                         deepest = std::max(deepest, std::min(reads, maxLevel));
                     }
                 }
@@ -68,8 +68,9 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.levelReaders.push_back(names);
         }
         p.irradiance = !p.diffuseMaterials.empty();
-        p.readsPyramid = probe.method != FilterMethod::reference &&
-                         std::any_of(p.levels.begin(), p.levels.end(), [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
+        p.readsPyramid = probe.method != FilterMethod::reference && std::any_of(p.levels.begin(), p.levels.end(), [&](int m) {
+                             return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0;
+                         });
         if (p.readsPyramid) p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
         plan.probes.push_back(std::move(p));
     }
@@ -103,10 +104,8 @@ std::vector<Step> steps(const Plan& plan) {
                            fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source's border)",
                                        fmt::join(p.levels, ", "), p.pyramidLevels)});
         for (std::size_t k = 0; k < p.levels.size(); ++k)
-            out.push_back({levelPass(p.probe, p.levels[k], p.method),
-                           fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
-        if (p.irradiance)
-            out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
+            out.push_back({levelPass(p.probe, p.levels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
+        if (p.irradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
     }
     if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
     return out;

@@ -33,8 +33,7 @@ namespace {
 
 std::string readMagic(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in)
-        fail(path, "cannot open file");
+    if (!in) fail(path, "cannot open file");
     char magic[4] = {};
     in.read(magic, 4);
     return std::string(magic, static_cast<std::size_t>(in.gcount()));
@@ -45,12 +44,10 @@ Image readExr(const fs::path& path) {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i window = file.header().dataWindow();
         const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
-        if (width <= 0 || height <= 0)
-            fail(path, "image has zero size");
+        if (width <= 0 || height <= 0) fail(path, "image has zero size");
         const Imf::ChannelList& channels = file.header().channels();
         for (const char* name : {"R", "G", "B"})
-            if (!channels.findChannel(name))
-                fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
+            if (!channels.findChannel(name)) fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
         Image image{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
         // OpenEXR addresses the buffer with absolute data-window coordinates.
         char* base = reinterpret_cast<char*>(image.rgb.data()) -
@@ -73,12 +70,10 @@ Image readExr(const fs::path& path) {
 Image readHdr(const fs::path& path) {
     int width = 0, height = 0, components = 0;
     float* pixels = stbi_loadf(path.c_str(), &width, &height, &components, 3);
-    if (!pixels)
-        fail(path, fmt::format("unreadable or corrupt Radiance HDR ({})", stbi_failure_reason()));
+    if (!pixels) fail(path, fmt::format("unreadable or corrupt Radiance HDR ({})", stbi_failure_reason()));
     Image image{width, height, std::vector<float>(pixels, pixels + static_cast<std::size_t>(width) * height * 3)};
     stbi_image_free(pixels);
-    if (width <= 0 || height <= 0)
-        fail(path, "image has zero size");
+    if (width <= 0 || height <= 0) fail(path, "image has zero size");
     return image;
 }
 
@@ -142,15 +137,11 @@ CubeImage resample(int faceSize, int subsamples, Sampler sample) {
 
 Image readImage(const fs::path& path) {
     std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        fail(path, "no such file");
-    if (fs::file_size(path, ec) == 0)
-        fail(path, "file is empty (zero-size image)");
+    if (!fs::is_regular_file(path, ec)) fail(path, "no such file");
+    if (fs::file_size(path, ec) == 0) fail(path, "file is empty (zero-size image)");
     const std::string magic = readMagic(path);
-    if (magic == std::string("\x76\x2f\x31\x01", 4))
-        return readExr(path);
-    if (magic.rfind("#?", 0) == 0)
-        return readHdr(path);
+    if (magic == std::string("\x76\x2f\x31\x01", 4)) return readExr(path);
+    if (magic.rfind("#?", 0) == 0) return readHdr(path);
     fail(path, "not an OpenEXR or Radiance HDR file");
 }
 
@@ -178,12 +169,9 @@ std::size_t checkPixels(Image& image, const fs::path& path, BadPixelPolicy polic
 }
 
 ProbeLayout detectLayout(const Image& image, const fs::path& path) {
-    if (image.width == 2 * image.height)
-        return ProbeLayout::equirectangular;
-    if (image.width == 6 * image.height)
-        return ProbeLayout::faceStrip;
-    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular or a 6:1 strip of faces",
-                           image.width, image.height));
+    if (image.width == 2 * image.height) return ProbeLayout::equirectangular;
+    if (image.width == 6 * image.height) return ProbeLayout::faceStrip;
+    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular or a 6:1 strip of faces", image.width, image.height));
 }
 
 CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize) {
@@ -227,15 +215,12 @@ std::string levelFileName(int level) { return fmt::format("level_{}.exr", level)
 
 StagedOutput::StagedOutput(fs::path outDir) : outDir_(std::move(outDir)) {
     std::error_code ec;
-    if (fs::exists(outDir_, ec) && !fs::is_directory(outDir_, ec))
-        fail(outDir_, "output path exists and is not a folder");
+    if (fs::exists(outDir_, ec) && !fs::is_directory(outDir_, ec)) fail(outDir_, "output path exists and is not a folder");
     const fs::path parent = fs::absolute(outDir_, ec).parent_path();
     staging_ = parent / fmt::format(".{}.partial-{}", outDir_.filename().string(), ::getpid());
     fs::create_directories(staging_, ec);
-    if (ec)
-        fail(outDir_, fmt::format("output folder is not writable ({})", ec.message()));
-    if (::access(staging_.c_str(), W_OK) != 0)
-        fail(outDir_, "output folder is not writable");
+    if (ec) fail(outDir_, fmt::format("output folder is not writable ({})", ec.message()));
+    if (::access(staging_.c_str(), W_OK) != 0) fail(outDir_, "output folder is not writable");
 }
 
 StagedOutput::~StagedOutput() {
@@ -255,13 +240,11 @@ fs::path StagedOutput::file(const std::string& name) {
 void StagedOutput::commit() {
     std::error_code ec;
     fs::create_directories(outDir_, ec);
-    if (ec)
-        fail(outDir_, fmt::format("cannot create output folder ({})", ec.message()));
+    if (ec) fail(outDir_, fmt::format("cannot create output folder ({})", ec.message()));
     for (const std::string& name : names_) {
         fs::create_directories((outDir_ / name).parent_path(), ec);
         if (!ec) fs::rename(staging_ / name, outDir_ / name, ec);
-        if (ec)
-            fail(outDir_ / name, fmt::format("cannot move output into place ({})", ec.message()));
+        if (ec) fail(outDir_ / name, fmt::format("cannot move output into place ({})", ec.message()));
     }
 }
 

@@ -22,8 +22,7 @@ std::string_view pyramidKindName(PyramidKind kind) { return kind == PyramidKind:
 PyramidWeighting parsePyramidWeighting(std::string_view name) {
     if (name == "solid-angle") return PyramidWeighting::solidAngle;
     if (name == "inverse-solid-angle") return PyramidWeighting::inverseSolidAngle;
-    throw ProbeError(
-        fmt::format("unknown pyramid weighting '{}' (expected solid-angle or inverse-solid-angle)", name));
+    throw ProbeError(fmt::format("unknown pyramid weighting '{}' (expected solid-angle or inverse-solid-angle)", name));
 }
 
 std::string_view pyramidWeightingName(PyramidWeighting weighting) {
@@ -91,8 +90,7 @@ std::vector<TexelWeight> boxRow(const Texel& coarse, int fineSize, PyramidWeight
 } // namespace
 
 DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings) {
-    if (log2Exact(fineSize) < 1)
-        throw ProbeError(fmt::format("pyramid: cannot downsample a face of size {}", fineSize));
+    if (log2Exact(fineSize) < 1) throw ProbeError(fmt::format("pyramid: cannot downsample a face of size {}", fineSize));
     const int coarseSize = fineSize / 2;
     DownsampleOperator op;
     op.fineSize = fineSize;
@@ -102,15 +100,12 @@ DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings) {
         for (int j = 0; j < coarseSize; ++j)
             for (int i = 0; i < coarseSize; ++i) {
                 const Texel coarse{f, i, j};
-                std::vector<TexelWeight> row = settings.kind == PyramidKind::bspline
-                                                   ? bsplineRow(coarse, fineSize, settings.weighting)
-                                                   : boxRow(coarse, fineSize, settings.weighting);
+                std::vector<TexelWeight> row = settings.kind == PyramidKind::bspline ? bsplineRow(coarse, fineSize, settings.weighting)
+                                                                                     : boxRow(coarse, fineSize, settings.weighting);
                 std::sort(row.begin(), row.end(), [](const TexelWeight& a, const TexelWeight& b) { return a.index < b.index; });
                 for (const TexelWeight& e : row) {
-                    if (op.entries.size() > op.rowStart.back() && op.entries.back().index == e.index)
-                        op.entries.back().weight += e.weight;
-                    else
-                        op.entries.push_back(e);
+                    if (op.entries.size() > op.rowStart.back() && op.entries.back().index == e.index) op.entries.back().weight += e.weight;
+                    else op.entries.push_back(e);
                 }
                 op.rowStart.push_back(static_cast<std::uint32_t>(op.entries.size()));
             }
@@ -150,13 +145,11 @@ CubeLevels buildPyramid(const CubeImage& source, PyramidSettings settings) {
     return buildPyramid(source, pyramidOperators(source.size, settings));
 }
 
-void pushBackToBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levelWeights,
-                    int topLevel) {
+void pushBackToBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levelWeights, int topLevel) {
     for (int k = topLevel; k > 0; --k) operators[k - 1].applyTranspose(levelWeights[k], levelWeights[k - 1]);
 }
 
-void pullUpFromBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levels,
-                    int topLevel) {
+void pullUpFromBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levels, int topLevel) {
     for (int k = 1; k <= topLevel; ++k) operators[k - 1].apply(levels[k - 1], levels[k]);
 }
 

@@ -86,7 +86,8 @@ CubeImage copyLevel(const CubeImage& source, int outSize) {
         for (int j = 0; j < outSize; ++j)
             for (int i = 0; i < outSize; ++i) {
                 const Texel t{f, i, j};
-                out.set(texelIndex(t, outSize), source.texel(texelIndex(directionToTexel(texelDirection(t, outSize), source.size), source.size)));
+                out.set(texelIndex(t, outSize),
+                        source.texel(texelIndex(directionToTexel(texelDirection(t, outSize), source.size), source.size)));
             }
     return out;
 }
@@ -103,8 +104,7 @@ CubeImage forEachOutputTexel(int outSize, PerTexel perTexel) {
 } // namespace
 
 CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
-    if (alpha <= 0.0)
-        return copyLevel(source, outSize);
+    if (alpha <= 0.0) return copyLevel(source, outSize);
     const SourceTexels src(source);
     const float alpha2 = static_cast<float>(alpha * alpha);
     return forEachOutputTexel(outSize, [&](const glm::dvec3& R) {
@@ -113,8 +113,7 @@ CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
     });
 }
 
-CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
-                           const ProgressCallback& progress) {
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ProgressCallback& progress) {
     validateSizeAndLevels(source.size, levelCount);
     CubeLevels levels;
     std::size_t total = 0, done = 0;

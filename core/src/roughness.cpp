@@ -22,13 +22,10 @@ RoughnessMapping parseRoughnessMapping(std::string_view name) {
     throw ProbeError(fmt::format("unknown roughness mapping '{}' (expected gltf, authors, filament or unity)", name));
 }
 
-std::string_view roughnessMappingName(RoughnessMapping mapping) {
-    return roughnessMappingNames()[static_cast<std::size_t>(mapping)];
-}
+std::string_view roughnessMappingName(RoughnessMapping mapping) { return roughnessMappingNames()[static_cast<std::size_t>(mapping)]; }
 
 double levelRoughness(RoughnessMapping mapping, int level, int levelCount) {
-    if (levelCount <= 1)
-        return 0.0;
+    if (levelCount <= 1) return 0.0;
     const double x = static_cast<double>(level) / (levelCount - 1);
     switch (mapping) {
     case RoughnessMapping::gltf: return x;
@@ -44,8 +41,7 @@ double levelRoughness(RoughnessMapping mapping, int level, int levelCount) {
 }
 
 double roughnessToLevel(RoughnessMapping mapping, double roughness, int levelCount) {
-    if (levelCount <= 1)
-        return 0.0;
+    if (levelCount <= 1) return 0.0;
     const double r = std::clamp(roughness, 0.0, 1.0);
     double x = r;
     switch (mapping) {
@@ -63,8 +59,7 @@ double roughnessToLevel(RoughnessMapping mapping, double roughness, int levelCou
 }
 
 int log2Exact(int size) {
-    if (size < 1 || (size & (size - 1)) != 0)
-        return -1;
+    if (size < 1 || (size & (size - 1)) != 0) return -1;
     int log = 0;
     while ((1 << log) < size) ++log;
     return log;
@@ -75,11 +70,10 @@ int defaultLevelCount(int faceSize) { return std::max(1, log2Exact(faceSize)); }
 int maxLevelCount(int faceSize) { return log2Exact(faceSize) + 1; }
 
 void validateSizeAndLevels(int faceSize, int levelCount) {
-    if (log2Exact(faceSize) < 0)
-        throw ProbeError(fmt::format("face size {} is not a power of two >= 1", faceSize));
+    if (log2Exact(faceSize) < 0) throw ProbeError(fmt::format("face size {} is not a power of two >= 1", faceSize));
     if (levelCount < 1 || levelCount > maxLevelCount(faceSize))
-        throw ProbeError(fmt::format("level count {} is impossible for face size {} (1..{})", levelCount, faceSize,
-                                     maxLevelCount(faceSize)));
+        throw ProbeError(
+            fmt::format("level count {} is impossible for face size {} (1..{})", levelCount, faceSize, maxLevelCount(faceSize)));
 }
 
 } // namespace probe

@@ -17,7 +17,7 @@ using nlohmann::json;
 // Reads one JSON object field by field, so that every error names the field and unknown fields
 // are refused.
 class FieldReader {
-public:
+  public:
     FieldReader(const std::filesystem::path& scene, std::string where, const json& object)
         : scene_(scene), where_(std::move(where)), object_(object) {
         if (!object_.is_object()) fail(where_, "must be an object");
@@ -65,7 +65,7 @@ public:
             if (!seen_.count(key)) fail(field(key), "unknown field");
     }
 
-private:
+  private:
     const std::filesystem::path& scene_;
     std::string where_;
     const json& object_;
@@ -95,7 +95,8 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     if (log2Exact(p.faceSize) < 0) r.fail(r.field("face_size"), fmt::format("{} is not a power of two >= 1", p.faceSize));
     p.levelCount = r.optional<int>("levels").value_or(defaultLevelCount(p.faceSize));
     if (p.levelCount < 1 || p.levelCount > maxLevelCount(p.faceSize))
-        r.fail(r.field("levels"), fmt::format("{} is impossible for face size {} (1..{})", p.levelCount, p.faceSize, maxLevelCount(p.faceSize)));
+        r.fail(r.field("levels"),
+               fmt::format("{} is impossible for face size {} (1..{})", p.levelCount, p.faceSize, maxLevelCount(p.faceSize)));
     p.mapping = parseNamed(r, "mapping", r.optional<std::string>("mapping").value_or("gltf"), parseRoughnessMapping);
     p.method = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseFilterMethod);
     p.samples = r.optional<int>("samples").value_or(32);
@@ -132,7 +133,8 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
     if (ktx2.is_boolean()) o.ktx2 = ktx2.get<bool>() ? Ktx2Format::rgba16f : Ktx2Format::none;
     else if (ktx2 == "rgba16f") o.ktx2 = Ktx2Format::rgba16f;
     else if (ktx2 == "rgba32f") o.ktx2 = Ktx2Format::rgba32f;
-    else if (!(ktx2.is_object() && ktx2.empty())) r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", ktx2.dump()));
+    else if (!(ktx2.is_object() && ktx2.empty()))
+        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", ktx2.dump()));
     r.refuseUnknown();
     return o;
 }

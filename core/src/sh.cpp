@@ -8,7 +8,14 @@ namespace probe {
 
 std::array<double, kShCount> shBasis(const glm::dvec3& n) {
     constexpr double c0 = PROBE_SH_C0, c1 = PROBE_SH_C1, c2 = PROBE_SH_C2, c20 = PROBE_SH_C20, c22 = PROBE_SH_C22;
-    return {c0, c1 * n.y, c1 * n.z, c1 * n.x, c2 * n.x * n.y, c2 * n.y * n.z, c20 * (3.0 * n.z * n.z - 1.0), c2 * n.x * n.z,
+    return {c0,
+            c1 * n.y,
+            c1 * n.z,
+            c1 * n.x,
+            c2 * n.x * n.y,
+            c2 * n.y * n.z,
+            c20 * (3.0 * n.z * n.z - 1.0),
+            c2 * n.x * n.z,
             c22 * (n.x * n.x - n.y * n.y)};
 }
 

@@ -25,11 +25,11 @@ std::vector<WeightedTexel> stratifiedTexels(int size, int budget) {
             for (int i = 0; i < size; ++i) {
                 const bool edgeI = i == 0 || i == size - 1, edgeJ = j == 0 || j == size - 1;
                 const double c = std::max(std::abs(texelCentreUv(i, size)), std::abs(texelCentreUv(j, size)));
-                const int s = edgeI && edgeJ                          ? corner
-                              : edgeI || edgeJ                        ? edge
-                              : std::abs(c - 0.75) <= texelWidth      ? band
-                              : c > 0.75                              ? border
-                                                                      : interior;
+                const int s = edgeI && edgeJ                     ? corner
+                              : edgeI || edgeJ                   ? edge
+                              : std::abs(c - 0.75) <= texelWidth ? band
+                              : c > 0.75                         ? border
+                                                                 : interior;
                 strata[s].push_back({f, i, j});
             }
     // Shares of the budget after the corners: edges, band, border, interior.
@@ -40,7 +40,8 @@ std::vector<WeightedTexel> stratifiedTexels(int size, int budget) {
         const std::size_t n = strata[s].size();
         const std::size_t k = s == corner ? n : std::min(n, static_cast<std::size_t>(share[s] * rest));
         for (std::size_t q = 0; q < k; ++q) {
-            const Texel& t = strata[s][static_cast<std::size_t>((static_cast<double>(q) + 0.5) * static_cast<double>(n) / static_cast<double>(k))];
+            const Texel& t =
+                strata[s][static_cast<std::size_t>((static_cast<double>(q) + 0.5) * static_cast<double>(n) / static_cast<double>(k))];
             out.push_back({t, texelSolidAngle(t.i, t.j, size) * static_cast<double>(n) / static_cast<double>(k)});
         }
     }

@@ -23,11 +23,9 @@ CubeImage fromDirections(int faceSize, RadianceOf radianceOf) {
 
 glm::vec3 sky(const glm::dvec3& d) {
     const float up = static_cast<float>(d.y);
-    if (up >= 0.0f)
-        return glm::mix(glm::vec3(0.9f, 0.95f, 1.0f), glm::vec3(0.15f, 0.35f, 0.9f), std::sqrt(up));
+    if (up >= 0.0f) return glm::mix(glm::vec3(0.9f, 0.95f, 1.0f), glm::vec3(0.15f, 0.35f, 0.9f), std::sqrt(up));
     return glm::mix(glm::vec3(0.5f, 0.4f, 0.3f), glm::vec3(0.2f, 0.15f, 0.1f), std::sqrt(-up));
 }
-
 
 glm::vec3 sunSky(const glm::dvec3& d) {
     const glm::dvec3 sun = glm::normalize(glm::dvec3(0.4, 0.6, -0.7));
@@ -93,8 +91,7 @@ CubeImage syntheticProbe(std::string_view name, int faceSize) {
 
 Image syntheticEquirect(std::string_view name, int width) {
     auto radianceOf = directionalProbe(name);
-    if (!radianceOf)
-        throw ProbeError(fmt::format("synthetic probe '{}' has no equirectangular form (constant, sky, sunsky, room)", name));
+    if (!radianceOf) throw ProbeError(fmt::format("synthetic probe '{}' has no equirectangular form (constant, sky, sunsky, room)", name));
     Image image{width, width / 2, std::vector<float>(static_cast<std::size_t>(width) * (width / 2) * 3)};
 #pragma omp parallel for
     for (int y = 0; y < image.height; ++y)

@@ -26,7 +26,8 @@ TapGenerator tableTapGenerator(const TapTable& table) {
     return [&table, used](int level, const Texel& texel, std::vector<Tap>& taps) {
         if (tableLevelAlpha(table, level) <= 0.0) return false;
         const int size = table.baseSize >> level;
-        tableTaps(table, level, used[level], faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)), taps);
+        tableTaps(table, level, used[level], faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)),
+                  taps);
         return true;
     };
 }
@@ -34,17 +35,15 @@ TapGenerator tableTapGenerator(const TapTable& table) {
 CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table) {
     validateTable(table, "tap table");
     if (pyramid.empty() || pyramid[0].size != table.baseSize)
-        throw ProbeError(fmt::format("tap table for base size {} applied to a probe of size {}", table.baseSize,
-                                     pyramid.empty() ? 0 : pyramid[0].size));
+        throw ProbeError(
+            fmt::format("tap table for base size {} applied to a probe of size {}", table.baseSize, pyramid.empty() ? 0 : pyramid[0].size));
     return filterWithTaps(pyramid, table.levelCount, tableTapGenerator(table));
 }
 
-CubeLevels tableFilter(const CubeImage& source, const TapTable& table) {
-    return tableFilter(buildPyramid(source, table.pyramid), table);
-}
+CubeLevels tableFilter(const CubeImage& source, const TapTable& table) { return tableFilter(buildPyramid(source, table.pyramid), table); }
 
-std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators,
-                                         int level, const Texel& texel) {
+std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators, int level,
+                                         const Texel& texel) {
     return impulseWithTaps(operators, table.baseSize, level, texel, tableTapGenerator(table));
 }
 

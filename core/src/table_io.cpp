@@ -34,17 +34,14 @@ void writeText(const std::filesystem::path& path, const std::string& text) {
     if (!out) throw ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 
-json errorToJson(const ImpulseError& e) {
-    return {{"mean", e.mean}, {"max", e.max}, {"worst", {e.worst.face, e.worst.i, e.worst.j}}};
-}
+json errorToJson(const ImpulseError& e) { return {{"mean", e.mean}, {"max", e.max}, {"worst", {e.worst.face, e.worst.i, e.worst.j}}}; }
 
 // Field access that names the file and the field in every error.
 struct Reader {
     const std::filesystem::path& path;
 
     const json& field(const json& object, std::string_view key) const {
-        if (!object.is_object())
-            throw ProbeError(fmt::format("{}: expected an object where '{}' should be", path.string(), key));
+        if (!object.is_object()) throw ProbeError(fmt::format("{}: expected an object where '{}' should be", path.string(), key));
         const auto it = object.find(key);
         if (it == object.end()) throw ProbeError(fmt::format("{}: missing field '{}'", path.string(), key));
         return *it;
@@ -91,8 +88,8 @@ std::string floatList(const std::vector<float>& values, int perLine, std::string
     std::string out;
     for (std::size_t k = 0; k < values.size(); k += 4) {
         if (k % (4 * static_cast<std::size_t>(perLine)) == 0) out += "\n   ";
-        out += fmt::format(" {}{}, {}, {}, {}{},", open, floatLiteral(values[k]), floatLiteral(values[k + 1]),
-                           floatLiteral(values[k + 2]), floatLiteral(values[k + 3]), close);
+        out += fmt::format(" {}{}, {}, {}, {}{},", open, floatLiteral(values[k]), floatLiteral(values[k + 1]), floatLiteral(values[k + 2]),
+                           floatLiteral(values[k + 3]), close);
     }
     if (!out.empty()) out.pop_back();
     return out;
@@ -135,8 +132,7 @@ std::string tableToJson(const TapTable& table) {
               {"taps", table.taps},
               {"form", tableFormName(table.form)},
               {"mapping", roughnessMappingName(table.mapping)},
-              {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)},
-                           {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
+              {"pyramid", {{"kind", pyramidKindName(table.pyramid.kind)}, {"weighting", pyramidWeightingName(table.pyramid.weighting)}}},
               {"solver", table.solver},
               {"stratifiedBudget", table.stratifiedBudget},
               {"fitSeconds", table.fitSeconds},
@@ -153,16 +149,14 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
         throw ProbeError(fmt::format("{}: not a complete table file (JSON error at byte {})", path.string(), e.byte));
     }
     const Reader r{path};
-    if (r.get<std::string>(j, "format") != kFormatName)
-        throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
+    if (r.get<std::string>(j, "format") != kFormatName) throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
     if (r.get<int>(j, "version") != kFormatVersion)
-        throw ProbeError(fmt::format("{}: table format version {} (expected {})", path.string(), r.get<int>(j, "version"),
-                                     kFormatVersion));
+        throw ProbeError(fmt::format("{}: table format version {} (expected {})", path.string(), r.get<int>(j, "version"), kFormatVersion));
     const json& pyramid = r.field(j, "pyramid");
     TapTable table;
     try {
-        table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"),
-                           r.name(j, "form", parseTableForm), r.name(j, "mapping", parseRoughnessMapping),
+        table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"), r.name(j, "form", parseTableForm),
+                           r.name(j, "mapping", parseRoughnessMapping),
                            {r.name(pyramid, "kind", parsePyramidKind), r.name(pyramid, "weighting", parsePyramidWeighting)});
     } catch (const ProbeError& e) {
         const std::string message = e.what();
@@ -178,8 +172,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
         throw ProbeError(fmt::format("{}: 'levels' must list {} levels", path.string(), table.levelCount));
     for (int m = 0; m < table.levelCount; ++m) {
         const json& level = levels[static_cast<std::size_t>(m)];
-        if (r.get<int>(level, "level") != m)
-            throw ProbeError(fmt::format("{}: levels out of order at entry {}", path.string(), m));
+        if (r.get<int>(level, "level") != m) throw ProbeError(fmt::format("{}: levels out of order at entry {}", path.string(), m));
         TableLevel& out = table.levels[m];
         out.coefficients = r.get<std::vector<double>>(level, "coefficients");
         out.stratified = r.error(level, "stratified");
@@ -202,8 +195,7 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
     for (int p = 0; p < kTapParameterCount; ++p)
         for (int coefficient = 0; coefficient < k; ++coefficient)
             for (int frame = 0; frame < kFrameCount; ++frame)
-                for (int tap = 0; tap < table.taps; ++tap)
-                    out.push_back(static_cast<float>(c[table.offset(frame, tap, p) + coefficient]));
+                for (int tap = 0; tap < table.taps; ++tap) out.push_back(static_cast<float>(c[table.offset(frame, tap, p) + coefficient]));
     return out;
 }
 
@@ -228,8 +220,8 @@ TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, i
     }
     const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
     if (numbers.size() != perLevel * levelCount)
-        throw ProbeError(fmt::format("{}: {} numbers, expected {} ({} levels x {} taps x 3 frames x 5 x {})", path.string(),
-                                     numbers.size(), perLevel * levelCount, levelCount, taps, coefficientCount(form)));
+        throw ProbeError(fmt::format("{}: {} numbers, expected {} ({} levels x {} taps x 3 frames x 5 x {})", path.string(), numbers.size(),
+                                     perLevel * levelCount, levelCount, taps, coefficientCount(form)));
     const int k = coefficientCount(form);
     std::size_t n = 0;
     for (TableLevel& level : table.levels)
@@ -252,13 +244,11 @@ void writePublishedTable(const std::filesystem::path& path, const TapTable& tabl
 
 std::vector<std::string> tableSummary(const TapTable& table) {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("base size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.baseSize,
-                                table.levelCount, table.taps, kFrameCount, tableFormName(table.form),
-                                roughnessMappingName(table.mapping)));
-    lines.push_back(fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind),
-                                pyramidWeightingName(table.pyramid.weighting)));
-    lines.push_back(fmt::format("solver: {}; stratified texels: budget {} per level", table.solver,
-                                table.stratifiedBudget));
+    lines.push_back(fmt::format("base size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.baseSize, table.levelCount,
+                                table.taps, kFrameCount, tableFormName(table.form), roughnessMappingName(table.mapping)));
+    lines.push_back(
+        fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind), pyramidWeightingName(table.pyramid.weighting)));
+    lines.push_back(fmt::format("solver: {}; stratified texels: budget {} per level", table.solver, table.stratifiedBudget));
     lines.push_back(fmt::format("fit time {:.1f} s", table.fitSeconds));
     lines.push_back("impulse-response L1 per level: stratified mean / max, all texels mean / max (worst texel "
                     "face,i,j), min weight sum");
@@ -270,11 +260,10 @@ std::vector<std::string> tableSummary(const TapTable& table) {
             continue;
         }
         const std::string all = l.all.mean < 0.0 ? std::string("not measured")
-                                                 : fmt::format("{:.5f} / {:.5f} ({},{},{})", l.all.mean, l.all.max,
-                                                               l.all.worst.face, l.all.worst.i, l.all.worst.j);
-        const std::string stratified = l.stratified.mean < 0.0
-                                           ? std::string("not measured")
-                                           : fmt::format("{:.5f} / {:.5f}", l.stratified.mean, l.stratified.max);
+                                                 : fmt::format("{:.5f} / {:.5f} ({},{},{})", l.all.mean, l.all.max, l.all.worst.face,
+                                                               l.all.worst.i, l.all.worst.j);
+        const std::string stratified =
+            l.stratified.mean < 0.0 ? std::string("not measured") : fmt::format("{:.5f} / {:.5f}", l.stratified.mean, l.stratified.max);
         lines.push_back(fmt::format("  level {} alpha {:.5f}: {}, {}, {:.4f}", m, alpha, stratified, all, l.minWeightSum));
     }
     return lines;
@@ -288,13 +277,11 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
     out += fmt::format("inline constexpr int kBaseSize = {};\n", table.baseSize);
     out += fmt::format("inline constexpr int kLevelCount = {};\n", table.levelCount);
     out += fmt::format("inline constexpr int kTaps = {}; // per frame\n", table.taps);
-    out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form),
-                       tableFormName(table.form));
+    out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form), tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kForm = \"{}\";\n", tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kMapping = \"{}\";\n", roughnessMappingName(table.mapping));
     out += fmt::format("inline constexpr const char* kPyramidKind = \"{}\";\n", pyramidKindName(table.pyramid.kind));
-    out += fmt::format("inline constexpr const char* kPyramidWeighting = \"{}\";\n",
-                       pyramidWeightingName(table.pyramid.weighting));
+    out += fmt::format("inline constexpr const char* kPyramidWeighting = \"{}\";\n", pyramidWeightingName(table.pyramid.weighting));
     out += "// Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].\n";
     out += fmt::format("inline constexpr float kCoefficients[{}] = {{{}\n}};\n", values.size(), floatList(values, 2, "", ""));
     out += "\n} // namespace probe_tables::" + std::string(name) + "\n";
@@ -315,8 +302,7 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += "// vec4 index of (level, parameter, coefficient, frame, tap / 4):\n"
            "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
            "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";
-    out += fmt::format("const vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4,
-                       floatList(values, 2, "vec4(", ")"));
+    out += fmt::format("const vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
     out += "\n#endif\n";
     return out;
 }

@@ -17,8 +17,7 @@ glm::vec3 sumTaps(const CubeLevels& pyramid, std::span<const Tap> taps) {
     return glm::vec3(glm::max(sum / weightSum, glm::dvec3(0.0)));
 }
 
-std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize,
-                                       std::span<const Tap> taps) {
+std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, std::span<const Tap> taps) {
     const int levels = pyramidLevelCount(baseSize);
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
     for (int k = 0; k < levels; ++k) weights[k].assign(texelCount(baseSize >> k), 0.0);
@@ -48,12 +47,10 @@ CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGe
             std::vector<Tap> taps;
 #pragma omp for schedule(dynamic, 16)
             for (std::size_t t = 0; t < texelCount(size); ++t) {
-                const Texel texel{static_cast<int>(t / (static_cast<std::size_t>(size) * size)),
-                                  static_cast<int>(t % size), static_cast<int>(t / size % size)};
-                if (generator(m, texel, taps))
-                    level.set(t, sumTaps(pyramid, taps));
-                else
-                    level.set(t, pyramid[0].texel(texelIndex(directionToTexel(texelDirection(texel, size), baseSize), baseSize)));
+                const Texel texel{static_cast<int>(t / (static_cast<std::size_t>(size) * size)), static_cast<int>(t % size),
+                                  static_cast<int>(t / size % size)};
+                if (generator(m, texel, taps)) level.set(t, sumTaps(pyramid, taps));
+                else level.set(t, pyramid[0].texel(texelIndex(directionToTexel(texelDirection(texel, size), baseSize), baseSize)));
             }
         }
         out.push_back(std::move(level));
@@ -61,8 +58,8 @@ CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGe
     return out;
 }
 
-std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int baseSize, int level,
-                                    const Texel& texel, const TapGenerator& generator) {
+std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int baseSize, int level, const Texel& texel,
+                                    const TapGenerator& generator) {
     std::vector<Tap> taps;
     if (generator(level, texel, taps)) return tapImpulseResponse(operators, baseSize, taps);
     std::vector<double> copy(texelCount(baseSize), 0.0);

@@ -14,8 +14,7 @@ TableForm parseTableForm(std::string_view name) {
 
 std::string_view tableFormName(TableForm form) { return form == TableForm::quadratic ? "quad" : "const"; }
 
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping,
-                    PyramidSettings pyramid) {
+TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid) {
     TapTable table;
     table.baseSize = baseSize;
     table.levelCount = levelCount;
@@ -24,8 +23,7 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
     table.mapping = mapping;
     table.pyramid = pyramid;
     validateSizeAndLevels(baseSize, levelCount);
-    if (taps < 4 || taps % 4 != 0)
-        throw ProbeError(fmt::format("tap count {} is not a positive multiple of 4", taps));
+    if (taps < 4 || taps % 4 != 0) throw ProbeError(fmt::format("tap count {} is not a positive multiple of 4", taps));
     table.levels.resize(static_cast<std::size_t>(levelCount));
     for (TableLevel& level : table.levels) {
         level.coefficients.assign(static_cast<std::size_t>(table.coefficientsPerLevel()), 0.0);
@@ -44,13 +42,12 @@ void validateTable(const TapTable& table, std::string_view what) {
     if (table.taps < 4 || table.taps % 4 != 0)
         throw ProbeError(fmt::format("{}: tap count {} is not a positive multiple of 4", what, table.taps));
     if (table.levels.size() != static_cast<std::size_t>(table.levelCount))
-        throw ProbeError(fmt::format("{}: {} levels of coefficients for a level count of {}", what, table.levels.size(),
-                                     table.levelCount));
+        throw ProbeError(fmt::format("{}: {} levels of coefficients for a level count of {}", what, table.levels.size(), table.levelCount));
     for (std::size_t m = 0; m < table.levels.size(); ++m)
         if (table.levels[m].coefficients.size() != static_cast<std::size_t>(table.coefficientsPerLevel()))
-            throw ProbeError(fmt::format("{}: level {} has {} coefficients, expected {} ({} taps x 3 frames x 5 x {})", what,
-                                         m, table.levels[m].coefficients.size(), table.coefficientsPerLevel(),
-                                         table.taps, coefficientCount(table.form)));
+            throw ProbeError(fmt::format("{}: level {} has {} coefficients, expected {} ({} taps x 3 frames x 5 x {})", what, m,
+                                         table.levels[m].coefficients.size(), table.coefficientsPerLevel(), table.taps,
+                                         coefficientCount(table.form)));
 }
 
 int tapsInUse(const TapTable& table, int level) {

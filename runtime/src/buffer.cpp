@@ -14,8 +14,9 @@ namespace probe::gpu {
 Buffer::Buffer(const Device& device, VkDeviceSize bytes, Kind kind) : device_(device.device()), bytes_(bytes) {
     const Device::Impl& d = device.impl();
     if (kind == Kind::storage && bytes > d.limits.maxStorageBufferRange)
-        throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {} MiB, over its maxStorageBufferRange of {} MiB; use a smaller --size",
-                                     d.info.name, bytes >> 20, d.limits.maxStorageBufferRange >> 20));
+        throw ProbeError(
+            fmt::format("Vulkan: {} needs a storage buffer of {} MiB, over its maxStorageBufferRange of {} MiB; use a smaller --size",
+                        d.info.name, bytes >> 20, d.limits.maxStorageBufferRange >> 20));
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = bytes;
     info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
@@ -86,8 +87,14 @@ std::vector<float> borderedRgbaTexels(const CubeImage& level) {
     // The texel of the level that (face, i, j) shows, for i or j (not both) one step outside the face.
     const auto neighbour = [&](int face, int i, int j) {
         Texel t;
-        texelNeighbour({face, std::clamp(i, 0, size - 1), std::clamp(j, 0, size - 1)}, i < 0 ? -1 : i >= size ? 1 : 0,
-                       j < 0 ? -1 : j >= size ? 1 : 0, size, t);
+        texelNeighbour({face, std::clamp(i, 0, size - 1), std::clamp(j, 0, size - 1)},
+                       i < 0       ? -1
+                       : i >= size ? 1
+                                   : 0,
+                       j < 0       ? -1
+                       : j >= size ? 1
+                                   : 0,
+                       size, t);
         return level.texel(texelIndex(t, size));
     };
     std::vector<float> texels(4 * pyramidLevelTexels(size));

@@ -28,7 +28,8 @@ const std::vector<CompiledTable>& compiledTables() {
     static const std::vector<CompiledTable> tables = [] {
         std::vector<CompiledTable> list;
         for (const EmbeddedTable& e : kEmbedded)
-            if (!e.name.empty()) list.push_back({std::string(e.name), tableFromJson(e.json, std::string("tables/") + std::string(e.name) + ".json")});
+            if (!e.name.empty())
+                list.push_back({std::string(e.name), tableFromJson(e.json, std::string("tables/") + std::string(e.name) + ".json")});
         return list;
     }();
     return tables;

@@ -18,8 +18,7 @@ constexpr VkDeviceSize kTexelBytes = 16; // RGBA32F
 
 } // namespace
 
-PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers)
-    : device_(device.device()) {
+PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers) : device_(device.device()) {
     const Device::Impl& d = device.impl();
     // The table (binding 3) and the pyramid (binding 4), read as texels.
     const std::array<const Buffer*, 2> texelBuffers{buffers[3], buffers[0]};

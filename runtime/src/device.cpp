@@ -38,8 +38,10 @@ VkInstance createInstance(bool validation) {
         vkEnumerateInstanceLayerProperties(&count, nullptr);
         std::vector<VkLayerProperties> layers(count);
         vkEnumerateInstanceLayerProperties(&count, layers.data());
-        if (std::none_of(layers.begin(), layers.end(), [](const VkLayerProperties& l) { return std::strcmp(l.layerName, kValidationLayer) == 0; }))
-            throw ProbeError(fmt::format("Vulkan: validation requested but {} is not installed (Debian: vulkan-validationlayers)", kValidationLayer));
+        if (std::none_of(layers.begin(), layers.end(),
+                         [](const VkLayerProperties& l) { return std::strcmp(l.layerName, kValidationLayer) == 0; }))
+            throw ProbeError(
+                fmt::format("Vulkan: validation requested but {} is not installed (Debian: vulkan-validationlayers)", kValidationLayer));
         info.enabledLayerCount = 1;
         info.ppEnabledLayerNames = &kValidationLayer;
         info.enabledExtensionCount = 1;
@@ -113,13 +115,15 @@ std::string lower(std::string s) {
 
 std::string listing(const std::vector<Candidate>& candidates) {
     std::string text;
-    for (const Candidate& c : candidates) text += fmt::format("{}{}: {} ({})", text.empty() ? "" : "; ", c.info.index, c.info.name, c.info.type);
+    for (const Candidate& c : candidates)
+        text += fmt::format("{}{}: {} ({})", text.empty() ? "" : "; ", c.info.index, c.info.name, c.info.type);
     return text.empty() ? "none" : text;
 }
 
 const Candidate& chooseDevice(const std::vector<Candidate>& candidates, const std::string& choice) {
     if (candidates.empty())
-        throw ProbeError("Vulkan: no device with Vulkan 1.2 and a compute queue (install Mesa's lavapipe, mesa-vulkan-drivers, or a GPU driver)");
+        throw ProbeError(
+            "Vulkan: no device with Vulkan 1.2 and a compute queue (install Mesa's lavapipe, mesa-vulkan-drivers, or a GPU driver)");
     if (choice.empty()) {
         for (const char* type : {"discrete", "cpu"})
             for (const Candidate& c : candidates)
@@ -216,7 +220,8 @@ Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
         readProperties(d);
     } catch (...) {
         if (d.messenger) {
-            auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(d.instance, "vkDestroyDebugUtilsMessengerEXT"));
+            auto destroy =
+                reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(d.instance, "vkDestroyDebugUtilsMessengerEXT"));
             destroy(d.instance, d.messenger, nullptr);
         }
         vkDestroyInstance(d.instance, nullptr);
@@ -233,8 +238,7 @@ Device::Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice de
     d.queueFamily = queueFamily;
     d.queue = queue;
     d.info = describePhysicalDevice(physicalDevice, -1);
-    if (d.info.apiVersion < VK_API_VERSION_1_2)
-        throw ProbeError(fmt::format("Vulkan: {} is not a Vulkan 1.2 device", d.info.name));
+    if (d.info.apiVersion < VK_API_VERSION_1_2) throw ProbeError(fmt::format("Vulkan: {} is not a Vulkan 1.2 device", d.info.name));
     readProperties(d);
 }
 
@@ -243,7 +247,8 @@ Device::~Device() {
     if (!d.owned) return;
     vkDestroyDevice(d.device, nullptr);
     if (d.messenger) {
-        auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(d.instance, "vkDestroyDebugUtilsMessengerEXT"));
+        auto destroy =
+            reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(d.instance, "vkDestroyDebugUtilsMessengerEXT"));
         destroy(d.instance, d.messenger, nullptr);
     }
     vkDestroyInstance(d.instance, nullptr);

@@ -132,8 +132,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     switch (s.method) {
     case Method::table: {
         if (!d.impl().computeSubgroupVote)
-            throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method needs",
-                                        d.info().name));
+            throw ProbeError(
+                fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method needs", d.info().name));
         const std::array<int32_t, 1> form{tableCoefficientCount}; // table_filter.comp's kCoefficientCount
         pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv(), form);
         break;

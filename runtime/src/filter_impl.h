@@ -11,8 +11,8 @@
 #include "buffer.h"
 #include "compute_pipeline.h"
 #include "gpu_timer.h"
-#include "submission.h"
 #include "probe/runtime.h"
+#include "submission.h"
 
 namespace probe::gpu {
 
@@ -32,14 +32,14 @@ struct Filter::Impl {
     std::unique_ptr<PipelineLayout> layout;
     std::unique_ptr<ComputePipeline> pass1;        // the pyramid; null for the reference method
     std::unique_ptr<ComputePipeline> pass1Corners; // the border corners of each pyramid level, with pass1
-    std::unique_ptr<ComputePipeline> pass2; // table, fis or reference
-    std::unique_ptr<ComputePipeline> copy;  // pass 2 at the levels with alpha = 0; null when none is computed
+    std::unique_ptr<ComputePipeline> pass2;        // table, fis or reference
+    std::unique_ptr<ComputePipeline> copy;         // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
-    uint32_t copyLevels = 0;       // bit m: output level m has alpha = 0, a copy of the source
-    int tableTaps = 0;             // table method: N per frame
-    int tableCoefficientCount = 0; // table method: 3 (quadratic) or 1 (constant)
-    uint32_t tableUsageFirst = 0;  // table method: where the per-level tap group counts start in the table buffer
+    uint32_t copyLevels = 0;             // bit m: output level m has alpha = 0, a copy of the source
+    int tableTaps = 0;                   // table method: N per frame
+    int tableCoefficientCount = 0;       // table method: 3 (quadratic) or 1 (constant)
+    uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
     std::unique_ptr<Submission> submission;
@@ -85,8 +85,8 @@ void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBu
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
 // impl.dispatches.
 template <typename Constants>
-void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, std::string_view pass,
-                  int level, const Constants& constants, uint32_t groups) {
+void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, std::string_view pass, int level,
+                  const Constants& constants, uint32_t groups) {
     static_assert(sizeof(Constants) <= kPushConstantBytes);
     pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups);
     impl.dispatches.push_back({std::string(pass), level, groups});

@@ -47,8 +47,8 @@ void GpuTimer::boundary(VkCommandBuffer commandBuffer, uint32_t index) const {
 void GpuTimer::collect() {
     if (!pool_) return;
     std::vector<uint64_t> ticks(segmentPasses_.size() + 1);
-    vkCheck(vkGetQueryPoolResults(device_, pool_, 0, static_cast<uint32_t>(ticks.size()), ticks.size() * sizeof(uint64_t),
-                                  ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+    vkCheck(vkGetQueryPoolResults(device_, pool_, 0, static_cast<uint32_t>(ticks.size()), ticks.size() * sizeof(uint64_t), ticks.data(),
+                                  sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
             "vkGetQueryPoolResults");
     std::vector<double> run;
     for (std::size_t k = 0; k < segmentPasses_.size(); ++k)

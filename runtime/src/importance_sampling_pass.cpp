@@ -44,8 +44,12 @@ std::vector<float> importanceSamplingBufferData(const FilterSettings& s, std::ve
 void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const uint32_t firstSample = impl.sampleOffsets[m];
-    const ImportanceSamplingConstants constants{s.faceSize, impl.pyramidLevels, impl.outputOffsets[m], impl.outputOffsets[m + 1],
-                                                firstSample, impl.sampleOffsets[m + 1] - firstSample};
+    const ImportanceSamplingConstants constants{s.faceSize,
+                                                impl.pyramidLevels,
+                                                impl.outputOffsets[m],
+                                                impl.outputOffsets[m + 1],
+                                                firstSample,
+                                                impl.sampleOffsets[m + 1] - firstSample};
     dispatchPass(impl, commandBuffer, *impl.pass2, "fis", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
 }
 

@@ -15,7 +15,7 @@ namespace probe::gpu {
 
 namespace {
 
-constexpr uint32_t kItemsPerGroup = 1024; // ITEMS_PER_GROUP of the shader
+constexpr uint32_t kItemsPerGroup = 1024;   // ITEMS_PER_GROUP of the shader
 constexpr uint32_t kBlockTexels = kShCount; // one vec4 per coefficient
 
 struct ShConstants {

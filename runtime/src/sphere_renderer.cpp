@@ -38,7 +38,8 @@ std::vector<float> packedLevels(const CubeLevels& levels, int baseSize) {
             texels.resize(texels.size() + 4 * pyramidLevelTexels(size), 0.0f);
             continue;
         }
-        if (levels[m].size != size) throw ProbeError(fmt::format("sphere renderer: level {} has face size {}, not {}", m, levels[m].size, size));
+        if (levels[m].size != size)
+            throw ProbeError(fmt::format("sphere renderer: level {} has face size {}, not {}", m, levels[m].size, size));
         const std::vector<float> level = borderedRgbaTexels(levels[m]);
         texels.insert(texels.end(), level.begin(), level.end());
     }
@@ -62,7 +63,8 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     const int dfgSize = scene.dfg ? scene.dfg->width : 1;
     if (scene.dfg) {
         if (scene.dfg->height != dfgSize) throw ProbeError("sphere renderer: the DFG table must be square");
-        for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3) lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
+        for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3)
+            lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
     } else {
         lookup.insert(lookup.end(), {0.0f, 0.0f, 0.0f, 0.0f});
     }
@@ -89,8 +91,14 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     submission.upload(lookupBuffer, lookup.data(), lookupBuffer.bytes());
     submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
 
-    const SphereConstants constants{scene.cellSize, static_cast<int32_t>(scene.materials.size()), baseSize,
-                                    static_cast<int32_t>(levels.size()), scene.background->size, dfgSize, kTanHalfFov, kCameraDistance};
+    const SphereConstants constants{scene.cellSize,
+                                    static_cast<int32_t>(scene.materials.size()),
+                                    baseSize,
+                                    static_cast<int32_t>(levels.size()),
+                                    scene.background->size,
+                                    dfgSize,
+                                    kTanHalfFov,
+                                    kCameraDistance};
     VkCommandBuffer commandBuffer = submission.begin();
     computeBarrier(commandBuffer);
     layout.bind(commandBuffer);

@@ -34,7 +34,8 @@ void checkTableFits(const TapTable& table, const FilterSettings& s) {
     if (table.baseSize != s.faceSize) reasons.push_back(fmt::format("it is for base size {}, not {}", table.baseSize, s.faceSize));
     if (table.levelCount != s.levelCount) reasons.push_back(fmt::format("it has {} levels, not {}", table.levelCount, s.levelCount));
     if (table.mapping != s.mapping)
-        reasons.push_back(fmt::format("it is for the {} roughness mapping, not {}", roughnessMappingName(table.mapping), roughnessMappingName(s.mapping)));
+        reasons.push_back(fmt::format("it is for the {} roughness mapping, not {}", roughnessMappingName(table.mapping),
+                                      roughnessMappingName(s.mapping)));
     if (!(table.pyramid == s.pyramid))
         reasons.push_back(fmt::format("it was fitted over the {} {} pyramid, not {} {}", pyramidKindName(table.pyramid.kind),
                                       pyramidWeightingName(table.pyramid.weighting), pyramidKindName(s.pyramid.kind),
@@ -58,14 +59,12 @@ std::vector<float> tableBufferData(const TapTable& table) {
     return data;
 }
 
-uint32_t tableUsageFirst(const TapTable& table) {
-    return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4);
-}
+uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4); }
 
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize,           impl.pyramidLevels,        m, impl.tableTaps, impl.outputOffsets[m],
-                                   impl.outputOffsets[m + 1], impl.tableUsageFirst};
+    const TableConstants constants{
+        s.faceSize, impl.pyramidLevels, m, impl.tableTaps, impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
     dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
 }
 

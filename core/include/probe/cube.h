@@ -50,16 +50,14 @@ double texelSolidAngle(int i, int j, int size);
 bool texelNeighbour(const Texel& texel, int di, int dj, int size, Texel& neighbour);
 
 // Linear index of a texel in a face-major, row-major level of `size` texels per face side.
-inline std::size_t texelIndex(const Texel& t, int size) {
-    return (static_cast<std::size_t>(t.face) * size + t.j) * size + t.i;
-}
+inline std::size_t texelIndex(const Texel& t, int size) { return (static_cast<std::size_t>(t.face) * size + t.j) * size + t.i; }
 inline std::size_t texelCount(int size) { return static_cast<std::size_t>(kFaceCount) * size * size; }
 
 // Directions and solid angles of every texel of one level, computed once and shared.
 struct CubeGeometry {
     int size = 0;
-    std::vector<glm::dvec3> directions;   // unit, indexed by texelIndex
-    std::vector<double> solidAngles; // steradians, indexed by texelIndex
+    std::vector<glm::dvec3> directions; // unit, indexed by texelIndex
+    std::vector<double> solidAngles;    // steradians, indexed by texelIndex
 
     explicit CubeGeometry(int faceSize);
 };

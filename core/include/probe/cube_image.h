@@ -28,8 +28,7 @@ struct CubeImage {
     std::vector<float> rgb; // texelCount(size) * 3, indexed by texelIndex
 
     CubeImage() = default;
-    explicit CubeImage(int faceSize, glm::vec3 fill = glm::vec3(0.0f))
-        : size(faceSize), rgb(texelCount(faceSize) * 3) {
+    explicit CubeImage(int faceSize, glm::vec3 fill = glm::vec3(0.0f)) : size(faceSize), rgb(texelCount(faceSize) * 3) {
         for (std::size_t t = 0; t < texelCount(size); ++t) set(t, fill);
     }
 

@@ -28,10 +28,8 @@ namespace probe {
 // through the continuous weights.
 template <typename T>
 inline double scalarValue(const T& x) {
-    if constexpr (std::is_arithmetic_v<T>)
-        return static_cast<double>(x);
-    else
-        return x.a;
+    if constexpr (std::is_arithmetic_v<T>) return static_cast<double>(x);
+    else return x.a;
 }
 
 // One texel of a level (index = texelIndex in that level) and its weight.
@@ -94,8 +92,7 @@ inline void faceCoordinates(int face, const std::array<T, 3>& d, T& u, T& v) {
 // Bilinear footprint at a direction (any length, not zero) in a level of `size`.
 template <typename T>
 FootprintT<T> bilinearFootprint(int size, const std::array<T, 3>& direction) {
-    const int face =
-        directionToFaceUv({scalarValue(direction[0]), scalarValue(direction[1]), scalarValue(direction[2])}).face;
+    const int face = directionToFaceUv({scalarValue(direction[0]), scalarValue(direction[1]), scalarValue(direction[2])}).face;
     T u, v;
     faceCoordinates(face, direction, u, v);
     const T half(0.5 * size);

@@ -26,7 +26,7 @@ inline std::array<int, 2> frameOtherAxes(int axis) { return {axis == 0 ? 1 : 0, 
 
 // Everything about one frame at one output texel that does not depend on the table.
 struct FrameSetup {
-    double weight = 0.0;   // (max(|d_b|, |d_c|) - 0.75) / 0.25; the frame is skipped where <= 0
+    double weight = 0.0;               // (max(|d_b|, |d_c|) - 0.75) / 0.25; the frame is skipped where <= 0
     glm::dvec3 x{0.0}, y{0.0}, z{0.0}; // z = R, x = normalize(axis x R), y = R x x
     double theta2 = 0.0, phi2 = 0.0;   // the polynomial domain, squared
 };
@@ -56,10 +56,8 @@ inline FrameSetup frameSetup(const glm::dvec3& d, int axis) {
     const double m = std::max(std::abs(d[b]), std::abs(d[c]));
     const double xs = d[b] / m, ys = d[c] / m;
     double theta;
-    if (ys < xs)
-        theta = ys <= -PROBE_THETA_EDGE ? xs : ys;
-    else
-        theta = ys >= PROBE_THETA_EDGE ? -xs : -ys;
+    if (ys < xs) theta = ys <= -PROBE_THETA_EDGE ? xs : ys;
+    else theta = ys >= PROBE_THETA_EDGE ? -xs : -ys;
     const double phi = z >= 1.0 - PROBE_POLE_EPSILON ? m : z;
     f.theta2 = theta * theta;
     f.phi2 = phi * phi;

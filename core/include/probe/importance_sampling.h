@@ -59,9 +59,8 @@ CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, Rough
                                   const ImportanceSamplingSettings& settings);
 
 // Impulse response of one output texel of level m over base texels.
-std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize,
-                                                    int levelCount, RoughnessMapping mapping,
-                                                    const ImportanceSamplingSettings& settings, int level,
+std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+                                                    RoughnessMapping mapping, const ImportanceSamplingSettings& settings, int level,
                                                     const Texel& texel);
 
 } // namespace probe

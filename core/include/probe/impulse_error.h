@@ -13,7 +13,7 @@ namespace probe {
 
 // Mean (weighted as the texel set says) and worst e(R) over `texels` of output level m; all cores.
 // A copy level (alpha = 0) is compared with the reference's copy.
-ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize,
-                          int levelCount, RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels);
+ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+                          RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels);
 
 } // namespace probe

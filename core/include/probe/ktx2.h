@@ -18,8 +18,7 @@ using KeyValues = std::vector<std::pair<std::string, std::string>>;
 // Writes levels[0..] (face size halving each level, alpha 1) as one cube map. RGBA16F clamps
 // values above the half-float range to 65504; returns how many values were clamped. Throws
 // ProbeError naming the file on failure.
-std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format,
-                          const KeyValues& metadata);
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata);
 
 // Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata).
 struct Ktx2Cube {

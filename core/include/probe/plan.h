@@ -25,10 +25,10 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const s
 struct ProbePlan {
     std::string probe;
     FilterMethod method = FilterMethod::table;
-    std::vector<int> levels;                      // output levels to compute, ascending
+    std::vector<int> levels;                            // output levels to compute, ascending
     std::vector<std::vector<std::string>> levelReaders; // per entry of `levels`: the materials that read it
-    bool readsPyramid = false;                    // some level is filtered (not a copy of the source)
-    int pyramidLevels = 0;                        // pyramid levels to build below the source
+    bool readsPyramid = false;                          // some level is filtered (not a copy of the source)
+    int pyramidLevels = 0;                              // pyramid levels to build below the source
     bool irradiance = false;
     std::vector<std::string> diffuseMaterials;
 };

@@ -63,12 +63,10 @@ CubeLevels buildPyramid(const CubeImage& source, PyramidSettings settings);
 // Weights on the texels of every pyramid level (element k has texelCount(baseSize >> k) entries)
 // pushed back to base texels through the transposed operators, coarsest first; the result is in
 // element 0 and the coarser elements are left modified. Levels above `topLevel` must be zero.
-void pushBackToBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levelWeights,
-                    int topLevel);
+void pushBackToBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levelWeights, int topLevel);
 
 // The scalar pyramid of a base image up to `topLevel` (element 0 is the image itself); the
 // adjoint of pushBackToBase: d(sum_t g_t w_t) / d(weight on pyramid texel p) = levels[k][p].
-void pullUpFromBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levels,
-                    int topLevel);
+void pullUpFromBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levels, int topLevel);
 
 } // namespace probe

@@ -35,7 +35,7 @@ struct SceneProbe {
     int levelCount = 0; // after parsing: the default for the face size when not given
     RoughnessMapping mapping = RoughnessMapping::gltf;
     FilterMethod method = FilterMethod::table;
-    int samples = 32;                    // FIS only
+    int samples = 32;                           // FIS only
     std::optional<std::filesystem::path> table; // table method: a table file instead of the built-in one
 };
 
@@ -45,7 +45,7 @@ struct SceneMaterial {
     double roughness = 0.5; // perceptual, [0, 1]
     double metallic = 0.0;  // [0, 1]
     glm::dvec3 baseColor{0.8};
-    double specular = 1.0;  // dielectric specular strength (F0 = 0.04 specular), [0, 1]
+    double specular = 1.0; // dielectric specular strength (F0 = 0.04 specular), [0, 1]
 
     // Lit by the prefiltered GGX levels (and the DFG table).
     bool hasSpecular() const { return metallic > 0.0 || specular > 0.0; }

@@ -24,8 +24,8 @@ struct TableLevel {
     // Coefficient c of parameter p of tap t in frame f at
     // ((f * taps + t) * kTapParameterCount + p) * coefficientCount + c.
     std::vector<double> coefficients;
-    ImpulseError stratified;  // impulse L1 over the stratified output texels (what the fit sees)
-    ImpulseError all;         // over every output texel of all six faces; mean < 0 where not measured
+    ImpulseError stratified;   // impulse L1 over the stratified output texels (what the fit sees)
+    ImpulseError all;          // over every output texel of all six faces; mean < 0 where not measured
     double minWeightSum = 0.0; // smallest sum of tap weights over the output texels measured
 };
 
@@ -36,10 +36,10 @@ struct TapTable {
     TableForm form = TableForm::quadratic;
     RoughnessMapping mapping = RoughnessMapping::gltf;
     PyramidSettings pyramid;
-    std::string solver;   // the solver settings, free text
+    std::string solver;         // the solver settings, free text
     int stratifiedBudget = 512; // texel budget per level of the stratified set (stratified_texels.h)
     double fitSeconds = 0.0;
-    double seamWeight = 0.0; // the fit's seam term weight (0: fitted on the L1 alone)
+    double seamWeight = 0.0;        // the fit's seam term weight (0: fitted on the L1 alone)
     std::vector<TableLevel> levels; // levelCount entries
 
     int coefficientsPerLevel() const { return kFrameCount * taps * kTapParameterCount * coefficientCount(form); }
@@ -49,8 +49,7 @@ struct TapTable {
 };
 
 // A table with zero coefficients and unmeasured errors; checks the sizes (ProbeError otherwise).
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping,
-                    PyramidSettings pyramid);
+TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid);
 
 // Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
 void validateTable(const TapTable& table, std::string_view what);
@@ -61,8 +60,6 @@ void validateTable(const TapTable& table, std::string_view what);
 int tapsInUse(const TapTable& table, int level);
 
 // GGX alpha of output level m of the table (0: a copy of the source).
-inline double tableLevelAlpha(const TapTable& table, int level) {
-    return levelAlpha(table.mapping, level, table.levelCount);
-}
+inline double tableLevelAlpha(const TapTable& table, int level) { return levelAlpha(table.mapping, level, table.levelCount); }
 
 } // namespace probe

@@ -30,10 +30,10 @@ namespace probe::gpu {
 
 // A Vulkan physical device as the runtime names it in reports.
 struct DeviceInfo {
-    int index = -1;         // position in vkEnumeratePhysicalDevices order (what `--device N` picks)
-    std::string name;       // deviceName
-    std::string driver;     // driverName and driverInfo, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)"
-    std::string type;       // "discrete", "integrated", "virtual", "cpu" or "other"
+    int index = -1;     // position in vkEnumeratePhysicalDevices order (what `--device N` picks)
+    std::string name;   // deviceName
+    std::string driver; // driverName and driverInfo, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)"
+    std::string type;   // "discrete", "integrated", "virtual", "cpu" or "other"
     uint32_t apiVersion = 0;
 };
 
@@ -53,7 +53,7 @@ struct DeviceOptions {
 
 // A Vulkan device and one compute queue: owned (tools) or the caller's (engines).
 class Device {
-public:
+  public:
     // Creates an instance and a device. Throws ProbeError naming what is missing.
     explicit Device(const DeviceOptions& options = {});
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
@@ -76,7 +76,7 @@ public:
     struct Impl;
     Impl& impl() const { return *impl_; }
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 
@@ -88,13 +88,13 @@ enum class Method {
 
 struct FilterSettings {
     Method method = Method::reference;
-    int faceSize = 128;   // S_0, a power of two: the source and output level 0
-    int levelCount = 7;   // M output levels, face size S_0 >> m
+    int faceSize = 128; // S_0, a power of two: the source and output level 0
+    int levelCount = 7; // M output levels, face size S_0 >> m
     RoughnessMapping mapping = RoughnessMapping::gltf;
-    PyramidSettings pyramid; // pass 1 (table and fis)
-    int fisSamples = 32;     // N Hammersley samples per output texel (fis)
+    PyramidSettings pyramid;          // pass 1 (table and fis)
+    int fisSamples = 32;              // N Hammersley samples per output texel (fis)
     std::vector<int> fisLevelSamples; // per output level, level 0 first (fis); empty: fisSamples at every level
-    double fisBias = 0.0;    // added to each sample's level (fis); 0 is the accurate setting
+    double fisBias = 0.0;             // added to each sample's level (fis); 0 is the accurate setting
     // The tap table (table method; the caller keeps it alive while the Filter is built). Refused
     // with the reason unless its base size, level count, mapping and pyramid equal the settings'.
     const TapTable* table = nullptr;
@@ -112,7 +112,7 @@ struct FilterSettings {
 
 // GPU time of one pass: the median over the repeats, from timestamp queries.
 struct PassTime {
-    std::string name;          // "pyramid", "table", "fis", "reference" or "total"
+    std::string name; // "pyramid", "table", "fis", "reference" or "total"
     double medianMs = 0.0;
     std::vector<double> runsMs; // one per repeat
 };
@@ -120,14 +120,14 @@ struct PassTime {
 // One vkCmdDispatch of a run.
 struct Dispatch {
     std::string pass;
-    int level = 0;          // the pyramid or output level it writes (pyramid level 0: the source's
-                            // border); "sh": the summation stage (0 projects the source)
-    uint32_t groups = 0;    // workgroups (x; y = z = 1)
+    int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source's
+                         // border); "sh": the summation stage (0 projects the source)
+    uint32_t groups = 0; // workgroups (x; y = z = 1)
 };
 
 // The buffers and pipelines of one filter setting, reusable for many probes.
 class Filter {
-public:
+  public:
     // Checks the settings (size, levels, device limits) and builds the pipelines and buffers.
     Filter(const Device& device, const FilterSettings& settings);
     ~Filter();
@@ -160,7 +160,7 @@ public:
 
     struct Impl;
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 
@@ -170,7 +170,7 @@ private:
 // (16 texels per invocation, then trees over workgroups), so every run gives the same bits. The
 // diffuse irradiance is probe::radianceToIrradiance of the result.
 class ShProjector {
-public:
+  public:
     ShProjector(const Device& device, int faceSize);
     ~ShProjector();
     ShProjector(const ShProjector&) = delete;
@@ -185,7 +185,7 @@ public:
 
     struct Impl;
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 
@@ -201,11 +201,11 @@ struct SphereMaterial {
 
 struct SphereScene {
     const CubeLevels* prefiltered = nullptr; // levels 0..M-1 from S_0; the levels no material reads may be empty
-    const CubeImage* background = nullptr;    // drawn behind the spheres (nearest texel)
+    const CubeImage* background = nullptr;   // drawn behind the spheres (nearest texel)
     ShCoefficients irradiance{};             // probe::radianceToIrradiance of the probe's coefficients
-    const Image* dfg = nullptr;               // probe::dfgTable (square); unused when no material is specular
+    const Image* dfg = nullptr;              // probe::dfgTable (square); unused when no material is specular
     std::vector<SphereMaterial> materials;
-    int cellSize = 128;                       // pixels per sphere, cells left to right
+    int cellSize = 128; // pixels per sphere, cells left to right
 };
 
 // One sphere per material lit by the probe with the split-sum approximation (shaders/spheres.comp:
