@@ -26,11 +26,11 @@ double median(std::vector<double> values);
 
 // Wall-clock stopwatch in seconds.
 class Stopwatch {
-  public:
+public:
     Stopwatch();
     double seconds() const;
 
-  private:
+private:
     double start_;
 };
 

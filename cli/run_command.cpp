@@ -64,7 +64,7 @@ struct ProbeResult {
 };
 
 class SceneRun {
-  public:
+public:
     SceneRun(const RunOptions& options, const probe::Scene& scene, probe::StagedOutput& output, const probe::gpu::Device& device)
         : options_(options), scene_(scene), output_(output), device_(device) {}
 
@@ -132,7 +132,7 @@ class SceneRun {
 
     std::size_t passCount() const { return ran_.size(); }
 
-  private:
+private:
     void recordPass(const std::string& name, const char* on, json dispatches = json::array()) {
         ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
     }

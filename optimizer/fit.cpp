@@ -37,7 +37,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 // start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). Terms are
 // computed in parallel and summed in order, so the result does not depend on the number of threads.
 class LevelObjective {
-  public:
+public:
     LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
                    const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight)
         : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight) {
@@ -91,7 +91,7 @@ class LevelObjective {
     double seconds() const { return seconds_; }
     int evaluations() const { return evaluations_; }
 
-  private:
+private:
     const ImpulseModel& model_;
     const std::vector<OutputTexel>& texels_;
     double weightScale_;
@@ -114,7 +114,7 @@ std::vector<const double*> blockPointers(const ImpulseModel& model, const double
 // from the true gradients: measured on 128^2 quad 8, 60 iterations reach 0.087 / 0.113 / 0.132 at
 // levels 2 / 5 / 6 where Levenberg-Marquardt's reach 0.093 / 0.126 / 0.156.
 class LevelFunction final : public ceres::FirstOrderFunction {
-  public:
+public:
     LevelFunction(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {}
     int NumParameters() const override { return objective_.parameterCount(); }
 
@@ -143,7 +143,7 @@ class LevelFunction final : public ceres::FirstOrderFunction {
         return true;
     }
 
-  private:
+private:
     const ImpulseModel& model_;
     const LevelObjective& objective_;
     mutable std::vector<LevelObjective::Term> terms_;
@@ -153,7 +153,7 @@ class LevelFunction final : public ceres::FirstOrderFunction {
 // Levenberg-Marquardt on the same f as a sum of squares: residuals 0..R-1 are sqrt(a_R e_R) (texels,
 // then seam pairs), residuals R..2R-1 sqrt(a_R) p_R; Ceres's cost 0.5 * sum r^2 is f / 2.
 class LevelCost final : public ceres::CostFunction {
-  public:
+public:
     LevelCost(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {
         set_num_residuals(static_cast<int>(2 * objective.termCount()));
         for (int b = 0; b < model.blockCount(); ++b) mutable_parameter_block_sizes()->push_back(model.blockSize());
@@ -188,7 +188,7 @@ class LevelCost final : public ceres::CostFunction {
         return true;
     }
 
-  private:
+private:
     const ImpulseModel& model_;
     const LevelObjective& objective_;
     mutable std::vector<LevelObjective::Term> terms_;
@@ -196,7 +196,7 @@ class LevelCost final : public ceres::CostFunction {
 };
 
 class ProgressCallback final : public ceres::IterationCallback {
-  public:
+public:
     ProgressCallback(const std::function<void(const FitProgress&)>& progress, int level, Clock::time_point start, double costScale)
         : progress_(progress), level_(level), start_(start), costScale_(costScale) {}
     ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
@@ -206,7 +206,7 @@ class ProgressCallback final : public ceres::IterationCallback {
         return ceres::SOLVER_CONTINUE;
     }
 
-  private:
+private:
     const std::function<void(const FitProgress&)>& progress_;
     int level_;
     Clock::time_point start_;

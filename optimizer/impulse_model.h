@@ -37,19 +37,19 @@ std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& 
 // pyramid texel p is that weight times the pulled-up basis at p, and no response needs building.
 inline constexpr int kMomentCount = 8;
 class MomentBasis {
-  public:
+public:
     MomentBasis(int baseSize, probe::PyramidSettings pyramid);
     const double* at(std::uint32_t texel) const { return at(0, texel); }
     const double* at(int level, std::uint32_t texel) const {
         return &levels_[static_cast<std::size_t>(level)][static_cast<std::size_t>(texel) * kMomentCount];
     }
 
-  private:
+private:
     std::vector<std::vector<double>> levels_; // per pyramid level, kMomentCount values per texel
 };
 
 class ImpulseModel {
-  public:
+public:
     ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form);
 
     int taps() const { return taps_; }
@@ -83,7 +83,7 @@ class ImpulseModel {
     void moments(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments,
                  const double* c = nullptr, double* gradient = nullptr) const;
 
-  private:
+private:
     template <int K>
     Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
                         double* weightSumGradient) const;

@@ -29,14 +29,14 @@ inline probe::gpu::Device& testDevice() {
 
 // Fails a test during which the validation layer reported anything.
 class GpuTest : public ::testing::Test {
-  protected:
+protected:
     void SetUp() override { messagesBefore_ = testDevice().validationMessages().size(); }
     void TearDown() override {
         const std::vector<std::string> messages = testDevice().validationMessages();
         for (std::size_t k = messagesBefore_; k < messages.size(); ++k) ADD_FAILURE() << "validation: " << messages[k];
     }
 
-  private:
+private:
     std::size_t messagesBefore_ = 0;
 };
 

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 class SceneTest : public ::testing::Test {
-  protected:
+protected:
     fs::path dir = fs::temp_directory_path() /
                    fmt::format("scene_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name());
     void SetUp() override {

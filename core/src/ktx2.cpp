@@ -22,7 +22,7 @@ constexpr float kHalfMax = 65504.0f;
 std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
 
 class ByteWriter {
-  public:
+public:
     std::vector<std::uint8_t> bytes;
     template <typename T>
     void put(T value) {

@@ -17,7 +17,7 @@ using nlohmann::json;
 // Reads one JSON object field by field, so that every error names the field and unknown fields
 // are refused.
 class FieldReader {
-  public:
+public:
     FieldReader(const std::filesystem::path& scene, std::string where, const json& object)
         : scene_(scene), where_(std::move(where)), object_(object) {
         if (!object_.is_object()) fail(where_, "must be an object");
@@ -65,7 +65,7 @@ class FieldReader {
             if (!seen_.count(key)) fail(field(key), "unknown field");
     }
 
-  private:
+private:
     const std::filesystem::path& scene_;
     std::string where_;
     const json& object_;

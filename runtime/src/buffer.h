@@ -10,7 +10,7 @@
 namespace probe::gpu {
 
 class Buffer {
-  public:
+public:
     enum class Kind {
         storage, // device local (preferred), storage and uniform texel buffer, transfer source and destination
         staging, // host visible and coherent, mapped, transfer source and destination
@@ -27,7 +27,7 @@ class Buffer {
     // The mapped memory of a staging buffer (nullptr for storage).
     void* mapped() const { return mapped_; }
 
-  private:
+private:
     void release();
 
     VkDevice device_ = VK_NULL_HANDLE;

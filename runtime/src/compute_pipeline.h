@@ -23,7 +23,7 @@ inline constexpr uint32_t kMaxGroupsX = 65535; // per dispatch row
 // The layout and the one descriptor set that binds the four buffers (RGBA32F texels, 16 bytes
 // each). Throws ProbeError naming the device's limit when a texel buffer would exceed it.
 class PipelineLayout {
-  public:
+public:
     PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers);
     ~PipelineLayout();
     PipelineLayout(const PipelineLayout&) = delete;
@@ -32,7 +32,7 @@ class PipelineLayout {
     VkPipelineLayout handle() const { return layout_; }
     void bind(VkCommandBuffer commandBuffer) const;
 
-  private:
+private:
     VkDevice device_;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
@@ -44,7 +44,7 @@ class PipelineLayout {
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
 // choices fixed per pipeline, whose untaken paths the driver then compiles out.
 class ComputePipeline {
-  public:
+public:
     ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
                     std::span<const int32_t> specialization = {});
     ~ComputePipeline();
@@ -55,7 +55,7 @@ class ComputePipeline {
     // kMaxGroupsX).
     void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const;
 
-  private:
+private:
     VkDevice device_;
     VkPipelineLayout layout_;
     VkPipeline pipeline_ = VK_NULL_HANDLE;

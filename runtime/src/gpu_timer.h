@@ -13,7 +13,7 @@
 namespace probe::gpu {
 
 class GpuTimer {
-  public:
+public:
     // One segment per entry, named by its pass; inactive (records nothing) when the queue has no
     // timestamps.
     GpuTimer(const Device& device, std::vector<std::string> segmentPasses);
@@ -32,7 +32,7 @@ class GpuTimer {
     // Per segment, named `names[k]`: the median over the collected runs.
     std::vector<PassTime> segmentTimings(const std::vector<std::string>& names) const;
 
-  private:
+private:
     VkDevice device_;
     VkQueryPool pool_ = VK_NULL_HANDLE;
     double nanosecondsPerTick_ = 1.0;

@@ -9,7 +9,7 @@
 namespace probe::gpu {
 
 class Submission {
-  public:
+public:
     explicit Submission(const Device& device);
     ~Submission();
     Submission(const Submission&) = delete;
@@ -25,7 +25,7 @@ class Submission {
     void upload(const Buffer& to, const void* data, VkDeviceSize bytes);
     void download(const Buffer& from, void* data, VkDeviceSize bytes);
 
-  private:
+private:
     const Device& device_;
     VkCommandPool pool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;

@@ -20,11 +20,11 @@ struct ImpulseError {
 
 // Accumulates e(R) over the output texels of one level.
 class ImpulseErrorAccumulator {
-  public:
+public:
     void add(const Texel& texel, double solidAngle, double error);
     ImpulseError result() const;
 
-  private:
+private:
     double weightedSum_ = 0.0;
     double solidAngleSum_ = 0.0;
     ImpulseError worst_{};

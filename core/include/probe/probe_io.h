@@ -47,7 +47,7 @@ std::string levelFileName(int level);
 // commit(), so that a failed run leaves no partial output. Creating it checks that the output
 // folder is writable, before any expensive work starts.
 class StagedOutput {
-  public:
+public:
     explicit StagedOutput(std::filesystem::path outDir);
     ~StagedOutput();
     StagedOutput(const StagedOutput&) = delete;
@@ -60,7 +60,7 @@ class StagedOutput {
 
     const std::filesystem::path& outDir() const { return outDir_; }
 
-  private:
+private:
     std::filesystem::path outDir_;
     std::filesystem::path staging_;
     std::vector<std::string> names_;

@@ -53,7 +53,7 @@ struct DeviceOptions {
 
 // A Vulkan device and one compute queue: owned (tools) or the caller's (engines).
 class Device {
-  public:
+public:
     // Creates an instance and a device. Throws ProbeError naming what is missing.
     explicit Device(const DeviceOptions& options = {});
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
@@ -76,7 +76,7 @@ class Device {
     struct Impl;
     Impl& impl() const { return *impl_; }
 
-  private:
+private:
     std::unique_ptr<Impl> impl_;
 };
 
@@ -127,7 +127,7 @@ struct Dispatch {
 
 // The buffers and pipelines of one filter setting, reusable for many probes.
 class Filter {
-  public:
+public:
     // Checks the settings (size, levels, device limits) and builds the pipelines and buffers.
     Filter(const Device& device, const FilterSettings& settings);
     ~Filter();
@@ -160,7 +160,7 @@ class Filter {
 
     struct Impl;
 
-  private:
+private:
     std::unique_ptr<Impl> impl_;
 };
 
@@ -170,7 +170,7 @@ class Filter {
 // (16 texels per invocation, then trees over workgroups), so every run gives the same bits. The
 // diffuse irradiance is probe::radianceToIrradiance of the result.
 class ShProjector {
-  public:
+public:
     ShProjector(const Device& device, int faceSize);
     ~ShProjector();
     ShProjector(const ShProjector&) = delete;
@@ -185,7 +185,7 @@ class ShProjector {
 
     struct Impl;
 
-  private:
+private:
     std::unique_ptr<Impl> impl_;
 };
 
