@@ -1,13 +1,18 @@
 // The exact reference of DESIGN.md on the GPU, mirroring core/src/reference.cpp: for each output
 // texel centre R, F(R) = sum_t L(t) K(R, l_t) dOmega_t / sum_t K(R, l_t) dOmega_t over every source
-// texel t, at the levels with alpha > 0 (copy_level.comp does the others). Rows are summed in float,
-// rows into a compensated float sum (the C++ sums rows in double). Faces wholly behind R (all four
-// corners with R.l <= 0) are skipped.
+// texel t, at the levels with alpha > 0 (copy_level.comp does the others).
+// The source is summed in chunks of rows, one dispatch each (reference_pass.cpp): a chunk's rows
+// are summed in float and added with Kahan compensation; the chunk's sum (sum L K dOmega, sum K
+// dOmega) is added to the output texel, which holds the running sum until the last chunk divides.
+// Chunks bound the work of one invocation: GPUs reset a device whose dispatch runs too long, and
+// Mesa's lavapipe ends every loop of an invocation after 65535 iterations in all (its
+// LP_MAX_TGSI_LOOP_ITERATIONS), which a whole 128^2 source exceeds. A chunk wholly behind R (all
+// four corners of its face with R.l <= 0) adds nothing.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "ggx.glsl"
 #include "buffers.glsl"
 #include "cube.glsl"
+#include "ggx.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -15,6 +20,9 @@ layout(push_constant) uniform Params {
     int sourceSize; // S_0: pyramid level 0
     int outLevel;   // output level m, face size S_0 >> m
     float alpha2;   // GGX alpha^2 of the level
+    int firstRow;   // the chunk: rows [firstRow, firstRow + rowCount) of the source, counted over
+    int rowCount;   // all faces (face * S_0 + row), within one face
+    int stage;      // bit 0: the first chunk (the sum starts at 0); bit 1: the last (divide)
 } params;
 
 bool faceBehind(vec3 R, int face) {
@@ -33,13 +41,14 @@ void main() {
     vec3 R = geometry[outIndex].xyz;
 
     int s = params.sourceSize;
-    precise vec4 total = vec4(0.0);        // (sum L K dOmega, sum K dOmega)
-    precise vec4 compensation = vec4(0.0); // Kahan
-    for (int face = 0; face < 6; ++face) {
-        if (faceBehind(R, face)) continue;
-        for (int row = 0; row < s; ++row) {
-            uint begin = uint((face * s + row) * s);
-            uint source = pyramidTexelIndex(face, 0, row, s); // the same texel in the bordered pyramid
+    int face = params.firstRow / s;
+    precise vec4 total = (params.stage & 1) != 0 ? vec4(0.0) : outputTexels[outIndex]; // (sum L K dOmega, sum K dOmega)
+    if (!faceBehind(R, face)) {
+        precise vec4 chunk = vec4(0.0);
+        precise vec4 compensation = vec4(0.0); // Kahan
+        for (int row = params.firstRow; row < params.firstRow + params.rowCount; ++row) {
+            uint begin = uint(row * s);
+            uint source = pyramidTexelIndex(face, 0, row - face * s, s); // the same texel in the bordered pyramid
             vec4 rowSum = vec4(0.0);
             for (uint t = begin; t < begin + uint(s); ++t, ++source) {
                 vec4 l = geometry[t]; // level 0 of the geometry is the source's
@@ -48,10 +57,11 @@ void main() {
                 rowSum += k * vec4(pyramidTexel(source) * l.w, l.w);
             }
             precise vec4 y = rowSum - compensation;
-            precise vec4 sum = total + y;
-            compensation = (sum - total) - y;
-            total = sum;
+            precise vec4 sum = chunk + y;
+            compensation = (sum - chunk) - y;
+            chunk = sum;
         }
+        total += chunk;
     }
-    outputTexels[outIndex] = vec4(total.rgb / total.w, 1.0);
+    outputTexels[outIndex] = (params.stage & 2) != 0 ? vec4(total.rgb / total.w, 1.0) : total;
 }

@@ -1,4 +1,7 @@
-// The exact reference on the GPU (shaders/reference.comp): one dispatch per output level computed.
+// The exact reference on the GPU (shaders/reference.comp): per output level computed, one dispatch
+// per chunk of source rows (at most kChunkTexels source texels, within one face), each chunk's sum
+// added to the output texels, with a barrier between chunks.
+#include <algorithm>
 #include <cstdint>
 
 #include <reference.spv.h>
@@ -9,10 +12,17 @@ namespace probe::gpu {
 
 namespace {
 
+// Source texels per chunk: bounds each invocation's loop iterations (lavapipe stops an invocation's
+// loops after 65535 in all) and each dispatch's time (GPUs reset a device whose dispatch runs long).
+constexpr int kChunkTexels = 16384;
+
 struct ReferenceConstants {
     int32_t sourceSize;
     int32_t outLevel;
     float alpha2;
+    int32_t firstRow;
+    int32_t rowCount;
+    int32_t stage;
 };
 
 } // namespace
@@ -22,8 +32,14 @@ std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const double alpha = levelAlpha(s.mapping, m, s.levelCount);
-    const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha)};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
+    const int rowsPerChunk = std::clamp(kChunkTexels / s.faceSize, 1, s.faceSize);
+    const int rows = kFaceCount * s.faceSize;
+    for (int first = 0; first < rows; first += rowsPerChunk) {
+        if (first > 0) computeBarrier(commandBuffer);
+        const int stage = (first == 0 ? 1 : 0) | (first + rowsPerChunk >= rows ? 2 : 0);
+        const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha), first, rowsPerChunk, stage};
+        dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
+    }
 }
 
 } // namespace probe::gpu
