@@ -10,19 +10,24 @@
 #include "buffers.glsl"
 #include "cube.glsl"
 
-// Bilinear value of pyramid level `level` (face size baseSize >> level) at continuous texel
-// coordinates (x, y) of `face`.
-vec3 sampleBilinear(int baseSize, int level, int face, float x, float y) {
-    int size = baseSize >> level;
+// Bilinear value of the bordered level of face size `size` whose first texel is `first` in the
+// pyramid buffer, at continuous texel coordinates (x, y) of `face`.
+vec3 sampleBilinearAt(uint first, int size, int face, float x, float y) {
     x = clamp(x, 0.0, float(size));
     y = clamp(y, 0.0, float(size));
     int i0 = int(floor(x - 0.5));
     int j0 = int(floor(y - 0.5));
     float fx = x - (float(i0) + 0.5), fy = y - (float(j0) + 0.5);
-    uint t = pyramidLevelOffset(baseSize, level) + pyramidTexelIndex(face, i0, j0, size);
+    uint t = first + pyramidTexelIndex(face, i0, j0, size);
     uint row = uint(size + 2);
     return ((1.0 - fx) * (1.0 - fy)) * pyramidTexel(t) + (fx * (1.0 - fy)) * pyramidTexel(t + 1u) +
            ((1.0 - fx) * fy) * pyramidTexel(t + row) + (fx * fy) * pyramidTexel(t + row + 1u);
+}
+
+// Bilinear value of pyramid level `level` (face size baseSize >> level) at continuous texel
+// coordinates (x, y) of `face`.
+vec3 sampleBilinear(int baseSize, int level, int face, float x, float y) {
+    return sampleBilinearAt(pyramidLevelOffset(baseSize, level), baseSize >> level, face, x, y);
 }
 
 // Trilinear value of the pyramid (levelCount levels from baseSize) at a direction (any length, not

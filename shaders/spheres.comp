@@ -6,9 +6,12 @@
 // with (A, B) read bilinearly from the DFG table at (n.v, perceptual roughness), texel centres at
 // (i + 0.5) / size (probe/dfg.h), and the prefiltered value read trilinearly from the filtered
 // levels at the material's level (probe::roughnessToLevel, computed by the caller).
-// Buffers: pyramid = the filtered levels (packed from S_0 with borders, in the pyramid's layout);
-// output = the pixels (linear RGB); geometry = the background cube's texels, then the DFG table's
-// (A, B, 0, 0) row by row; table = the 9 irradiance coefficients (rgb), then two vec4 per material.
+// The background is the probe itself, read bilinearly (seamless), so that its texels do not show as
+// blocks where a cell's pixels are smaller than a texel.
+// Buffers: pyramid = the filtered levels (packed from S_0 with borders, in the pyramid's layout),
+// then the background cube (one level, with borders); output = the pixels (linear RGB); geometry =
+// the DFG table's (A, B, 0, 0) row by row; table = the 9 irradiance coefficients (rgb), then two vec4
+// per material.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "sampling.glsl"
@@ -30,14 +33,13 @@ layout(push_constant) uniform Params {
 // tableEntry(9 + 2m) = (base colour, metallic), tableEntry(10 + 2m) = (specular, roughness, level, has specular).
 
 vec2 dfgLookup(float nDotV, float roughness) {
-    uint first = 6u * uint(params.backgroundSize * params.backgroundSize);
     int size = params.dfgSize;
     vec2 x = clamp(vec2(nDotV, roughness) * float(size) - 0.5, vec2(0.0), vec2(float(size - 1)));
     ivec2 i0 = min(ivec2(floor(x)), ivec2(size - 2 < 0 ? 0 : size - 2));
     ivec2 i1 = min(i0 + 1, ivec2(size - 1));
     vec2 f = x - vec2(i0);
-    vec2 a = mix(geometry[first + uint(i0.y * size + i0.x)].xy, geometry[first + uint(i0.y * size + i1.x)].xy, f.x);
-    vec2 b = mix(geometry[first + uint(i1.y * size + i0.x)].xy, geometry[first + uint(i1.y * size + i1.x)].xy, f.x);
+    vec2 a = mix(geometry[i0.y * size + i0.x].xy, geometry[i0.y * size + i1.x].xy, f.x);
+    vec2 b = mix(geometry[i1.y * size + i0.x].xy, geometry[i1.y * size + i1.x].xy, f.x);
     return mix(a, b, f.y);
 }
 
@@ -49,9 +51,14 @@ vec3 irradiance(vec3 n) {
     return max(e, vec3(0.0));
 }
 
+// The background cube sits right after the M filtered levels in the pyramid buffer.
 vec3 background(vec3 direction) {
-    ivec3 t = directionToTexel(direction, params.backgroundSize);
-    return geometry[texelIndex(t.x, t.y, t.z, params.backgroundSize)].rgb;
+    int face;
+    vec2 uv;
+    directionToFaceUv(direction, face, uv);
+    float half0 = 0.5 * float(params.backgroundSize);
+    return sampleBilinearAt(pyramidLevelOffset(params.baseSize, params.levelCount), params.backgroundSize, face, (uv.x + 1.0) * half0,
+                            (uv.y + 1.0) * half0);
 }
 
 void main() {

@@ -53,3 +53,26 @@ TEST_F(GpuSpheres, ConstantEnvironment) {
     EXPECT_GT(roughCentre, 0.2f * radiance);
     for (float v : image.rgb) EXPECT_LE(v, radiance * 1.001f);
 }
+
+// The background is read bilinearly: where a cell's pixels are smaller than a texel of a checkerboard
+// background, it shows values between the squares' two, not blocks of one or the other.
+TEST_F(GpuSpheres, BackgroundIsInterpolated) {
+    const CubeImage checker = checkerProbe(8);
+    CubeLevels prefiltered{checker};
+    gpu::SphereScene scene;
+    scene.prefiltered = &prefiltered;
+    scene.background = &checker;
+    gpu::SphereMaterial chalk;
+    chalk.specular = 0.0f;
+    chalk.hasSpecular = false;
+    scene.materials = {chalk};
+    scene.cellSize = 64;
+    const Image image = gpu::renderSpheres(probetest::testDevice(), scene);
+    int between = 0, pixels = 0;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < image.width; ++x, ++pixels) {
+            const float v = image.pixel(x, y).g;
+            if (v > 0.06f && v < 0.99f) ++between;
+        }
+    EXPECT_GT(between, pixels / 2) << "the background shows the checkerboard's texels as blocks";
+}

@@ -1,5 +1,6 @@
-// The sphere renderer (shaders/spheres.comp): packs the filtered levels, the background, the DFG
-// table, the irradiance and the materials into the four storage buffers and runs one dispatch.
+// The sphere renderer (shaders/spheres.comp): packs the filtered levels and the background (both
+// bordered, for seamless bilinear reads), the DFG table, the irradiance and the materials into the
+// four storage buffers and runs one dispatch.
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -57,9 +58,12 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     int baseSize = 1 << (levels.size() - 1);
     for (std::size_t m = levels.size(); m-- > 0;)
         if (levels[m].size) baseSize = levels[m].size << m;
-    const std::vector<float> filtered = packedLevels(levels, baseSize);
+    // The background after the levels, where spheres.comp reads it.
+    std::vector<float> cubes = packedLevels(levels, baseSize);
+    const std::vector<float> background = borderedRgbaTexels(*scene.background);
+    cubes.insert(cubes.end(), background.begin(), background.end());
 
-    std::vector<float> lookup = rgbaTexels(*scene.background);
+    std::vector<float> lookup;
     const int dfgSize = scene.dfg ? scene.dfg->width : 1;
     if (scene.dfg) {
         if (scene.dfg->height != dfgSize) throw ProbeError("sphere renderer: the DFG table must be square");
@@ -80,14 +84,14 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
 
     const int width = scene.cellSize * static_cast<int>(scene.materials.size()), height = scene.cellSize;
     const std::size_t pixels = static_cast<std::size_t>(width) * height;
-    Buffer levelBuffer(device, filtered.size() * sizeof(float), Buffer::Kind::storage);
+    Buffer cubeBuffer(device, cubes.size() * sizeof(float), Buffer::Kind::storage);
     Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
     Buffer lookupBuffer(device, lookup.size() * sizeof(float), Buffer::Kind::storage);
     Buffer parameterBuffer(device, parameters.size() * sizeof(float), Buffer::Kind::storage);
-    PipelineLayout layout(device, {&levelBuffer, &image, &lookupBuffer, &parameterBuffer});
+    PipelineLayout layout(device, {&cubeBuffer, &image, &lookupBuffer, &parameterBuffer});
     ComputePipeline pipeline(device.device(), layout, kSpheresSpv);
     Submission submission(device);
-    submission.upload(levelBuffer, filtered.data(), levelBuffer.bytes());
+    submission.upload(cubeBuffer, cubes.data(), cubeBuffer.bytes());
     submission.upload(lookupBuffer, lookup.data(), lookupBuffer.bytes());
     submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
 

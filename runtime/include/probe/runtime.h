@@ -201,7 +201,7 @@ struct SphereMaterial {
 
 struct SphereScene {
     const CubeLevels* prefiltered = nullptr; // levels 0..M-1 from S_0; the levels no material reads may be empty
-    const CubeImage* background = nullptr;   // drawn behind the spheres (nearest texel)
+    const CubeImage* background = nullptr;   // drawn behind the spheres (bilinear, seamless)
     ShCoefficients irradiance{};             // probe::radianceToIrradiance of the probe's coefficients
     const Image* dfg = nullptr;              // probe::dfgTable (square); unused when no material is specular
     std::vector<SphereMaterial> materials;
