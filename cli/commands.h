@@ -5,6 +5,13 @@
 
 namespace probefilter {
 
+// The help of the options that every command running on a Vulkan device shares.
+inline constexpr const char* kDeviceHelp =
+    "Vulkan device: index or part of its name (default: a discrete GPU, else integrated, else virtual, else a CPU device such as lavapipe)";
+inline constexpr const char* kSamplingHelp =
+    "How the GPU reads the pyramid: hardware (a cube image through the seamless sampler), exact "
+    "(the CPU model's arithmetic over a buffer) or automatic (hardware on GPUs, exact on CPU devices)";
+
 void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);

@@ -37,6 +37,7 @@ struct CompareOptions {
     int cell = 128;
     double maxError = 0.2;
     int repeat = 3;
+    std::string sampling = "automatic";
     std::string device;
     bool validate = false;
     bool repairPixels = false;
@@ -46,6 +47,7 @@ struct CompareOptions {
 struct MethodRun {
     probe::CubeLevels levels;
     double gpuMs = 0.0;
+    probe::gpu::Sampling sampling = probe::gpu::Sampling::exact;
 };
 
 // The table and FIS filter the probe once each (their outputs; a first run also pays one-time
@@ -58,6 +60,7 @@ std::array<MethodRun, 2> runInTurns(const probe::gpu::Device& device, const std:
     for (std::size_t k = 0; k < filters.size(); ++k) {
         filters[k] = std::make_unique<probe::gpu::Filter>(device, settings[k]);
         runs[k].levels = filters[k]->run(source);
+        runs[k].sampling = filters[k]->sampling();
     }
     std::array<std::vector<double>, 2> totals;
     for (int round = 0; round < repeat; ++round)
@@ -88,7 +91,8 @@ void runCompare(const CompareOptions& o) {
     if (o.samples < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
 
     probe::gpu::FilterSettings tableSettings;
-    tableSettings.method = probe::gpu::Method::table;
+    tableSettings.method.kind = probe::MethodKind::table;
+    tableSettings.sampling = probe::gpu::parseSampling(o.sampling);
     tableSettings.faceSize = o.size;
     tableSettings.levelCount = levelCount;
     tableSettings.mapping = mapping;
@@ -101,11 +105,10 @@ void runCompare(const CompareOptions& o) {
         throw probe::ProbeError(
             fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table FILE", o.size, levelCount));
     }
-    tableSettings.table = &table;
+    tableSettings.method.table = &table;
     probe::gpu::FilterSettings fisSettings = tableSettings;
-    fisSettings.method = probe::gpu::Method::fis;
-    fisSettings.fisSamples = o.samples;
-    fisSettings.table = nullptr;
+    fisSettings.method = {probe::MethodKind::fis, nullptr, {}};
+    fisSettings.method.fis.samples = o.samples;
 
     probe::StagedOutput output(o.out);
     const probe::CubeImage source =
@@ -170,6 +173,7 @@ void runCompare(const CompareOptions& o) {
                      {"gpu_ms_median", fisRun.gpuMs},
                      {"image_l1_per_level", levelErrors(fisRun.levels, reference)},
                      {"spheres_l1", spheresL1(rows[2].spheres, rows[0].spheres)}};
+    report["sampling"] = std::string(probe::gpu::samplingName(tableRun.sampling));
     report["repeat"] = o.repeat;
     writeJson(output.file("report.json"), report);
     output.commit();
@@ -193,7 +197,8 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
     cmd->add_option("--repeat", o->repeat, "Timed GPU runs per method, in turns after an untimed one; times are the median")
         ->capture_default_str();
-    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
     cmd->add_option("--out", o->out, "Output folder: sheet.png and report.json")->required();

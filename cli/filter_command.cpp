@@ -1,5 +1,6 @@
 // probefilter filter IN --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
-//   [--levels M] [--mapping NAME] [--repeat K] [--against-reference] [--device X] --out DIR
+//   [--levels M] [--mapping NAME] [--sampling MODE] [--format F] [--repeat K] [--against-reference]
+//   [--device X] --out DIR
 #include <algorithm>
 #include <fstream>
 
@@ -32,6 +33,8 @@ struct FilterOptions {
     int size = 128;
     int levels = 0; // 0: the default for the size
     std::string mapping = "gltf";
+    std::string sampling = "automatic";
+    std::string format = "rgba32f";
     int repeat = 1;
     bool againstReference = false;
     std::string device;
@@ -49,15 +52,15 @@ bool looksLikeJson(const std::filesystem::path& path) {
     return false;
 }
 
-std::string probefitCommand(const probe::gpu::FilterSettings& s) {
+std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
     return fmt::format("probefit --size {} --levels {} --taps 8 --form quad --mapping {} --pyramid {} --weighting {} --out tables/<name>",
-                       s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(s.pyramid.kind),
-                       probe::pyramidWeightingName(s.pyramid.weighting));
+                       s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(pyramid.kind),
+                       probe::pyramidWeightingName(pyramid.weighting));
 }
 
 // The table that --table names (a compiled-in table or a file), or else the compiled-in table for
-// the settings (quad with 8 taps preferred). Fit is checked by the runtime.
-probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSettings& s) {
+// the settings and pyramid (quad with 8 taps preferred). Its shape is checked by the runtime.
+probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
     const std::vector<probe::gpu::CompiledTable>& compiled = probe::gpu::compiledTables();
     if (!o.table.empty()) {
         for (const probe::gpu::CompiledTable& c : compiled)
@@ -70,15 +73,15 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
             throw probe::ProbeError(
                 fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
         return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping,
-                                           s.pyramid);
+                                           pyramid);
     }
-    const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, s.pyramid);
+    const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, pyramid);
     if (!best)
         throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
                                             "and pass --table tables/<name>.json (or rebuild to compile it in)",
                                             s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping),
-                                            probe::pyramidKindName(s.pyramid.kind), probe::pyramidWeightingName(s.pyramid.weighting),
-                                            probefitCommand(s)));
+                                            probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting),
+                                            probefitCommand(s, pyramid)));
     return best->table;
 }
 
@@ -93,28 +96,32 @@ nlohmann::json describeTable(const probe::TapTable& t) {
 
 void runFilter(const FilterOptions& o) {
     probe::gpu::FilterSettings s;
-    s.method = probe::gpu::parseMethod(o.method);
+    s.method.kind = probe::parseMethodKind(o.method);
     s.mapping = probe::parseRoughnessMapping(o.mapping);
     s.faceSize = o.size;
     s.levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
     probe::validateSizeAndLevels(s.faceSize, s.levelCount);
-    s.pyramid = {probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
-    s.fisSamples = o.samples.front();
-    if (o.samples.size() > 1) s.fisLevelSamples = o.samples;
-    s.fisBias = o.fisBias;
+    s.sampling = probe::gpu::parseSampling(o.sampling);
+    s.outputFormat = probe::gpu::parseFormat(o.format);
+    const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
+    s.method.fis.samples = o.samples.front();
+    if (o.samples.size() > 1) s.method.fis.levelSamples = o.samples;
+    s.method.fis.bias = o.fisBias;
+    s.method.fis.pyramid = pyramid;
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
-    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
-    if (s.method == probe::gpu::Method::fis && o.samples.size() > 1 && static_cast<int>(o.samples.size()) != s.levelCount)
-        throw probe::ProbeError(
-            fmt::format("--samples: {} counts for {} output levels (give one, or one per level)", o.samples.size(), s.levelCount));
-    for (int n : o.samples)
-        if (s.method == probe::gpu::Method::fis && n < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", n));
+    if (o.repeat < 1) throw probe::ParameterError("repeat", fmt::format("{}: must be at least 1", o.repeat));
 
     probe::TapTable table;
-    if (s.method == probe::gpu::Method::table) {
-        table = chooseTable(o, s);
-        s.table = &table;
+    if (s.method.kind == probe::MethodKind::table) {
+        table = chooseTable(o, s, pyramid);
+        if (!(table.pyramid == pyramid))
+            throw probe::ParameterError(
+                "table", fmt::format("does not fit: it was fitted over the {} {} pyramid, not {} {}",
+                                     probe::pyramidKindName(table.pyramid.kind), probe::pyramidWeightingName(table.pyramid.weighting),
+                                     probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting)));
+        s.method.table = &table;
     }
+    probe::validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
     probe::StagedOutput output(o.out);
     const probe::CubeImage source =
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
@@ -124,6 +131,7 @@ void runFilter(const FilterOptions& o) {
     deviceOptions.validation = o.validate;
     probe::gpu::Device device(deviceOptions);
     probe::gpu::Filter filter(device, s);
+    for (const std::string& warning : filter.warnings()) fmt::print(stderr, "probefilter: warning: {}\n", warning);
     const probe::CubeLevels levels = filter.run(source, o.repeat);
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
@@ -133,15 +141,20 @@ void runFilter(const FilterOptions& o) {
     nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
     report["command"] = "filter";
     report["input"] = o.input;
-    report["method"] = std::string(probe::gpu::methodName(s.method));
-    if (s.method != probe::gpu::Method::reference)
-        report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(s.pyramid.kind))},
-                             {"weighting", std::string(probe::pyramidWeightingName(s.pyramid.weighting))}};
-    if (s.method == probe::gpu::Method::fis) {
-        const nlohmann::json samples = s.fisLevelSamples.empty() ? nlohmann::json(s.fisSamples) : nlohmann::json(s.fisLevelSamples);
-        report["fis"] = {{"samples", samples}, {"bias", s.fisBias}};
+    report["method"] = std::string(probe::methodKindName(s.method.kind));
+    report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
+    report["output_format"] = std::string(probe::gpu::formatName(s.outputFormat));
+    if (s.method.kind != probe::MethodKind::reference)
+        report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(pyramid.kind))},
+                             {"weighting", std::string(probe::pyramidWeightingName(pyramid.weighting))},
+                             {"format", std::string(probe::gpu::formatName(filter.pyramidFormat()))}};
+    if (s.method.kind == probe::MethodKind::fis) {
+        const probe::ImportanceSamplingSettings& fis = s.method.fis;
+        const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
+        report["fis"] = {{"samples", samples}, {"bias", fis.bias}};
     }
-    if (s.method == probe::gpu::Method::table) report["table"] = describeTable(table);
+    if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(table);
+    report["warnings"] = filter.warnings();
     const probe::gpu::DeviceInfo& info = device.info();
     report["device"] = describeDevice(info, o.validate);
     report["dispatches"] = describeDispatches(filter.dispatches());
@@ -169,8 +182,8 @@ void runFilter(const FilterOptions& o) {
     double total = 0.0;
     for (const probe::gpu::PassTime& p : filter.timings())
         if (p.name == "total") total = p.medianMs;
-    fmt::print("filter: {} on {} ({}): {} levels of {}^2, GPU {:.3f} ms (median of {}) -> {}\n", o.method, info.name, info.driver,
-               s.levelCount, s.faceSize, total, o.repeat, o.out);
+    fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms (median of {}) -> {}\n", o.method,
+               probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, o.repeat, o.out);
 }
 
 } // namespace
@@ -195,9 +208,13 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--size", o->size, "Output face size S_0 (a power of two)")->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
+    cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--format", o->format,
+                    "The GPU's output cube format, which the written levels keep: rgba32f, rgba16f (what engines use) or b10g11r11")
+        ->capture_default_str();
     cmd->add_option("--repeat", o->repeat, "Run the passes K times; GPU times are the median")->capture_default_str();
     cmd->add_flag("--against-reference", o->againstReference, "Also run the CPU reference and report the image L1 error per level");
-    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();

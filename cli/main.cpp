@@ -1,11 +1,23 @@
 // probefilter: GGX-filtered reflection probes. Exit codes: 0 success, 2 bad input or failure.
 #include <cstdio>
+#include <string_view>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "commands.h"
 #include "probe/error.h"
+
+namespace {
+
+// A library parameter's message with the command line's flag for it: "--repeat 0: must be ...".
+std::string withFlag(const probe::ParameterError& e) {
+    for (std::string_view flag : {"method", "table", "samples", "fis-bias", "repeat", "device", "sampling", "format"})
+        if (e.parameter == flag) return fmt::format("--{}", e.what());
+    return e.what();
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"probefilter: fast GGX filtering of reflection probes (Manson & Sloan 2016)"};
@@ -25,6 +37,9 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         fmt::print(stderr, "probefilter: error: {}\n", e.what());
+        return 2;
+    } catch (const probe::ParameterError& e) {
+        fmt::print(stderr, "probefilter: error: {}\n", withFlag(e));
         return 2;
     } catch (const probe::ProbeError& e) {
         fmt::print(stderr, "probefilter: error: {}\n", e.what());

@@ -26,6 +26,7 @@ using nlohmann::json;
 struct RunOptions {
     std::string scene;
     std::string out;
+    std::string sampling = "automatic";
     std::string device;
     bool validate = false;
     bool repairPixels = false;
@@ -33,15 +34,6 @@ struct RunOptions {
 
 constexpr int kIrradianceSize = 16; // face size of irradiance.exr
 constexpr int kSphereCell = 192;    // pixels per sphere in spheres.png
-
-probe::gpu::Method gpuMethod(probe::FilterMethod method) {
-    switch (method) {
-    case probe::FilterMethod::table: return probe::gpu::Method::table;
-    case probe::FilterMethod::fis: return probe::gpu::Method::fis;
-    case probe::FilterMethod::reference: break;
-    }
-    return probe::gpu::Method::reference;
-}
 
 json medianTimes(const std::vector<probe::gpu::PassTime>& times) {
     json out = json::object();
@@ -78,7 +70,7 @@ public:
                       {"face_size", p.faceSize},
                       {"level_count", p.levelCount},
                       {"mapping", std::string(probe::roughnessMappingName(p.mapping))},
-                      {"method", std::string(probe::filterMethodName(p.method))}};
+                      {"method", std::string(probe::methodKindName(p.method.kind))}};
         if (!plan.levels.empty()) filterLevels(p, plan, result, entry);
         if (plan.irradiance) projectIrradiance(p, result, entry);
         if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.levels.empty())
@@ -140,17 +132,17 @@ private:
     // The planned levels over the planned pyramid depth; the passes recorded are those its dispatches ran.
     void filterLevels(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
         probe::gpu::FilterSettings s;
-        s.method = gpuMethod(p.method);
+        s.method = p.method;
         s.faceSize = p.faceSize;
         s.levelCount = p.levelCount;
         s.mapping = p.mapping;
-        s.fisSamples = p.samples;
+        s.sampling = probe::gpu::parseSampling(options_.sampling);
         s.levels = plan.levels;
         s.pyramidDepth = plan.pyramidLevels;
         probe::TapTable table;
-        if (p.method == probe::FilterMethod::table) {
+        if (p.method.kind == probe::MethodKind::table) {
             table = sceneProbeTable(scene_, p);
-            s.table = &table;
+            s.method.table = &table;
         }
         probe::gpu::Filter filter(device_, s);
         result.levels = filter.run(result.source);
@@ -159,7 +151,7 @@ private:
         for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : levels).push_back(d);
         if (!pyramid.empty()) recordPass(probe::pyramidPass(p.name, pyramid.back().level), "gpu", describeDispatches(pyramid));
         for (const probe::gpu::Dispatch& d : levels)
-            recordPass(probe::levelPass(p.name, d.level, p.method), "gpu", describeDispatches({d}));
+            recordPass(probe::levelPass(p.name, d.level, p.method.kind), "gpu", describeDispatches({d}));
 
         json written = json::array();
         const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.levels' order
@@ -180,7 +172,8 @@ private:
         }
         entry["levels"] = std::move(written);
         entry["pyramid_depth"] = plan.pyramidLevels;
-        if (p.method == probe::FilterMethod::fis) entry["fis_samples"] = p.samples;
+        if (p.method.kind == probe::MethodKind::fis) entry["fis_samples"] = p.method.fis.samples;
+        entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
         entry["gpu_ms"] = medianTimes(filter.timings());
     }
 
@@ -241,7 +234,8 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
     cmd->add_option("--out", o->out, "Output folder: <probe>/level_<m>.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
         ->required();
-    cmd->add_option("--device", o->device, "Vulkan device: index or part of its name (default: a discrete GPU, else lavapipe)");
+    cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative probe pixels to 0 instead of refusing the file");
     cmd->callback([o] { runScene(*o); });

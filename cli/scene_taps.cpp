@@ -31,20 +31,16 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
 }
 
 probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& p) {
-    switch (p.method) {
-    case probe::FilterMethod::table: {
+    switch (p.method.kind) {
+    case probe::MethodKind::table: {
         // tableTapGenerator refers to its table: the generator keeps it alive.
         auto table = std::make_shared<const probe::TapTable>(sceneProbeTable(scene, p));
         return [table, generator = probe::tableTapGenerator(*table)](int level, const probe::Texel& texel, std::vector<probe::Tap>& taps) {
             return generator(level, texel, taps);
         };
     }
-    case probe::FilterMethod::fis: {
-        probe::ImportanceSamplingSettings settings;
-        settings.samples = p.samples;
-        return probe::importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, settings);
-    }
-    case probe::FilterMethod::reference: break;
+    case probe::MethodKind::fis: return probe::importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis);
+    case probe::MethodKind::reference: break;
     }
     return {};
 }

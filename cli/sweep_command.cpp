@@ -1,5 +1,5 @@
 // probefilter sweep: what accuracy costs in time. One run on one device: for every probe and
-// every method (each compiled-in table of the size, FIS over samples x bias x pyramid), the image
+// every method (each table of the size in --tables, FIS over samples x bias x pyramid), the image
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
 // all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
 // methods). Writes sweep.csv, sweep.md and
@@ -21,6 +21,7 @@
 #include "probe/runtime.h"
 #include "probe/synthetic.h"
 #include "probe/table_filter.h"
+#include "probe/table_io.h"
 #include "report.h"
 #include "sweep_summary.h"
 
@@ -38,6 +39,8 @@ struct SweepOptions {
     std::vector<std::string> pyramids{"bspline", "box"};
     int repeat = 5;
     int texelBudget = 384;
+    std::string tables = "tables";
+    std::string sampling = "automatic";
     std::string device;
     std::string out;
 };
@@ -78,10 +81,32 @@ struct Method {
     probe::TapGenerator taps;
 };
 
-std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
+struct NamedTable {
+    std::string name;
+    probe::TapTable table;
+};
+
+// The glTF tables of the size and level count among the table files (*.json) of the folder, in name
+// order.
+std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
+    if (!std::filesystem::is_directory(o.tables)) throw probe::ProbeError(fmt::format("--tables {}: not a folder", o.tables));
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(o.tables))
+        if (entry.path().extension() == ".json") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    std::vector<NamedTable> tables;
+    for (const auto& file : files) {
+        probe::TapTable table = probe::readTable(file);
+        if (table.baseSize == o.size && table.levelCount == levelCount && table.mapping == probe::RoughnessMapping::gltf)
+            tables.push_back({file.stem().string(), std::move(table)});
+    }
+    return tables;
+}
+
+std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables) {
     std::vector<Method> methods;
-    for (const probe::gpu::CompiledTable& t : probe::gpu::compiledTables()) {
-        if (t.table.baseSize != o.size || t.table.levelCount != levelCount || t.table.mapping != probe::RoughnessMapping::gltf) continue;
+    const probe::gpu::Sampling sampling = probe::gpu::parseSampling(o.sampling);
+    for (const NamedTable& t : tables) {
         Method m;
         m.description = {t.name,
                          "table",
@@ -89,9 +114,8 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
                          0.0,
                          std::string(probe::pyramidKindName(t.table.pyramid.kind)),
                          std::string(probe::tableFormName(t.table.form))};
-        m.settings.method = probe::gpu::Method::table;
-        m.settings.pyramid = t.table.pyramid;
-        m.settings.table = &t.table;
+        m.settings.method = {probe::MethodKind::table, &t.table, {}};
+        m.settings.sampling = sampling;
         m.taps = probe::tableTapGenerator(t.table);
         methods.push_back(std::move(m));
     }
@@ -112,11 +136,8 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
                                      bias,
                                      pyramid,
                                      ""};
-                    m.settings.method = probe::gpu::Method::fis;
-                    m.settings.pyramid = fis.pyramid;
-                    m.settings.fisSamples = samples;
-                    m.settings.fisLevelSamples = fis.levelSamples;
-                    m.settings.fisBias = bias;
+                    m.settings.method = {probe::MethodKind::fis, nullptr, fis};
+                    m.settings.sampling = sampling;
                     m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
                     methods.push_back(std::move(m));
                 }
@@ -124,7 +145,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount) {
 }
 
 void runSweep(const SweepOptions& o) {
-    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
+    if (o.repeat < 1) throw probe::ParameterError("repeat", fmt::format("{}: must be at least 1", o.repeat));
     const int levelCount = probe::defaultLevelCount(o.size);
     probe::validateSizeAndLevels(o.size, levelCount);
     probe::StagedOutput output(o.out);
@@ -132,7 +153,8 @@ void runSweep(const SweepOptions& o) {
     deviceOptions.choice = o.device;
     const probe::gpu::Device device(deviceOptions);
     const std::vector<NamedProbe> probes = sweepProbes(o);
-    std::vector<Method> methods = sweepMethods(o, levelCount);
+    const std::vector<NamedTable> tables = sweepTables(o, levelCount);
+    std::vector<Method> methods = sweepMethods(o, levelCount, tables);
     fmt::print(stderr, "sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size, levelCount,
                device.info().name);
 
@@ -150,8 +172,9 @@ void runSweep(const SweepOptions& o) {
         method.settings.faceSize = o.size;
         method.settings.levelCount = levelCount;
         filters.push_back(std::make_unique<probe::gpu::Filter>(device, method.settings));
-        auto& ops = operators[method.settings.pyramid.kind];
-        if (ops.empty()) ops = probe::pyramidOperators(o.size, method.settings.pyramid);
+        const probe::PyramidSettings pyramid = method.settings.method.pyramid();
+        auto& ops = operators[pyramid.kind];
+        if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
         std::vector<probe::ImpulseError> impulse;
         for (int m = 0; m < levelCount; ++m)
             impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m,
@@ -189,8 +212,12 @@ void runSweep(const SweepOptions& o) {
 
     writeSweepCsv(output.file("sweep.csv"), rows);
     const SweepSummary summary = summarizeSweep(rows);
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows, device.info().name + " (" + device.info().driver + ")", o.size, levelCount);
-    writeJson(output.file("report.json"), sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount));
+    const std::string sampling(probe::gpu::samplingName(filters.front()->sampling()));
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows,
+                       fmt::format("{} ({}), {} sampling", device.info().name, device.info().driver, sampling), o.size, levelCount);
+    nlohmann::json report = sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount);
+    report["sampling"] = sampling;
+    writeJson(output.file("report.json"), report);
     output.commit();
     fmt::print("{}", formatSummary(summary));
 }
@@ -210,7 +237,9 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
     cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe, in rounds over the methods (median)");
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
-    cmd->add_option("--device", o->device, "Vulkan device: index or name substring");
+    cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
+    cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_option("--out", o->out, "Output folder")->required();
     cmd->callback([o] { runSweep(*o); });
 }

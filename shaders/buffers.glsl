@@ -10,7 +10,8 @@
 // read never leaves its face: a level of face size S holds texels (i, j), i and j in [-1, S].
 // Written here, read through pyramidTexel.
 layout(std430, set = 0, binding = 0) writeonly buffer PyramidBuffer { vec4 pyramid[]; };
-// The filtered output: level m has face size S_0 >> m.
+// Results in a buffer: the reference's running sums per output texel (level m of face size
+// S_0 >> m), the SH projection's partial sums, the sphere renderer's pixels.
 layout(std430, set = 0, binding = 1) buffer OutputBuffer { vec4 outputTexels[]; };
 // Per level of the pyramid, the texel centre directions (xyz, unit) and exact solid angles (w),
 // computed by probecore's CubeGeometry in double.

@@ -3,12 +3,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
-#include "cube.glsl"
+#include "images.glsl"
 
 layout(local_size_x = 64) in;
 
 layout(push_constant) uniform Params {
-    int baseSize;    // S_0: pyramid level 0 is the source
+    int baseSize;    // S_0
+    int level;       // the output level of this dispatch
     uint firstTexel; // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
 } params;
@@ -16,6 +17,5 @@ layout(push_constant) uniform Params {
 void main() {
     uint index = params.firstTexel + invocationIndex();
     if (index >= params.endTexel) return;
-    ivec3 t = directionToTexel(geometry[index].xyz, params.baseSize);
-    outputTexels[index] = vec4(pyramidTexel(pyramidTexelIndex(t.x, t.y, t.z, params.baseSize)), 1.0);
+    storeOutput(texelCoordinates(index - params.firstTexel, params.baseSize >> params.level), sourceTexel(geometry[index].xyz));
 }

@@ -1,9 +1,12 @@
 // Filtered importance sampling (Krivanek & Colbert), one output level per dispatch, mirroring core's
 // importance_sampling.cpp: the level's samples, made once on the host by probe::importanceSamples in
 // the tangent frame of R (xyz: the reflected direction l, w: its pyramid level; the weight is
-// n.l = l.z), are rotated into the frame of each output texel and read from the pyramid.
+// n.l = l.z), are rotated into the frame of each output texel and read from the pyramid: with
+// PROBE_HARDWARE_SAMPLING one textureLod through the seamless sampler, else sampling.glsl's
+// arithmetic over the bordered buffer.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#include "images.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;
@@ -11,11 +14,20 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Params {
     int baseSize;      // S_0
     int pyramidLevels; // log2(S_0) + 1
+    int level;         // the output level of this dispatch
     uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
-    uint firstSample;  // the level's samples: [firstSample, firstSample + sampleCount)
+    uint firstSample; // the level's samples: [firstSample, firstSample + sampleCount)
     uint sampleCount;
 } params;
+
+vec3 samplePyramid(vec3 direction, float level) {
+#ifdef PROBE_HARDWARE_SAMPLING
+    return textureLod(pyramidCube, direction, level).rgb;
+#else
+    return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
+#endif
+}
 
 void main() {
     uint index = params.firstTexel + invocationIndex();
@@ -31,8 +43,8 @@ void main() {
     uint k = params.firstSample;
     do {
         vec4 s = tableEntry(k);
-        sum += s.z * sampleTrilinear(params.baseSize, params.pyramidLevels, tx * s.x + ty * s.y + R * s.z, s.w);
+        sum += s.z * samplePyramid(tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
     } while (++k < params.firstSample + params.sampleCount);
-    outputTexels[index] = vec4(finishTapSum(sum, weightSum), 1.0);
+    storeOutput(texelCoordinates(index - params.firstTexel, params.baseSize >> params.level), finishTapSum(sum, weightSum));
 }

@@ -1,5 +1,6 @@
-// Pass 1: one level of the pyramid with its one-texel border, mirroring core/src/pyramid.cpp.
-// Level 0 is the source: only its border is written. A coarser level comes from the finer one:
+// Pass 1 with exact sampling: one level of the bordered pyramid buffer, mirroring
+// core/src/pyramid.cpp. Level 0 is the source, read texel by texel from the source cube. A coarser
+// level comes from the finer one:
 // bspline: four seamless bilinear taps at +-0.75 fine texels around the coarse texel centre, tap k
 // weighing 0.5 J_k / sum(J) + 0.125 with J = (1 + u^2 + v^2)^(-3/2) at the tap (or its inverse).
 // box: the 2x2 children on the same face, each weighing its exact solid angle (or its inverse),
@@ -10,6 +11,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probe/shared_constants.h"
+#include "images.glsl"
 #include "sampling.glsl"
 
 layout(local_size_x = 64) in;
@@ -20,7 +22,7 @@ layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the sol
 
 layout(push_constant) uniform Params {
     int baseSize; // S_0
-    int level;    // the level written: 0 (the source's border) to log2(S_0)
+    int level;    // the level written: 0 (the source) to log2(S_0)
 } params;
 
 float jacobianWeight(float u, float v) {
@@ -62,7 +64,7 @@ vec3 box(ivec3 coarse, int fineSize) {
 
 // The value of texel t (inside its face) of the level written.
 vec3 levelTexel(ivec3 t, int size) {
-    if (params.level == 0) return pyramidTexel(pyramidTexelIndex(t.x, t.y, t.z, size));
+    if (params.level == 0) return sourceTexel(faceUvToCubePoint(t.x, texelCentreUv(t.y, size), texelCentreUv(t.z, size)));
     return kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
 }
 
@@ -72,25 +74,15 @@ ivec3 texelAcrossEdge(int face, int i, int j, int size) {
     return directionToTexel(faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size)), size);
 }
 
-// Texel k of a face's border ring of 4 size + 4 texels: the rows j = -1 and j = size (i from -1 to
-// size), then the columns i = -1 and i = size (j from 0 to size - 1).
-ivec2 borderTexel(int k, int size) {
-    int row = size + 2;
-    if (k < 2 * row) return ivec2(k % row - 1, k < row ? -1 : size);
-    k -= 2 * row;
-    return ivec2(k < size ? -1 : size, k % size);
-}
-
 void main() {
     int size = params.baseSize >> params.level;
     int row = size + 2;
-    // Level 0: the border rings only; coarser levels: every texel of each face and its border.
-    int perFace = params.level == 0 ? 4 * size + 4 : row * row;
+    // Every texel of each face and its border.
+    int perFace = row * row;
     uint index = invocationIndex();
     if (index >= 6u * uint(perFace)) return;
     int face = int(index) / perFace, k = int(index) % perFace;
-    ivec2 ij = params.level == 0 ? borderTexel(k, size) : ivec2(k % row - 1, k / row - 1);
-    int i = ij.x, j = ij.y;
+    int i = k % row - 1, j = k / row - 1;
     bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
 
     // One texel shown here; a border corner gets the face's own corner texel, which

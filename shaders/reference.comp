@@ -3,7 +3,8 @@
 // texel t, at the levels with alpha > 0 (copy_level.comp does the others).
 // The source is summed in chunks of rows, one dispatch each (reference_pass.cpp): a chunk's rows
 // are summed in float and added with Kahan compensation; the chunk's sum (sum L K dOmega, sum K
-// dOmega) is added to the output texel, which holds the running sum until the last chunk divides.
+// dOmega) is added to the texel's running sum (the accumulator, binding 1), which the last chunk
+// divides and stores.
 // Chunks bound the work of one invocation: GPUs reset a device whose dispatch runs too long, and
 // Mesa's lavapipe ends every loop of an invocation after 65535 iterations in all (its
 // LP_MAX_TGSI_LOOP_ITERATIONS), which a whole 128^2 source exceeds. A chunk wholly behind R (all
@@ -13,6 +14,7 @@
 #include "buffers.glsl"
 #include "cube.glsl"
 #include "ggx.glsl"
+#include "images.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -63,5 +65,6 @@ void main() {
         }
         total += chunk;
     }
-    outputTexels[outIndex] = (params.stage & 2) != 0 ? vec4(total.rgb / total.w, 1.0) : total;
+    if ((params.stage & 2) != 0) storeOutput(texelCoordinates(texel, outSize), total.rgb / total.w);
+    else outputTexels[outIndex] = total;
 }

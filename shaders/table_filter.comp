@@ -1,15 +1,19 @@
 // Pass 2 with a tap table (Manson & Sloan), one output level per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
-// per constant level), each read trilinearly from the pyramid. After the coefficients,
-// tableEntry(usageFirst + m).x is the tap groups of four that level m uses (probe::tapsInUse; the
-// rest are zero-weight padding). Invocations take each face's interior first, then its edge ring
-// (texelOfInvocation).
+// per constant level), each one trilinear read of the pyramid: with PROBE_HARDWARE_SAMPLING one
+// textureLod through the seamless sampler, else sampling.glsl's arithmetic over the bordered buffer.
+// After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
+// (probe::tapsInUse; the rest are zero-weight padding). Invocations take each face's interior
+// first, then its edge ring (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#ifndef PROBE_HARDWARE_SAMPLING
 #extension GL_KHR_shader_subgroup_vote : require
+#endif
 #include "frame.glsl"
+#include "images.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;
@@ -18,13 +22,13 @@ layout(local_size_x = 64) in;
 layout(constant_id = 0) const int kCoefficientCount = 3; // 3: quadratic, 1: constant
 
 layout(push_constant) uniform Params {
-    int baseSize;         // S_0
-    int pyramidLevels;    // log2(S_0) + 1
-    int level;            // the output level of this dispatch
-    int taps;             // N per frame, a multiple of 4
-    uint firstTexel;      // the packed output texels [firstTexel, endTexel) of the level
+    int baseSize;      // S_0
+    int pyramidLevels; // log2(S_0) + 1
+    int level;         // the output level of this dispatch
+    int taps;          // N per frame, a multiple of 4
+    uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
-    uint usageFirst;      // index of level 0's tap group count in `table`
+    uint usageFirst; // index of level 0's tap group count in `table`
 } params;
 
 // P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
@@ -33,6 +37,14 @@ vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
     uint first = levelFirst + uint(parameter * kCoefficientCount) * groups + group;
     if (kCoefficientCount == 1) return tableEntry(first);
     return tableEntry(first) + tableEntry(first + groups) * f.theta2 + tableEntry(first + 2u * groups) * f.phi2;
+}
+
+vec3 samplePyramid(vec3 direction, float level) {
+#ifdef PROBE_HARDWARE_SAMPLING
+    return textureLod(pyramidCube, direction, level).rgb;
+#else
+    return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
+#endif
 }
 
 // The texel (its index within the level) that invocation k computes, in a level of face size
@@ -63,47 +75,59 @@ uint texelOfInvocation(uint k, int size) {
     return (face * s + j) * s + i;
 }
 
+// Adds the taps of frame `axis` (tested at the bottom: the host makes at least one tap group a
+// level). Where the frame does not count, its taps weigh 0 at a direction that can be read.
+void addFrame(vec3 d, int axis, uint levelFirst, int groupsInUse, inout vec3 sum, inout float weightSum) {
+    FrameSetup f = frameSetup(d, axis);
+    bool counts = f.weight > 0.0;
+    int g = 0;
+    do {
+        uint group = uint(axis * params.taps / 4 + g);
+        vec4 px = polynomial(levelFirst, 0, group, f);
+        vec4 py = polynomial(levelFirst, 1, group, f);
+        vec4 pz = polynomial(levelFirst, 2, group, f);
+        vec4 pl = polynomial(levelFirst, 3, group, f);
+        vec4 pw = polynomial(levelFirst, 4, group, f);
+        [[unroll]] for (int lane = 0; lane < 4; ++lane) {
+            TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
+            float weight = counts ? s.weight : 0.0;
+            sum += weight * samplePyramid(counts ? s.direction : d, counts ? s.level : 0.0);
+            weightSum += weight;
+        }
+    } while (++g < groupsInUse);
+}
+
 void main() {
     uint invocation = invocationIndex();
     if (invocation >= params.endTexel - params.firstTexel) return;
-    uint index = params.firstTexel + texelOfInvocation(invocation, params.baseSize >> params.level);
+    int size = params.baseSize >> params.level;
+    uint texel = texelOfInvocation(invocation, size);
     // The texel centre on the cube (major component +-1), from its unit direction: no integer
     // division to find the texel.
-    vec3 R = geometry[index].xyz, a = abs(R);
+    vec3 R = geometry[params.firstTexel + texel].xyz, a = abs(R);
     vec3 d = R / max(max(a.x, a.y), a.z);
     uint levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
     int groupsInUse = int(tableEntry(params.usageFirst + uint(params.level)).x);
     // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is d's
-    // major one); the frame about the face's own axis only near its edges, so it comes last, and
-    // only for subgroups where some invocation needs it, the others giving it weight 0. Loops that
-    // exit together and test at the bottom: a SIMD back end such as lavapipe runs a top-tested
-    // loop's body once more with every lane off, and Mesa 22.3's lavapipe miscompiles some loops
-    // whose exit diverges (GpuTest.TableFilterEqualsCpuModel catches it).
+    // major one); the frame about the face's own axis only near its edges, so it comes last.
     int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    int frames = subgroupAny(frameWeight(d, major) > 0.0) ? 3 : 2;
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
+#ifdef PROBE_HARDWARE_SAMPLING
+    addFrame(d, (major + 1) % 3, levelFirst, groupsInUse, sum, weightSum);
+    addFrame(d, (major + 2) % 3, levelFirst, groupsInUse, sum, weightSum);
+    if (frameWeight(d, major) > 0.0) addFrame(d, major, levelFirst, groupsInUse, sum, weightSum);
+#else
+    // Exact sampling is the mode for Mesa's lavapipe, a SIMD back end that runs a branch's body even
+    // where no invocation takes it and a loop until every invocation has left it: the third frame is
+    // a third pass of a loop that the subgroups where some invocation needs it take (the others
+    // weigh it 0). Every invocation of a subgroup leaves the loop together: Mesa 22.3's lavapipe
+    // miscompiles some loops whose exit diverges (GpuTest.TableFilterEqualsCpuModel catches it).
+    int frames = subgroupAny(frameWeight(d, major) > 0.0) ? 3 : 2;
     int k = 0;
     do {
-        int axis = (major + 1 + k) % 3;
-        FrameSetup f = frameSetup(d, axis);
-        bool counts = f.weight > 0.0;
-        int g = 0;
-        do {
-            uint group = uint(axis * params.taps / 4 + g);
-            vec4 px = polynomial(levelFirst, 0, group, f);
-            vec4 py = polynomial(levelFirst, 1, group, f);
-            vec4 pz = polynomial(levelFirst, 2, group, f);
-            vec4 pl = polynomial(levelFirst, 3, group, f);
-            vec4 pw = polynomial(levelFirst, 4, group, f);
-            [[unroll]] for (int lane = 0; lane < 4; ++lane) {
-                TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
-                // Where the frame does not count, a weight of 0 at a direction that can be read.
-                float weight = counts ? s.weight : 0.0;
-                sum += weight * sampleTrilinear(params.baseSize, params.pyramidLevels, counts ? s.direction : d, counts ? s.level : 0.0);
-                weightSum += weight;
-            }
-        } while (++g < groupsInUse);
+        addFrame(d, (major + 1 + k) % 3, levelFirst, groupsInUse, sum, weightSum);
     } while (++k < frames);
-    outputTexels[index] = vec4(finishTapSum(sum, weightSum), 1.0);
+#endif
+    storeOutput(texelCoordinates(texel, size), finishTapSum(sum, weightSum));
 }

@@ -93,13 +93,14 @@ TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
 TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
     const int levels = defaultLevelCount(kSize);
     gpu::FilterSettings s;
-    s.method = gpu::Method::fis;
+    s.method.kind = MethodKind::fis;
     s.faceSize = kSize;
     s.levelCount = levels;
-    s.fisSamples = 32;
+    s.method.fis.samples = 32;
+    s.sampling = gpu::Sampling::exact;
     gpu::Filter filter(probetest::testDevice(), s);
-    const ImportanceSamplingSettings cpu{32, 0.0, s.pyramid, {}};
-    const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.pyramid);
+    const ImportanceSamplingSettings& cpu = s.method.fis;
+    const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.method.pyramid());
     expectImpulseL1Matches(
         filter, levels, s.mapping,
         [&](int level, const Texel& texel) {

@@ -1,6 +1,7 @@
 // The GPU passes equal their CPU models (core's pyramid, table filter and importance sampling) on
-// random probes and random tables, every level and face; constants stay constant; FIS-1024 is
-// close to the reference on a smooth sky.
+// random probes and random tables, every level and face, in both sampling modes (exact: to float
+// rounding; hardware: within the sampler's precision, gpu_test_support.h); constants stay
+// constant; FIS-1024 is close to the reference on a smooth sky.
 #include <random>
 
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 #include "gpu_test_support.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
+#include "probe/filter_method.h"
 #include "probe/importance_sampling.h"
 #include "probe/pyramid.h"
 #include "probe/reference.h"
@@ -19,10 +21,6 @@ using namespace probe;
 using probetest::GpuTest;
 
 namespace {
-
-// Every bilinear read is the shader's own float arithmetic on the same texels as the double CPU
-// model; the differences are float rounding of positions (~1e-7 texel), weights and sums.
-constexpr double kModelTolerance = 1e-5;
 
 const PyramidSettings kAllPyramids[] = {
     {PyramidKind::bspline, PyramidWeighting::solidAngle},
@@ -56,15 +54,19 @@ TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMa
     return table;
 }
 
-gpu::FilterSettings settingsFor(gpu::Method method, int size, int levels, RoughnessMapping mapping, PyramidSettings pyramid) {
+gpu::FilterSettings settingsFor(MethodKind method, int size, int levels, RoughnessMapping mapping, PyramidSettings pyramid,
+                                gpu::Sampling sampling) {
     gpu::FilterSettings s;
-    s.method = method;
+    s.method.kind = method;
+    s.method.fis.pyramid = pyramid;
     s.faceSize = size;
     s.levelCount = levels;
     s.mapping = mapping;
-    s.pyramid = pyramid;
+    s.sampling = sampling;
     return s;
 }
+
+std::string describe(gpu::Sampling sampling) { return std::string(gpu::samplingName(sampling)); }
 
 void expectLevelsEqual(const CubeLevels& gpuLevels, const CubeLevels& cpuLevels, double tolerance, const std::string& what) {
     ASSERT_EQ(gpuLevels.size(), cpuLevels.size()) << what;
@@ -79,24 +81,27 @@ void expectLevelsEqual(const CubeLevels& gpuLevels, const CubeLevels& cpuLevels,
 
 TEST_F(GpuTest, PyramidEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 11);
-    for (const PyramidSettings& pyramid : kAllPyramids) {
-        gpu::Filter filter(probetest::testDevice(), settingsFor(gpu::Method::fis, 32, 5, RoughnessMapping::gltf, pyramid));
-        filter.run(source);
-        expectLevelsEqual(filter.downloadPyramid(), buildPyramid(source, pyramid), kModelTolerance, "pyramid " + describe(pyramid));
-    }
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases)
+        for (const PyramidSettings& pyramid : kAllPyramids) {
+            gpu::Filter filter(probetest::testDevice(), settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, pyramid, c.sampling));
+            filter.run(source);
+            expectLevelsEqual(filter.downloadPyramid(), buildPyramid(source, pyramid), c.tolerance,
+                              describe(c.sampling) + " pyramid " + describe(pyramid));
+        }
 }
 
 TEST_F(GpuTest, ConstantProbeStaysConstantInEveryPyramidLevel) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
-    for (const PyramidSettings& pyramid : kAllPyramids) {
-        gpu::Filter filter(probetest::testDevice(), settingsFor(gpu::Method::fis, 64, 6, RoughnessMapping::gltf, pyramid));
-        filter.run(constantProbe(64, radiance));
-        const CubeLevels levels = filter.downloadPyramid();
-        ASSERT_EQ(levels.size(), 7u);
-        for (const CubeImage& level : levels)
-            EXPECT_LT(probetest::maxRelativeError(level, CubeImage(level.size, radiance)), 1e-6)
-                << describe(pyramid) << ", size " << level.size;
-    }
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases)
+        for (const PyramidSettings& pyramid : kAllPyramids) {
+            gpu::Filter filter(probetest::testDevice(), settingsFor(MethodKind::fis, 64, 6, RoughnessMapping::gltf, pyramid, c.sampling));
+            filter.run(constantProbe(64, radiance));
+            const CubeLevels levels = filter.downloadPyramid();
+            ASSERT_EQ(levels.size(), 7u);
+            for (const CubeImage& level : levels)
+                EXPECT_LT(probetest::maxRelativeError(level, CubeImage(level.size, radiance)), 1e-6)
+                    << describe(c.sampling) << " " << describe(pyramid) << ", size " << level.size;
+        }
 }
 
 TEST_F(GpuTest, TableFilterEqualsCpuModel) {
@@ -111,16 +116,17 @@ TEST_F(GpuTest, TableFilterEqualsCpuModel) {
         {32, TableForm::constant, RoughnessMapping::authors, kAllPyramids[0]},
         {16, TableForm::quadratic, RoughnessMapping::authors, kAllPyramids[3]},
     };
-    unsigned seed = 20;
-    for (const Case& c : cases) {
-        const int levels = defaultLevelCount(c.size);
-        const TapTable table = randomTable(c.size, levels, 8, c.form, c.mapping, c.pyramid, seed++);
-        const CubeImage source = probetest::randomProbe(c.size, seed++);
-        gpu::FilterSettings s = settingsFor(gpu::Method::table, c.size, levels, c.mapping, c.pyramid);
-        s.table = &table;
-        gpu::Filter filter(probetest::testDevice(), s);
-        expectLevelsEqual(filter.run(source), tableFilter(source, table), kModelTolerance,
-                          fmt::format("table {} {}^2 {}", tableFormName(c.form), c.size, roughnessMappingName(c.mapping)));
+    for (const probetest::SamplingCase& sampling : probetest::kSamplingCases) {
+        unsigned seed = 20;
+        for (const Case& c : cases) {
+            const int levels = defaultLevelCount(c.size);
+            const TapTable table = randomTable(c.size, levels, 8, c.form, c.mapping, c.pyramid, seed++);
+            const CubeImage source = probetest::randomProbe(c.size, seed++);
+            gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, sampling.sampling));
+            expectLevelsEqual(filter.run(source), tableFilter(source, table), sampling.tolerance,
+                              fmt::format("{} table {} {}^2 {}", describe(sampling.sampling), tableFormName(c.form), c.size,
+                                          roughnessMappingName(c.mapping)));
+        }
     }
 }
 
@@ -136,10 +142,10 @@ TEST_F(GpuTest, PaddedTableEqualsCpuModel) {
                 for (int q = 0; q < 3; ++q) table.levels[m].coefficients[table.offset(frame, t, tapWeight) + q] = 0.0;
     for (int m = 0; m < 5; ++m) EXPECT_EQ(tapsInUse(table, m), kept[m]) << "level " << m;
     const CubeImage source = probetest::randomProbe(32, 24);
-    gpu::FilterSettings s = settingsFor(gpu::Method::table, 32, 5, RoughnessMapping::gltf, kAllPyramids[0]);
-    s.table = &table;
-    gpu::Filter filter(probetest::testDevice(), s);
-    expectLevelsEqual(filter.run(source), tableFilter(source, table), kModelTolerance, "padded table");
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases) {
+        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, c.sampling));
+        expectLevelsEqual(filter.run(source), tableFilter(source, table), c.tolerance, describe(c.sampling) + " padded table");
+    }
 }
 
 TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
@@ -155,49 +161,53 @@ TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
         {16, 0.5, RoughnessMapping::filament, kAllPyramids[1]},
     };
     const CubeImage source = probetest::randomProbe(32, 30);
-    for (const Case& c : cases) {
-        gpu::FilterSettings s = settingsFor(gpu::Method::fis, 32, 5, c.mapping, c.pyramid);
-        s.fisSamples = c.samples;
-        s.fisBias = c.bias;
-        gpu::Filter filter(probetest::testDevice(), s);
-        const ImportanceSamplingSettings cpu{c.samples, c.bias, c.pyramid, {}};
-        expectLevelsEqual(filter.run(source), importanceSampleFilter(source, 5, c.mapping, cpu), kModelTolerance,
-                          fmt::format("fis {} bias {} {}", c.samples, c.bias, roughnessMappingName(c.mapping)));
-    }
+    for (const probetest::SamplingCase& sampling : probetest::kSamplingCases)
+        for (const Case& c : cases) {
+            gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, c.mapping, c.pyramid, sampling.sampling);
+            s.method.fis.samples = c.samples;
+            s.method.fis.bias = c.bias;
+            gpu::Filter filter(probetest::testDevice(), s);
+            expectLevelsEqual(
+                filter.run(source), filterOnCpu(source, 5, c.mapping, s.method), sampling.tolerance,
+                fmt::format("{} fis {} bias {} {}", describe(sampling.sampling), c.samples, c.bias, roughnessMappingName(c.mapping)));
+        }
 }
 
 // Per-level sample counts (the sweep's FIS mixes): each level as FIS with that level's count.
 TEST_F(GpuTest, ImportanceSamplingPerLevelEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 31);
-    gpu::FilterSettings s = settingsFor(gpu::Method::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0]);
-    s.fisSamples = 8;
-    s.fisLevelSamples = {1, 8, 3, 64, 256};
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);
+    s.method.fis.samples = 8;
+    s.method.fis.levelSamples = {1, 8, 3, 64, 256};
     gpu::Filter filter(probetest::testDevice(), s);
     const CubeLevels levels = filter.run(source);
     for (int m = 1; m < 5; ++m) {
-        const ImportanceSamplingSettings uniform{s.fisLevelSamples[m], 0.0, kAllPyramids[0], {}};
-        expectLevelsEqual({levels[m]}, {importanceSampleFilter(source, 5, RoughnessMapping::gltf, uniform)[m]}, kModelTolerance,
-                          fmt::format("fis level {} with {} samples", m, s.fisLevelSamples[m]));
+        FilterMethod uniform = s.method;
+        uniform.fis.samples = s.method.fis.levelSamples[m];
+        uniform.fis.levelSamples.clear();
+        expectLevelsEqual({levels[m]}, {filterOnCpu(source, 5, RoughnessMapping::gltf, uniform)[m]}, 1e-5,
+                          fmt::format("fis level {} with {} samples", m, uniform.fis.samples));
     }
-    s.fisLevelSamples = {8, 8, 8};
-    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError);
-    s.fisLevelSamples = {8, 8, 0, 8, 8};
-    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError);
+    s.method.fis.levelSamples = {8, 8, 8};
+    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ParameterError);
+    s.method.fis.levelSamples = {8, 8, 0, 8, 8};
+    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ParameterError);
 }
 
 TEST_F(GpuTest, WhiteFurnaceEveryMethod) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
     const CubeImage constant = constantProbe(32, radiance);
     const TapTable table = randomTable(32, 5, 8, TableForm::quadratic, RoughnessMapping::gltf, kAllPyramids[0], 40);
-    for (gpu::Method method : {gpu::Method::table, gpu::Method::fis, gpu::Method::reference}) {
-        gpu::FilterSettings s = settingsFor(method, 32, 5, RoughnessMapping::gltf, kAllPyramids[0]);
-        s.table = &table;
-        gpu::Filter filter(probetest::testDevice(), s);
-        const CubeLevels levels = filter.run(constant);
-        for (int m = 0; m < 5; ++m)
-            EXPECT_LT(probetest::maxRelativeError(levels[m], CubeImage(32 >> m, radiance)), 1e-5)
-                << gpu::methodName(method) << ", level " << m;
-    }
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases)
+        for (MethodKind method : {MethodKind::table, MethodKind::fis, MethodKind::reference}) {
+            gpu::FilterSettings s = settingsFor(method, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], c.sampling);
+            s.method.table = &table;
+            gpu::Filter filter(probetest::testDevice(), s);
+            const CubeLevels levels = filter.run(constant);
+            for (int m = 0; m < 5; ++m)
+                EXPECT_LT(probetest::maxRelativeError(levels[m], CubeImage(32 >> m, radiance)), 1e-5)
+                    << describe(c.sampling) << " " << methodKindName(method) << ", level " << m;
+        }
 }
 
 // FIS with 1024 samples and bias 0 over the B-spline pyramid is within 3% image L1 of the
@@ -205,8 +215,8 @@ TEST_F(GpuTest, WhiteFurnaceEveryMethod) {
 TEST_F(GpuTest, ImportanceSampling1024NearReferenceOnSky) {
     const int size = 64, levels = defaultLevelCount(size);
     const CubeImage sky = skyProbe(size);
-    gpu::FilterSettings s = settingsFor(gpu::Method::fis, size, levels, RoughnessMapping::gltf, kAllPyramids[0]);
-    s.fisSamples = 1024;
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, size, levels, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);
+    s.method.fis.samples = 1024;
     gpu::Filter filter(probetest::testDevice(), s);
     const CubeLevels fis = filter.run(sky);
     const CubeLevels reference = referenceFilter(sky, levels, RoughnessMapping::gltf);
@@ -217,15 +227,15 @@ TEST_F(GpuTest, ImportanceSampling1024NearReferenceOnSky) {
     }
 }
 
-// The table shader takes a texel's third frame per subgroup (subgroupAny): on a device without
-// subgroup vote in compute shaders the table method is refused, naming the device; FIS still runs.
+// The exact table shader takes a texel's third frame per subgroup (subgroupAny): on a device without
+// subgroup vote in compute shaders exact sampling of a table is refused, naming the device; hardware
+// sampling, which needs no subgroup operation, and FIS still run.
 TEST_F(GpuTest, TableMethodNeedsSubgroupVote) {
     const gpu::Device& shared = probetest::testDevice();
     const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
     device.impl().computeSubgroupVote = false; // what a device without it reports
     const TapTable table = randomTable(16, 4, 4, TableForm::quadratic, RoughnessMapping::gltf, kAllPyramids[0], 50);
-    gpu::FilterSettings s = settingsFor(gpu::Method::table, 16, 4, RoughnessMapping::gltf, kAllPyramids[0]);
-    s.table = &table;
+    gpu::FilterSettings s = probetest::tableSettings(table, gpu::Sampling::exact);
     try {
         gpu::Filter filter(device, s);
         ADD_FAILURE() << "the table method was not refused";
@@ -234,6 +244,9 @@ TEST_F(GpuTest, TableMethodNeedsSubgroupVote) {
         EXPECT_NE(message.find("subgroup vote"), std::string::npos) << message;
         EXPECT_NE(message.find(device.info().name), std::string::npos) << message;
     }
-    s.method = gpu::Method::fis;
+    s.sampling = gpu::Sampling::hardware;
+    EXPECT_NO_THROW(gpu::Filter(device, s));
+    s.sampling = gpu::Sampling::exact;
+    s.method.kind = MethodKind::fis;
     EXPECT_NO_THROW(gpu::Filter(device, s));
 }

@@ -19,34 +19,31 @@ namespace {
 
 constexpr int kSize = 16, kLevels = 4;
 
-gpu::FilterSettings settingsFor(gpu::Method method, const TapTable* table) {
+gpu::FilterSettings settingsFor(MethodKind method, const TapTable* table, gpu::Sampling sampling = gpu::Sampling::exact) {
     gpu::FilterSettings s;
-    s.method = method;
+    s.method = {method, table, {}};
     s.faceSize = kSize;
     s.levelCount = kLevels;
-    s.table = table;
+    s.sampling = sampling;
     return s;
 }
 
-TapGenerator generatorFor(gpu::Method method, const TapTable& table) {
-    if (method == gpu::Method::table) return tableTapGenerator(table);
-    return importanceSampleTapGenerator(kSize, kLevels, RoughnessMapping::gltf, ImportanceSamplingSettings{});
-}
-
 // `depth`: the pyramid depth the levels needed.
-void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels, int& depth) {
+void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, int& depth, gpu::Sampling sampling) {
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
     const CubeImage source = probetest::randomProbe(kSize, 7);
-    gpu::Filter full(probetest::testDevice(), settingsFor(method, &table));
+    gpu::Filter full(probetest::testDevice(), settingsFor(method, &table, sampling));
     const CubeLevels all = full.run(source);
 
-    gpu::FilterSettings s = settingsFor(method, &table);
+    gpu::FilterSettings s = settingsFor(method, &table, sampling);
     s.levels = levels;
-    if (method != gpu::Method::reference) s.pyramidDepth = deepestPyramidLevelRead(generatorFor(method, table), kSize, levels);
+    if (method != MethodKind::reference)
+        s.pyramidDepth = deepestPyramidLevelRead(methodTapGenerator(s.method, kSize, kLevels, s.mapping), kSize, levels);
     depth = s.pyramidDepth;
     gpu::Filter partial(probetest::testDevice(), s);
     const CubeLevels some = partial.run(source);
-    const std::string what = fmt::format("{} levels {}", gpu::methodName(method), fmt::join(levels, ","));
+    const std::string what =
+        fmt::format("{} {} levels {}", methodKindName(method), gpu::samplingName(partial.sampling()), fmt::join(levels, ","));
 
     ASSERT_EQ(some.size(), std::size_t(kLevels)) << what;
     for (int m = 0; m < kLevels; ++m) {
@@ -59,21 +56,24 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
         EXPECT_EQ(some[m].rgb, all[m].rgb) << what << ": level " << m << " differs from the full run";
     }
 
-    // Exactly the dispatches asked for: the pyramid to the depth, two per level (its faces and edges,
-    // level 0 only the source's border; then its border corners), then one per output level; the
-    // reference's filtered levels one per chunk of source rows, here one per face.
+    // Exactly the dispatches asked for: the pyramid to the depth (exact sampling: two per level, its
+    // faces and edges, then its border corners; hardware: one per mip; the reference: level 0, the
+    // source, alone), then one per output level (the reference's filtered levels: one per chunk of
+    // source rows, here one per face).
     std::vector<std::pair<std::string, int>> expected;
     const bool copiesOnly = std::all_of(levels.begin(), levels.end(), [&](int m) { return levelAlpha(s.mapping, m, kLevels) == 0.0; });
-    if (method != gpu::Method::reference && !copiesOnly)
-        for (int k = 0; k <= s.pyramidDepth; ++k) expected.insert(expected.end(), 2, {"pyramid", k});
+    if (method == MethodKind::reference && !copiesOnly) expected.emplace_back("pyramid", 0);
+    if (method != MethodKind::reference && !copiesOnly)
+        for (int k = 0; k <= s.pyramidDepth; ++k)
+            expected.insert(expected.end(), partial.sampling() == gpu::Sampling::exact ? 2 : 1, {"pyramid", k});
     for (int m : levels) {
-        const bool chunked = method == gpu::Method::reference && levelAlpha(s.mapping, m, kLevels) > 0.0;
-        expected.insert(expected.end(), chunked ? kFaceCount : 1, {std::string(gpu::methodName(method)), m});
+        const bool chunked = method == MethodKind::reference && levelAlpha(s.mapping, m, kLevels) > 0.0;
+        expected.insert(expected.end(), chunked ? kFaceCount : 1, {std::string(methodKindName(method)), m});
     }
     std::vector<std::pair<std::string, int>> ran;
     for (const gpu::Dispatch& d : partial.dispatches()) ran.emplace_back(d.pass, d.level);
     EXPECT_EQ(ran, expected) << what;
-    if (method != gpu::Method::reference && !copiesOnly) {
+    if (method != MethodKind::reference && !copiesOnly) {
         EXPECT_EQ(partial.downloadPyramid().size(), std::size_t(s.pyramidDepth + 1)) << what;
     }
 
@@ -88,8 +88,7 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
         EXPECT_GE(perLevel[k].medianMs, 0.0) << what;
         sum += perLevel[k].medianMs; // one run: the medians are the runs
     }
-    const auto pass2 =
-        std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == gpu::methodName(method); });
+    const auto pass2 = std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == methodKindName(method); });
     ASSERT_NE(pass2, passes.end()) << what;
     EXPECT_NEAR(sum, pass2->medianMs, 1e-9 + 1e-9 * pass2->medianMs) << what;
 }
@@ -99,31 +98,35 @@ void expectPartialEqualsFull(gpu::Method method, const std::vector<int>& levels,
 class PartialRun : public GpuTest {};
 
 TEST_F(PartialRun, TableLevelsEqualTheFullRun) {
-    int depth = 0;
-    expectPartialEqualsFull(gpu::Method::table, {1}, depth);
-    EXPECT_LT(depth, kLevels) << "level 1 needs less than the whole pyramid";
-    expectPartialEqualsFull(gpu::Method::table, {0, 2}, depth);
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases) {
+        int depth = 0;
+        expectPartialEqualsFull(MethodKind::table, {1}, depth, c.sampling);
+        EXPECT_LT(depth, kLevels) << "level 1 needs less than the whole pyramid";
+        expectPartialEqualsFull(MethodKind::table, {0, 2}, depth, c.sampling);
+    }
 }
 
 TEST_F(PartialRun, FisLevelsEqualTheFullRun) {
-    int depth = 0;
-    expectPartialEqualsFull(gpu::Method::fis, {1, 2}, depth);
-    expectPartialEqualsFull(gpu::Method::fis, {0}, depth);
-    EXPECT_EQ(depth, 0) << "the mirror level reads no pyramid";
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases) {
+        int depth = 0;
+        expectPartialEqualsFull(MethodKind::fis, {1, 2}, depth, c.sampling);
+        expectPartialEqualsFull(MethodKind::fis, {0}, depth, c.sampling);
+        EXPECT_EQ(depth, 0) << "the mirror level reads no pyramid";
+    }
 }
 
 TEST_F(PartialRun, ReferenceLevelsEqualTheFullRun) {
     int depth = 0;
-    expectPartialEqualsFull(gpu::Method::reference, {0, 3}, depth);
+    expectPartialEqualsFull(MethodKind::reference, {0, 3}, depth, gpu::Sampling::exact);
 }
 
 TEST_F(PartialRun, RefusesLevelsOutOfOrderOrRange) {
     for (const std::vector<int>& levels : {std::vector<int>{2, 1}, std::vector<int>{4}, std::vector<int>{-1}}) {
-        gpu::FilterSettings s = settingsFor(gpu::Method::fis, nullptr);
+        gpu::FilterSettings s = settingsFor(MethodKind::fis, nullptr);
         s.levels = levels;
         EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError) << fmt::format("{}", fmt::join(levels, ","));
     }
-    gpu::FilterSettings s = settingsFor(gpu::Method::fis, nullptr);
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, nullptr);
     s.pyramidDepth = 5;
     EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError);
 }

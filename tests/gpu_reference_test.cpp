@@ -29,7 +29,7 @@ void expectGpuEqualsCpu(int size, RoughnessMapping mapping, unsigned seed, std::
     const CubeImage source = structuredProbe(size, seed);
     const int levelCount = defaultLevelCount(size);
     gpu::FilterSettings settings;
-    settings.method = gpu::Method::reference;
+    settings.method.kind = MethodKind::reference;
     settings.faceSize = size;
     settings.levelCount = levelCount;
     settings.mapping = mapping;
@@ -61,7 +61,7 @@ TEST_F(GpuTest, ReferenceEqualsCpuReference256CoarseLevels) { expectGpuEqualsCpu
 TEST_F(GpuTest, ReferenceWhiteFurnace) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
     gpu::FilterSettings settings;
-    settings.method = gpu::Method::reference;
+    settings.method.kind = MethodKind::reference;
     settings.faceSize = 32;
     settings.levelCount = maxLevelCount(32);
     gpu::Filter filter(probetest::testDevice(), settings);

@@ -72,13 +72,26 @@ const SeamCheck& seamCheck(int size, int levelCount, RoughnessMapping mapping) {
     return check;
 }
 
-gpu::FilterSettings settings(gpu::Method method, int size, int levels, RoughnessMapping mapping) {
+gpu::FilterSettings settings(MethodKind method, int size, int levels, RoughnessMapping mapping, gpu::Sampling sampling) {
     gpu::FilterSettings s;
-    s.method = method;
+    s.method.kind = method;
     s.faceSize = size;
     s.levelCount = levels;
     s.mapping = mapping;
+    s.sampling = sampling;
     return s;
+}
+
+// FIS in both sampling modes and the reference (which reads exact texels in either).
+struct MethodCase {
+    MethodKind method;
+    gpu::Sampling sampling;
+};
+constexpr MethodCase kMethodCases[] = {
+    {MethodKind::fis, gpu::Sampling::exact}, {MethodKind::fis, gpu::Sampling::hardware}, {MethodKind::reference, gpu::Sampling::exact}};
+
+std::string describe(const MethodCase& c) {
+    return fmt::format("{} ({} sampling)", methodKindName(c.method), gpu::samplingName(c.sampling));
 }
 
 std::vector<std::filesystem::path> committedTables() {
@@ -100,11 +113,11 @@ TEST_F(HardCases, TinyFacesEveryLevelCountAndMappingFisAndReference) {
         const std::vector<HardProbe> probes = hardProbes(size);
         for (int levels : {defaultLevelCount(size), maxLevelCount(size)})
             for (const std::string& name : roughnessMappingNames())
-                for (gpu::Method method : {gpu::Method::fis, gpu::Method::reference}) {
+                for (const MethodCase& c : kMethodCases) {
                     // The brute-force reference at 64^2 costs seconds on lavapipe: once, glTF.
-                    if (method == gpu::Method::reference && size == 64 && (name != "gltf" || levels != defaultLevelCount(size))) continue;
-                    gpu::Filter filter(probetest::testDevice(), settings(method, size, levels, parseRoughnessMapping(name)));
-                    const std::string what = fmt::format("{} {}^2 {} levels {}", gpu::methodName(method), size, levels, name);
+                    if (c.method == MethodKind::reference && size == 64 && (name != "gltf" || levels != defaultLevelCount(size))) continue;
+                    gpu::Filter filter(probetest::testDevice(), settings(c.method, size, levels, parseRoughnessMapping(name), c.sampling));
+                    const std::string what = fmt::format("{} {}^2 {} levels {}", describe(c), size, levels, name);
                     for (const HardProbe& probe : probes) expectStable(filter.run(probe.cube), probe, what);
                 }
     }
@@ -114,12 +127,12 @@ TEST_F(HardCases, SeamsNoSteeperThanTheExactReference) {
     for (int size : {16, 64}) {
         const int levels = defaultLevelCount(size);
         const std::vector<double>& k = seamCheck(size, levels, RoughnessMapping::gltf).bounds;
-        for (gpu::Method method : {gpu::Method::fis, gpu::Method::reference}) {
-            gpu::Filter filter(probetest::testDevice(), settings(method, size, levels, RoughnessMapping::gltf));
+        for (const MethodCase& c : kMethodCases) {
+            gpu::Filter filter(probetest::testDevice(), settings(c.method, size, levels, RoughnessMapping::gltf, c.sampling));
             const CubeLevels out = filter.run(skyProbe(size));
             for (int m = 0; m < levels; ++m) {
                 if (k[m] == 0.0) continue;
-                EXPECT_LE(seamRatio(out[m]), k[m]) << gpu::methodName(method) << " " << size << "^2 level " << m;
+                EXPECT_LE(seamRatio(out[m]), k[m]) << describe(c) << " " << size << "^2 level " << m;
             }
         }
     }
@@ -143,8 +156,12 @@ TEST(SeamMeasure, CatchesAFivePercentStepAtOneFace) {
 TEST_F(HardCases, EveryCommittedTable) {
     for (const std::filesystem::path& path : committedTables()) {
         const TapTable table = readTable(path);
-        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
-        for (const HardProbe& probe : hardProbes(table.baseSize)) expectStable(filter.run(probe.cube), probe, path.filename().string());
+        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
+        gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
+        for (const HardProbe& probe : hardProbes(table.baseSize)) {
+            expectStable(filter.run(probe.cube), probe, path.filename().string());
+            expectStable(hardware.run(probe.cube), probe, path.filename().string() + " (hardware sampling)");
+        }
         // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
         // within it). Beside each ratio, the steepest steps across the edges and across the lines a
         // quarter of the way into each face, over the exact reference's, show how much of a ratio is
@@ -152,7 +169,7 @@ TEST_F(HardCases, EveryCommittedTable) {
         // left to benchmarks.
         if (table.baseSize <= 128) {
             const SeamCheck& check = seamCheck(table.baseSize, table.levelCount, table.mapping);
-            const CubeLevels out = filter.run(skyProbe(table.baseSize));
+            const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
             for (int m = 0; m < table.levelCount; ++m) {
                 const double k = check.bounds[m];
                 if (k == 0.0) continue;
@@ -162,6 +179,7 @@ TEST_F(HardCases, EveryCommittedTable) {
                            path.filename().string(), m, seamRatio(out[m]), k, seamRatio(out[m]) / k, steps.edge / exact.edge,
                            steps.quarterLine / exact.quarterLine);
                 EXPECT_LE(seamRatio(out[m]), k) << path.filename() << " level " << m;
+                EXPECT_LE(seamRatio(outHardware[m]), k) << path.filename() << " level " << m << " (hardware sampling)";
             }
         }
         // The worst impulse L1 on the stratified texels, measured here through the generic tap

@@ -41,9 +41,7 @@ protected:
     }
     Plan plan(const std::string& json) {
         const Scene s = readScene(write(json));
-        return makePlan(s, [](const SceneProbe& p) {
-            return importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, ImportanceSamplingSettings{p.samples, 0.0, {}, {}});
-        });
+        return makePlan(s, [](const SceneProbe& p) { return methodTapGenerator(p.method, p.faceSize, p.levelCount, p.mapping); });
     }
     void expectRefused(const std::string& json, const std::string& field) {
         try {

@@ -46,10 +46,12 @@ void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std
 
 void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount) {
     if (!settings.levelSamples.empty() && static_cast<int>(settings.levelSamples.size()) != levelCount)
-        throw ProbeError(fmt::format("FIS samples per level: {} counts for {} output levels", settings.levelSamples.size(), levelCount));
+        throw ParameterError("samples",
+                             fmt::format("({} counts): one count, or one per output level ({})", settings.levelSamples.size(), levelCount));
     for (int m = 0; m < levelCount; ++m)
         if (settings.samplesAt(m) < 1)
-            throw ProbeError(fmt::format("FIS samples at level {}: {} is not at least 1", m, settings.samplesAt(m)));
+            throw ParameterError("samples", fmt::format("{} at level {}: must be at least 1", settings.samplesAt(m), m));
+    if (!std::isfinite(settings.bias)) throw ParameterError("fis-bias", fmt::format("{}: must be a finite number", settings.bias));
 }
 
 std::vector<int> mixedLevelSamples(int samples, int levelCount) {

@@ -54,7 +54,7 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
     for (const SceneProbe& probe : scene.probes) {
         ProbePlan p;
         p.probe = probe.name;
-        p.method = probe.method;
+        p.method = probe.method.kind;
         std::map<int, std::vector<std::string>> readers;
         for (const SceneMaterial& material : scene.materials) {
             if (material.probe != probe.name) continue;
@@ -68,10 +68,11 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.levelReaders.push_back(names);
         }
         p.irradiance = !p.diffuseMaterials.empty();
-        p.readsPyramid = probe.method != FilterMethod::reference && std::any_of(p.levels.begin(), p.levels.end(), [&](int m) {
-                             return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0;
-                         });
-        if (p.readsPyramid) p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
+        p.readsPyramid =
+            std::any_of(p.levels.begin(), p.levels.end(), [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
+        // The reference reads pyramid level 0, the source, texel by texel.
+        if (p.readsPyramid && probe.method.kind != MethodKind::reference)
+            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
         plan.probes.push_back(std::move(p));
     }
     for (const SceneMaterial& material : scene.materials)
@@ -82,8 +83,8 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
 
 std::string loadPass(const std::string& probe) { return fmt::format("{}: load", probe); }
 std::string pyramidPass(const std::string& probe, int depth) { return fmt::format("{}: pyramid 0..{}", probe, depth); }
-std::string levelPass(const std::string& probe, int level, FilterMethod method) {
-    return fmt::format("{}: level {} ({})", probe, level, filterMethodName(method));
+std::string levelPass(const std::string& probe, int level, MethodKind method) {
+    return fmt::format("{}: level {} ({})", probe, level, methodKindName(method));
 }
 std::string irradiancePass(const std::string& probe) { return fmt::format("{}: sh-irradiance", probe); }
 
@@ -101,8 +102,11 @@ std::vector<Step> steps(const Plan& plan) {
         out.push_back({loadPass(p.probe), "the probe is read by some material"});
         if (p.readsPyramid)
             out.push_back({pyramidPass(p.probe, p.pyramidLevels),
-                           fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source's border)",
-                                       fmt::join(p.levels, ", "), p.pyramidLevels)});
+                           p.method == MethodKind::reference
+                               ? fmt::format("the reference of levels {} reads the source (pyramid level 0) texel by texel",
+                                             fmt::join(p.levels, ", "))
+                               : fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source)",
+                                             fmt::join(p.levels, ", "), p.pyramidLevels)});
         for (std::size_t k = 0; k < p.levels.size(); ++k)
             out.push_back({levelPass(p.probe, p.levels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
         if (p.irradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});

@@ -98,9 +98,9 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
         r.fail(r.field("levels"),
                fmt::format("{} is impossible for face size {} (1..{})", p.levelCount, p.faceSize, maxLevelCount(p.faceSize)));
     p.mapping = parseNamed(r, "mapping", r.optional<std::string>("mapping").value_or("gltf"), parseRoughnessMapping);
-    p.method = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseFilterMethod);
-    p.samples = r.optional<int>("samples").value_or(32);
-    if (p.samples < 1) r.fail(r.field("samples"), fmt::format("{} is not a positive sample count", p.samples));
+    p.method.kind = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseMethodKind);
+    p.method.fis.samples = r.optional<int>("samples").value_or(32);
+    if (p.method.fis.samples < 1) r.fail(r.field("samples"), fmt::format("{} is not a positive sample count", p.method.fis.samples));
     if (auto table = r.optional<std::string>("table")) p.table = scene.parent_path() / *table;
     r.refuseUnknown();
     return p;
@@ -140,22 +140,6 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
 }
 
 } // namespace
-
-FilterMethod parseFilterMethod(std::string_view name) {
-    if (name == "table") return FilterMethod::table;
-    if (name == "fis") return FilterMethod::fis;
-    if (name == "reference") return FilterMethod::reference;
-    throw ProbeError(fmt::format("unknown method '{}' (expected table, fis or reference)", name));
-}
-
-std::string_view filterMethodName(FilterMethod method) {
-    switch (method) {
-    case FilterMethod::table: return "table";
-    case FilterMethod::fis: return "fis";
-    case FilterMethod::reference: return "reference";
-    }
-    return "table";
-}
 
 Scene readScene(const std::filesystem::path& path) {
     std::ifstream in(path);

@@ -67,6 +67,29 @@ void Buffer::release() {
     mapped_ = nullptr;
 }
 
+BufferView::BufferView(VkDevice device, const Buffer& buffer) : device_(device) {
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = buffer.handle();
+    info.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    info.range = VK_WHOLE_SIZE;
+    vkCheck(vkCreateBufferView(device_, &info, nullptr, &view_), "vkCreateBufferView");
+}
+
+BufferView::~BufferView() {
+    if (view_) vkDestroyBufferView(device_, view_, nullptr);
+}
+
+BufferView::BufferView(BufferView&& other) noexcept { *this = std::move(other); }
+
+BufferView& BufferView::operator=(BufferView&& other) noexcept {
+    if (this != &other) {
+        if (view_) vkDestroyBufferView(device_, view_, nullptr);
+        device_ = std::exchange(other.device_, VK_NULL_HANDLE);
+        view_ = std::exchange(other.view_, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
 std::vector<float> rgbaTexels(const CubeImage& level) {
     std::vector<float> texels;
     texels.reserve(4 * texelCount(level.size));

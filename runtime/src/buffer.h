@@ -37,6 +37,22 @@ private:
     void* mapped_ = nullptr;
 };
 
+// An RGBA32F view of a whole buffer, to bind as a uniform texel buffer.
+class BufferView {
+public:
+    BufferView() = default;
+    BufferView(VkDevice device, const Buffer& buffer);
+    ~BufferView();
+    BufferView(BufferView&& other) noexcept;
+    BufferView& operator=(BufferView&& other) noexcept;
+
+    VkBufferView handle() const { return view_; }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkBufferView view_ = VK_NULL_HANDLE;
+};
+
 // The texels of a cube level in the storage buffers' layout: RGBA32F, alpha 1, in texelIndex order.
 std::vector<float> rgbaTexels(const CubeImage& level);
 

@@ -101,9 +101,9 @@ void PipelineLayout::bind(VkCommandBuffer commandBuffer) const {
     vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
 }
 
-ComputePipeline::ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
+ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
                                  std::span<const int32_t> specialization)
-    : device_(device), layout_(layout.handle()) {
+    : device_(device), layout_(layout) {
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     moduleInfo.codeSize = spirv.size_bytes();
     moduleInfo.pCode = spirv.data();

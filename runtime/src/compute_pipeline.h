@@ -1,8 +1,9 @@
-// The runtime's compute pipelines: one descriptor set of shaders/buffers.glsl, shared by every
-// shader, and push constants for the per-dispatch values. Bindings 0-2 are storage buffers (pyramid,
-// output, geometry); the buffers that the hot loops only read are bound as uniform texel buffers,
-// whose reads SIMD back ends gather without branches (lavapipe runs them about twice as fast as
-// storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again.
+// The runtime's compute pipelines, with push constants for the per-dispatch values, and the buffer
+// layout of shaders/buffers.glsl that the SH projector and the sphere renderer bind as one
+// descriptor set (the Filter adds images: filter_descriptors.h). Bindings 0-2 are storage buffers
+// (pyramid, output, geometry); the buffers that the hot loops only read are bound as uniform texel
+// buffers, whose reads SIMD back ends gather without branches (lavapipe runs them about twice as
+// fast as storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again.
 #pragma once
 
 #include <array>
@@ -45,8 +46,11 @@ private:
 // choices fixed per pipeline, whose untaken paths the driver then compiles out.
 class ComputePipeline {
 public:
-    ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
+    ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
                     std::span<const int32_t> specialization = {});
+    ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
+                    std::span<const int32_t> specialization = {})
+        : ComputePipeline(device, layout.handle(), spirv, specialization) {}
     ~ComputePipeline();
     ComputePipeline(const ComputePipeline&) = delete;
     ComputePipeline& operator=(const ComputePipeline&) = delete;

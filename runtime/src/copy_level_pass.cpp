@@ -2,7 +2,9 @@
 // the source, dispatched under the method's pass name so that a run lists one dispatch per level.
 #include <cstdint>
 
-#include <copy_level.spv.h>
+#include <copy_level_b10g11r11.spv.h>
+#include <copy_level_rgba16f.spv.h>
+#include <copy_level_rgba32f.spv.h>
 
 #include "filter_impl.h"
 
@@ -12,17 +14,30 @@ namespace {
 
 struct CopyLevelConstants {
     int32_t baseSize;
+    int32_t level;
     uint32_t firstTexel;
     uint32_t endTexel;
 };
 
 } // namespace
 
-std::span<const uint32_t> copyLevelSpirv() { return kCopyLevelSpv; }
+std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std::span<const uint32_t>, 3> variants) {
+    if (impl.convertOutput) return variants[0];
+    switch (impl.settings.outputFormat) {
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return variants[1];
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return variants[2];
+    default: return variants[0];
+    }
+}
+
+std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl) {
+    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(),
+                                             outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}));
+}
 
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {
-    const CopyLevelConstants constants{impl.settings.faceSize, impl.outputOffsets[level], impl.outputOffsets[level + 1]};
-    dispatchPass(impl, commandBuffer, *impl.copy, methodName(impl.settings.method), level, constants,
+    const CopyLevelConstants constants{impl.settings.faceSize, level, impl.outputOffsets[level], impl.outputOffsets[level + 1]};
+    dispatchPass(impl, commandBuffer, *impl.copy, methodKindName(impl.settings.method.kind), level, constants,
                  groupsFor(impl.outputOffsets[level + 1] - impl.outputOffsets[level]));
 }
 

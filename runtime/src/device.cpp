@@ -125,7 +125,7 @@ const Candidate& chooseDevice(const std::vector<Candidate>& candidates, const st
         throw ProbeError(
             "Vulkan: no device with Vulkan 1.2 and a compute queue (install Mesa's lavapipe, mesa-vulkan-drivers, or a GPU driver)");
     if (choice.empty()) {
-        for (const char* type : {"discrete", "cpu"})
+        for (const char* type : {"discrete", "integrated", "virtual", "cpu"})
             for (const Candidate& c : candidates)
                 if (c.info.type == type) return c;
         return candidates.front();
@@ -135,11 +135,11 @@ const Candidate& chooseDevice(const std::vector<Candidate>& candidates, const st
     if (error == std::errc() && end == choice.data() + choice.size()) {
         for (const Candidate& c : candidates)
             if (c.info.index == index) return c;
-        throw ProbeError(fmt::format("--device {}: no such Vulkan device (devices: {})", choice, listing(candidates)));
+        throw ParameterError("device", fmt::format("{}: no such Vulkan device (devices: {})", choice, listing(candidates)));
     }
     for (const Candidate& c : candidates)
         if (lower(c.info.name).find(lower(choice)) != std::string::npos) return c;
-    throw ProbeError(fmt::format("--device {}: no Vulkan device of that name (devices: {})", choice, listing(candidates)));
+    throw ParameterError("device", fmt::format("{}: no Vulkan device of that name (devices: {})", choice, listing(candidates)));
 }
 
 void readProperties(Device::Impl& impl) {
@@ -151,6 +151,12 @@ void readProperties(Device::Impl& impl) {
     impl.computeSubgroupVote =
         (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT);
     vkGetPhysicalDeviceMemoryProperties(impl.physical, &impl.memory);
+    for (VkFormat format :
+         {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT}) {
+        VkFormatProperties formatProperties;
+        vkGetPhysicalDeviceFormatProperties(impl.physical, format, &formatProperties);
+        impl.formatFeatures[format] = formatProperties.optimalTilingFeatures;
+    }
     uint32_t count = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(impl.physical, &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
@@ -172,6 +178,13 @@ DeviceInfo describePhysicalDevice(VkPhysicalDevice physical, int index) {
     info.type = typeName(properties.properties.deviceType);
     info.apiVersion = properties.properties.apiVersion;
     return info;
+}
+
+VkFormatFeatureFlags Device::Impl::features(VkFormat format) const {
+    if (const auto known = formatFeatures.find(format); known != formatFeatures.end()) return known->second;
+    VkFormatProperties properties;
+    vkGetPhysicalDeviceFormatProperties(physical, format, &properties);
+    return properties.optimalTilingFeatures;
 }
 
 uint32_t Device::Impl::memoryType(uint32_t typeBits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const {

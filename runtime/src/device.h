@@ -1,6 +1,7 @@
 // The Vulkan objects behind probe::gpu::Device, shared by the runtime's sources.
 #pragma once
 
+#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -23,7 +24,13 @@ struct Device::Impl {
     VkPhysicalDeviceLimits limits{};
     VkPhysicalDeviceMemoryProperties memory{};
     uint32_t timestampValidBits = 0;
-    bool computeSubgroupVote = false; // subgroupAny in compute shaders (table_filter.comp needs it)
+    bool computeSubgroupVote = false; // subgroupAny in compute shaders (table_filter.comp's exact sampling needs it)
+    // Optimal-tiling features of the formats the runtime uses, read once (tests may clear bits to
+    // stand in for a device that lacks them).
+    std::map<VkFormat, VkFormatFeatureFlags> formatFeatures;
+
+    // The optimal-tiling features of `format`.
+    VkFormatFeatureFlags features(VkFormat format) const;
 
     mutable std::mutex messagesMutex;
     std::vector<std::string> messages;

@@ -1,4 +1,5 @@
-// Filter: buffers, pipelines, the order of the passes, upload and read-back, the engine path.
+// Filter: resources, formats and pipelines of a setting, the order of the passes, the tools' upload
+// and read-back, the engine path.
 #include <algorithm>
 #include <array>
 
@@ -13,7 +14,7 @@ namespace probe::gpu {
 
 namespace {
 
-constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F
+constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F, the buffers' texels
 
 // First texel of each level of a packed cube with `levels` levels from `baseSize`, and the total.
 std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
@@ -29,14 +30,6 @@ std::vector<uint32_t> pyramidOffsetsFor(int baseSize, int levels) {
     return offsets;
 }
 
-// The timed segments, named by their pass: pass 1 where there is one, then each output level of pass 2.
-std::vector<std::string> segmentPasses(Method method, bool pyramid, std::size_t levelCount) {
-    std::vector<std::string> passes;
-    if (pyramid) passes.push_back("pyramid");
-    passes.resize(passes.size() + levelCount, std::string(methodName(method)));
-    return passes;
-}
-
 // Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
 std::vector<float> geometryTexels(int baseSize, int levels) {
     std::vector<float> texels;
@@ -47,18 +40,6 @@ std::vector<float> geometryTexels(int baseSize, int levels) {
                 texels.push_back(static_cast<float>(value));
     }
     return texels;
-}
-
-// The levels of a packed RGBA cube (see packedOffsets), RGB only; the levels not in `wanted` empty.
-CubeLevels unpackLevels(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, const std::vector<int>& wanted) {
-    CubeLevels result(offsets.size() - 1);
-    for (int m : wanted) {
-        CubeImage& level = result[m];
-        level = CubeImage(baseSize >> m);
-        const float* first = texels + 4 * std::size_t(offsets[m]);
-        for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
-    }
-    return result;
 }
 
 // The levels 0..depth of the pyramid buffer, inside the faces.
@@ -78,88 +59,252 @@ CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offse
     return result;
 }
 
-void checkTransferFormat(const Device& device) {
-    VkFormatProperties properties;
-    vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), VK_FORMAT_R32G32B32A32_SFLOAT, &properties);
-    const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_TRANSFER_SRC_BIT | VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
-    if ((properties.optimalTilingFeatures & needed) != needed)
-        throw ProbeError(fmt::format("Vulkan: {} cannot copy R32G32B32A32_SFLOAT images to and from buffers (format features {:#x})",
-                                     device.info().name, properties.optimalTilingFeatures));
+bool has(const Device& device, VkFormat format, VkFormatFeatureFlags needed) { return (device.impl().features(format) & needed) == needed; }
+
+Sampling resolveSampling(const Device& device, const FilterSettings& s) {
+    if (s.method.kind == MethodKind::reference) return Sampling::exact; // it reads every texel as it is
+    if (s.sampling != Sampling::automatic) return s.sampling;
+    return device.info().type == "cpu" ? Sampling::exact : Sampling::hardware;
+}
+
+// RGBA32F where the device filters and stores it; else RGBA16F (finite values up to 65504).
+VkFormat choosePyramidFormat(const Device& device, std::vector<std::string>& warnings) {
+    const VkFormatFeatureFlags needed =
+        VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    if (has(device, VK_FORMAT_R32G32B32A32_SFLOAT, needed)) return VK_FORMAT_R32G32B32A32_SFLOAT;
+    if (!has(device, VK_FORMAT_R16G16B16A16_SFLOAT, needed))
+        throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R32G32B32A32_SFLOAT nor R16G16B16A16_SFLOAT images, which "
+                                     "the pyramid of hardware sampling needs (use exact sampling)",
+                                     device.info().name));
+    warnings.push_back(fmt::format("{} cannot filter and store R32G32B32A32_SFLOAT images: the pyramid is R16G16B16A16_SFLOAT, whose "
+                                   "largest value is 65504 (brighter texels are clamped there; exact sampling keeps float32)",
+                                   device.info().name));
+    return VK_FORMAT_R16G16B16A16_SFLOAT;
+}
+
+// Whether a B10G11R11 output goes through the conversion pass; throws for a format the runtime
+// cannot write.
+bool checkOutputFormat(const Device& device, VkFormat format) {
+    if (format != VK_FORMAT_R32G32B32A32_SFLOAT && format != VK_FORMAT_R16G16B16A16_SFLOAT && format != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
+        throw ParameterError("format", fmt::format("{}: the output cube is R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT or "
+                                                   "B10G11R11_UFLOAT_PACK32",
+                                                   int(format)));
+    if (has(device, format, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) return false;
+    if (format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 && has(device, format, VK_FORMAT_FEATURE_TRANSFER_DST_BIT) &&
+        has(device, VK_FORMAT_R32_UINT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT))
+        return true;
+    throw ProbeError(fmt::format("Vulkan: {} cannot store {} images (storage image usage), which the output cube needs", device.info().name,
+                                 formatName(format)));
 }
 
 } // namespace
 
+std::string_view samplingName(Sampling sampling) {
+    switch (sampling) {
+    case Sampling::automatic: return "automatic";
+    case Sampling::hardware: return "hardware";
+    case Sampling::exact: return "exact";
+    }
+    return "automatic";
+}
+
+Sampling parseSampling(std::string_view name) {
+    for (Sampling s : {Sampling::automatic, Sampling::hardware, Sampling::exact})
+        if (samplingName(s) == name) return s;
+    throw ParameterError("sampling", fmt::format("{}: expected hardware, exact or automatic", name));
+}
+
+std::string_view formatName(VkFormat format) {
+    switch (format) {
+    case VK_FORMAT_R32G32B32A32_SFLOAT: return "rgba32f";
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return "rgba16f";
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return "b10g11r11";
+    default: return "unsupported";
+    }
+}
+
+VkFormat parseFormat(std::string_view name) {
+    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32})
+        if (formatName(f) == name) return f;
+    throw ParameterError("format", fmt::format("{}: expected rgba16f, rgba32f or b10g11r11", name));
+}
+
 Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
+    validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
     pyramidLevels = pyramidLevelCount(s.faceSize);
     pyramidDepth = s.pyramidDepth < 0 ? pyramidLevels - 1 : s.pyramidDepth;
     if (pyramidDepth > pyramidLevels - 1)
-        throw ProbeError(fmt::format("pyramid depth {}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth, s.faceSize,
-                                     pyramidLevels - 1));
+        throw ParameterError("pyramid-depth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth,
+                                                          s.faceSize, pyramidLevels - 1));
     for (int m = 0; m < s.levelCount; ++m) levels.push_back(m);
     if (!s.levels.empty()) {
         for (std::size_t k = 0; k < s.levels.size(); ++k)
             if (s.levels[k] < 0 || s.levels[k] >= s.levelCount || (k > 0 && s.levels[k] <= s.levels[k - 1]))
-                throw ProbeError(fmt::format("output levels: {} is not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
+                throw ParameterError("levels", fmt::format("{}: not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
         levels = s.levels;
     }
-    pyramidOffsets = pyramidOffsetsFor(s.faceSize, pyramidLevels);
     outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
         if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) copyLevels |= 1u << m;
+    const bool filters = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
+    const MethodKind kind = s.method.kind;
+    buildsPyramid = kind != MethodKind::reference && filters;
+    sampling = resolveSampling(d, s);
+    if (kind == MethodKind::table && sampling == Sampling::exact && !d.impl().computeSubgroupVote)
+        throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method's exact "
+                                     "sampling needs (use hardware sampling)",
+                                     d.info().name));
+    convertOutput = checkOutputFormat(d, s.outputFormat);
 
     std::vector<float> tableData(4, 0.0f);
-    switch (s.method) {
-    case Method::table:
-        if (!s.table) throw ProbeError("method table: no tap table given");
-        checkTableFits(*s.table, s);
-        tableData = tableBufferData(*s.table);
-        tableTaps = s.table->taps;
-        tableCoefficientCount = coefficientCount(s.table->form);
-        tableUsageFirst = gpu::tableUsageFirst(*s.table);
-        break;
-    case Method::fis: tableData = importanceSamplingBufferData(s, sampleOffsets); break;
-    case Method::reference: break;
+    if (kind == MethodKind::table) {
+        tableData = tableBufferData(*s.method.table);
+        tableTaps = s.method.table->taps;
+        tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
+    } else if (kind == MethodKind::fis) {
+        tableData = importanceSamplingBufferData(s, sampleOffsets);
     }
     const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
+    // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
+    pyramidOffsets = pyramidOffsetsFor(s.faceSize, pyramidLevels);
+    std::size_t pyramidTexels = 1;
+    if (buildsPyramid && sampling == Sampling::exact) pyramidTexels = pyramidOffsets.back();
+    else if (kind == MethodKind::reference && filters) pyramidTexels = pyramidOffsets[1];
 
-    pyramid = Buffer(d, pyramidOffsets.back() * kTexelBytes, Buffer::Kind::storage);
-    output = Buffer(d, outputOffsets.back() * kTexelBytes, Buffer::Kind::storage);
+    pyramidBuffer = Buffer(d, pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    accumulator = Buffer(d, (kind == MethodKind::reference ? outputOffsets.back() : 1) * kTexelBytes, Buffer::Kind::storage);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
+    for (const Buffer* b : {&table, &pyramidBuffer})
+        if (b->bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
+            throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size",
+                                         d.info().name, d.impl().limits.maxTexelBufferElements, b->bytes() / kTexelBytes));
+    tableView = BufferView(d.device(), table);
+    pyramidView = BufferView(d.device(), pyramidBuffer);
 
-    layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&pyramid, &output, &geometry, &table});
-    switch (s.method) {
-    case Method::table: {
-        if (!d.impl().computeSubgroupVote)
-            throw ProbeError(
-                fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method needs", d.info().name));
-        const std::array<int32_t, 1> form{tableCoefficientCount}; // table_filter.comp's kCoefficientCount
-        pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, tableSpirv(), form);
-        break;
+    const VkDevice vk = d.device();
+    if (buildsPyramid && sampling == Sampling::hardware) {
+        pyramidFormat = choosePyramidFormat(d, warnings);
+        const int mips = pyramidDepth + 1;
+        pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
+                                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        pyramidAll = ImageView(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
+        for (int k = 0; k < mips; ++k) {
+            pyramidMipCubes.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
+            pyramidMipArrays.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
+        }
     }
-    case Method::fis: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, importanceSamplingSpirv()); break;
-    case Method::reference: pass2 = std::make_unique<ComputePipeline>(d.device(), *layout, referenceSpirv()); break;
+    if (convertOutput) {
+        intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                         VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
+                                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        for (int m = 0; m < s.levelCount; ++m) {
+            intermediateMips.emplace_back(vk, intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                          uint32_t(m), 1);
+            packedMips.emplace_back(vk, packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+        }
     }
-    const bool readsPyramid = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
-    if (s.method != Method::reference && readsPyramid) {
-        pass1 = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidSpirv(), pyramidSpecialization(s.pyramid));
-        pass1Corners = std::make_unique<ComputePipeline>(d.device(), *layout, pyramidCornersSpirv());
+    placeholder = CubeImageResource(d, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
+    placeholderCube = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
+    placeholderArray = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
+    linear = std::make_unique<Sampler>(vk, true);
+    nearest = std::make_unique<Sampler>(vk, false);
+    descriptors = std::make_unique<FilterDescriptors>(vk, uint32_t(pyramidLevels + 2 * s.levelCount));
+
+    if (buildsPyramid || (kind == MethodKind::reference && filters)) makePyramidPipelines(*this);
+    switch (kind) {
+    case MethodKind::table: pass2 = makeTablePipeline(*this); break;
+    case MethodKind::fis: pass2 = makeImportanceSamplingPipeline(*this); break;
+    case MethodKind::reference: pass2 = makeReferencePipeline(*this); break;
     }
     if (std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
-        copy = std::make_unique<ComputePipeline>(d.device(), *layout, copyLevelSpirv());
-    timer = std::make_unique<GpuTimer>(d, segmentPasses(s.method, pass1 != nullptr, levels.size()));
+        copy = makeCopyLevelPipeline(*this);
+    if (convertOutput) convert = makeConvertPipeline(*this);
+
+    std::vector<std::string> segments;
+    if (pass1) segments.emplace_back("pyramid");
+    segments.resize(segments.size() + levels.size(), std::string(methodKindName(kind)));
+    if (convertOutput) segments.emplace_back("convert");
+    timer = std::make_unique<GpuTimer>(d, segments);
 
     submission = std::make_unique<Submission>(d);
     submission->upload(geometry, geometryData.data(), geometry.bytes());
     submission->upload(table, tableData.data(), table.bytes());
+    // The Filter's own images stay in VK_IMAGE_LAYOUT_GENERAL.
+    VkCommandBuffer layouts = submission->begin();
+    for (const CubeImageResource* image : {&pyramidImage, &intermediate, &packed, &placeholder})
+        if (image->handle())
+            imageBarrier(layouts, image->handle(), 0, uint32_t(image->mips()), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    submission->submitAndWait(layouts);
+    submission->release(layouts);
+}
+
+void Filter::Impl::bindImages(VkImageView source, VkImage output) {
+    if (source == boundSource && output == boundOutput) return;
+    descriptors->reset();
+    outputMips.clear();
+    outputMips.resize(settings.levelCount);
+    const VkDevice vk = device.device();
+    const auto common = [&](VkDescriptorSet set) {
+        descriptors->writeBuffer(set, kPyramidBuffer, pyramidBuffer.handle());
+        descriptors->writeBuffer(set, kAccumulator, accumulator.handle());
+        descriptors->writeBuffer(set, kGeometry, geometry.handle());
+        descriptors->writeTexelBuffer(set, kTableTexels, tableView.handle());
+        descriptors->writeTexelBuffer(set, kPyramidTexels, pyramidView.handle());
+        descriptors->writeSampled(set, kSourceCube, source, nearest->handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+        descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
+        descriptors->writeStorage(set, kPyramidMip, placeholderArray.handle());
+        descriptors->writeStorage(set, kOutputMip, placeholderArray.handle());
+    };
+    const bool hardware = buildsPyramid && sampling == Sampling::hardware;
+    pyramidSets.clear();
+    if (pass1)
+        for (int k = 0; k <= pyramidDepth; ++k) {
+            const VkDescriptorSet set = descriptors->allocate();
+            common(set);
+            if (hardware) {
+                if (k > 0)
+                    descriptors->writeSampled(set, kPyramidCube, pyramidMipCubes[k - 1].handle(), linear->handle(),
+                                              VK_IMAGE_LAYOUT_GENERAL);
+                descriptors->writeStorage(set, kPyramidMip, pyramidMipArrays[k].handle());
+            }
+            pyramidSets.push_back(set);
+        }
+    levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
+    convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
+    for (int m : levels) {
+        VkImageView target = VK_NULL_HANDLE;
+        if (convertOutput) {
+            target = intermediateMips[m].handle();
+        } else {
+            outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+            target = outputMips[m].handle();
+        }
+        const VkDescriptorSet set = descriptors->allocate();
+        common(set);
+        if (hardware) descriptors->writeSampled(set, kPyramidCube, pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
+        descriptors->writeStorage(set, kOutputMip, target);
+        levelSets[m] = set;
+        if (convertOutput) {
+            const VkDescriptorSet c = descriptors->allocate();
+            common(c);
+            descriptors->writeSampled(c, kPyramidCube, intermediateMips[m].handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
+            descriptors->writeStorage(c, kOutputMip, packedMips[m].handle());
+            convertSets[m] = c;
+        }
+    }
+    boundSource = source;
+    boundOutput = output;
 }
 
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
     dispatches.clear();
     timer->reset(commandBuffer);
-    computeBarrier(commandBuffer);
-    layout->bind(commandBuffer);
+    computeBarrier(commandBuffer); // the Filter's resources, against a previous recording's use
     uint32_t boundary = 0;
     timer->boundary(commandBuffer, boundary++);
     if (pass1) {
@@ -168,13 +313,17 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
         timer->boundary(commandBuffer, boundary++);
     }
     for (int m : levels) {
+        descriptors->bind(commandBuffer, levelSets[m]);
         if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
-        else if (settings.method == Method::table) recordTableLevel(*this, commandBuffer, m);
-        else if (settings.method == Method::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
+        else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
+        else if (settings.method.kind == MethodKind::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
         else recordReferenceLevel(*this, commandBuffer, m);
         timer->boundary(commandBuffer, boundary++);
     }
-    computeBarrier(commandBuffer);
+    if (convertOutput) {
+        recordConversion(*this, commandBuffer, boundOutput);
+        timer->boundary(commandBuffer, boundary++);
+    }
 }
 
 Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings)) {}
@@ -182,15 +331,48 @@ Filter::~Filter() = default;
 
 CubeLevels Filter::run(const CubeImage& source, int repeat) {
     Impl& f = *impl_;
-    if (source.size != f.settings.faceSize)
-        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
-    if (repeat < 1) throw ProbeError(fmt::format("--repeat {}: must be at least 1", repeat));
+    const FilterSettings& s = f.settings;
+    if (source.size != s.faceSize)
+        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
+    if (repeat < 1) throw ParameterError("repeat", fmt::format("{}: must be at least 1", repeat));
+    const Device& d = f.device;
+    if (!f.runSource.handle()) {
+        f.runSource = CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+        f.runSourceView = ImageView(d.device(), f.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
+        const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+        f.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    }
+    const auto allMips = uint32_t(s.levelCount);
 
-    const std::vector<float> texels = borderedRgbaTexels(source); // pass 1 writes the border again, as for record()
-    f.submission->upload(f.pyramid, texels.data(), texels.size() * sizeof(float));
+    // The source: uploaded, then read by the passes.
+    const std::vector<float> texels = rgbaTexels(source);
+    Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
+    std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
+    VkCommandBuffer upload = f.submission->begin();
+    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy whole{};
+    whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
+    whole.imageExtent = {uint32_t(s.faceSize), uint32_t(s.faceSize), 1};
+    vkCmdCopyBufferToImage(upload, staging.handle(), f.runSource.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
+    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT);
+    f.submission->submitAndWait(upload);
+    f.submission->release(upload);
 
+    // The passes, `repeat` times, into the output cube as an engine's would be laid out.
+    f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
+    const VkImageLayout written = f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
     VkCommandBuffer passes = f.submission->begin();
+    imageBarrier(passes, f.runOutput.handle(), 0, allMips, VK_IMAGE_LAYOUT_UNDEFINED, written, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
     f.recordPasses(passes);
+    imageBarrier(passes, f.runOutput.handle(), 0, allMips, written, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
     f.timer->clear();
     for (int k = 0; k < repeat; ++k) {
@@ -199,35 +381,54 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     }
     f.submission->release(passes);
 
-    std::vector<float> output(f.output.bytes() / sizeof(float));
-    f.submission->download(f.output, output.data(), f.output.bytes());
-    return unpackLevels(output.data(), f.outputOffsets, f.settings.faceSize, f.levels);
-}
-
-void Filter::record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube) {
-    Impl& f = *impl_;
-    checkTransferFormat(f.device);
-    const auto size = static_cast<uint32_t>(f.settings.faceSize);
-    VkBufferImageCopy in{}; // into the faces of pyramid level 0, inside their borders
-    in.bufferOffset = pyramidTexelIndex(0, 0, 0, f.settings.faceSize) * kTexelBytes;
-    in.bufferRowLength = size + 2;
-    in.bufferImageHeight = size + 2;
-    in.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
-    in.imageExtent = {size, size, 1};
-    vkCmdCopyImageToBuffer(commandBuffer, sourceCube, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, f.pyramid.handle(), 1, &in);
-    f.recordPasses(commandBuffer);
-    std::vector<VkBufferImageCopy> out;
+    // The levels computed, read back in the output format.
+    const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
+    std::vector<VkBufferImageCopy> regions;
+    VkDeviceSize offset = 0;
     for (int m : f.levels) {
         VkBufferImageCopy region{};
-        region.bufferOffset = f.outputOffsets[m] * kTexelBytes;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, static_cast<uint32_t>(m), 0, kFaceCount};
-        region.imageExtent = {size >> m, size >> m, 1};
-        out.push_back(region);
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
+        region.imageExtent = {uint32_t(s.faceSize >> m), uint32_t(s.faceSize >> m), 1};
+        regions.push_back(region);
+        offset += texelCount(s.faceSize >> m) * bytesPerTexel;
     }
-    vkCmdCopyBufferToImage(commandBuffer, f.output.handle(), outputCube, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                           static_cast<uint32_t>(out.size()), out.data());
+    Buffer readBack(d, offset, Buffer::Kind::staging);
+    VkCommandBuffer download = f.submission->begin();
+    vkCmdCopyImageToBuffer(download, f.runOutput.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
+                           uint32_t(regions.size()), regions.data());
+    f.submission->submitAndWait(download);
+    f.submission->release(download);
+    CubeLevels result(s.levelCount);
+    for (std::size_t k = 0; k < f.levels.size(); ++k) {
+        CubeImage& level = result[f.levels[k]];
+        level.size = s.faceSize >> f.levels[k];
+        level.rgb.clear();
+        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
+                     level.rgb);
+    }
+    return result;
+}
+
+void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output) {
+    Impl& f = *impl_;
+    if (!has(f.device, source.format, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+        throw ProbeError(fmt::format("Vulkan: {} cannot sample source cubes of format {} (sampled image usage)", f.device.info().name,
+                                     int(source.format)));
+    if (output.format != f.settings.outputFormat)
+        throw ParameterError("format", fmt::format("{}: the output cube's format, but the filter was built for {}",
+                                                   formatName(output.format), formatName(f.settings.outputFormat)));
+    f.bindImages(source.view, output.image);
+    f.recordPasses(commandBuffer);
     f.timer->clear();
 }
+
+Sampling Filter::sampling() const { return impl_->sampling; }
+VkFormat Filter::pyramidFormat() const {
+    return impl_->sampling == Sampling::hardware ? impl_->pyramidFormat : VK_FORMAT_R32G32B32A32_SFLOAT;
+}
+bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
+const std::vector<std::string>& Filter::warnings() const { return impl_->warnings; }
 
 std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.
@@ -238,10 +439,11 @@ std::vector<PassTime> Filter::timings() const {
 std::vector<PassTime> Filter::levelTimings() const {
     if (impl_->timer->timings().empty()) impl_->timer->collect();
     std::vector<std::string> names;
-    if (impl_->pass1) names.push_back("pyramid");
+    if (impl_->pass1) names.push_back("pass 1");
     for (int m : impl_->levels) names.push_back(fmt::format("level {}", m));
+    if (impl_->convertOutput) names.push_back("convert");
     std::vector<PassTime> segments = impl_->timer->segmentTimings(names);
-    if (impl_->pass1 && !segments.empty()) segments.erase(segments.begin());
+    std::erase_if(segments, [](const PassTime& p) { return p.name == "pass 1" || p.name == "convert"; });
     return segments;
 }
 
@@ -249,24 +451,43 @@ const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatch
 
 CubeLevels Filter::downloadPyramid() const {
     Impl& f = *impl_;
-    if (!f.pass1) return {};
-    std::vector<float> texels(f.pyramid.bytes() / sizeof(float));
-    f.submission->download(f.pyramid, texels.data(), f.pyramid.bytes());
-    return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
-}
-
-std::string_view methodName(Method method) {
-    switch (method) {
-    case Method::table: return "table";
-    case Method::fis: return "fis";
-    default: return "reference";
+    if (!f.buildsPyramid) return {};
+    if (f.sampling == Sampling::exact) {
+        std::vector<float> texels(f.pyramidBuffer.bytes() / sizeof(float));
+        f.submission->download(f.pyramidBuffer, texels.data(), f.pyramidBuffer.bytes());
+        return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
     }
-}
-
-Method parseMethod(std::string_view name) {
-    for (Method m : {Method::table, Method::fis, Method::reference})
-        if (methodName(m) == name) return m;
-    throw ProbeError(fmt::format("--method {}: expected table, fis or reference", name));
+    const uint32_t bytesPerTexel = texelBytes(f.pyramidFormat);
+    std::vector<VkBufferImageCopy> regions;
+    VkDeviceSize offset = 0;
+    for (int k = 0; k <= f.pyramidDepth; ++k) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(k), 0, kFaceCount};
+        region.imageExtent = {uint32_t(f.settings.faceSize >> k), uint32_t(f.settings.faceSize >> k), 1};
+        regions.push_back(region);
+        offset += texelCount(f.settings.faceSize >> k) * bytesPerTexel;
+    }
+    Buffer readBack(f.device, offset, Buffer::Kind::staging);
+    VkCommandBuffer download = f.submission->begin();
+    const auto mips = uint32_t(f.pyramidImage.mips());
+    imageBarrier(download, f.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_TRANSFER_READ_BIT);
+    vkCmdCopyImageToBuffer(download, f.pyramidImage.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
+                           uint32_t(regions.size()), regions.data());
+    imageBarrier(download, f.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    f.submission->submitAndWait(download);
+    f.submission->release(download);
+    CubeLevels result(f.pyramidDepth + 1);
+    for (int k = 0; k <= f.pyramidDepth; ++k) {
+        result[k].size = f.settings.faceSize >> k;
+        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(result[k].size),
+                     f.pyramidFormat, result[k].rgb);
+    }
+    return result;
 }
 
 } // namespace probe::gpu

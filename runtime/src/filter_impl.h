@@ -10,7 +10,9 @@
 
 #include "buffer.h"
 #include "compute_pipeline.h"
+#include "filter_descriptors.h"
 #include "gpu_timer.h"
+#include "image.h"
 #include "probe/runtime.h"
 #include "submission.h"
 
@@ -19,26 +21,58 @@ namespace probe::gpu {
 struct Filter::Impl {
     const Device& device;
     FilterSettings settings;
+    Sampling sampling = Sampling::exact;                    // resolved; the reference reads exact texels
+    VkFormat pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // hardware sampling's pyramid image
+    bool convertOutput = false;                             // B10G11R11 through the conversion pass
+    std::vector<std::string> warnings;
     int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                 // pass 1 builds levels 1..pyramidDepth
     std::vector<int> levels;              // the output levels computed, ascending
-    std::vector<uint32_t> pyramidOffsets; // first texel of each pyramid level (with its borders), and the total
-    std::vector<uint32_t> outputOffsets;  // first texel of each output level, and the total
+    std::vector<uint32_t> pyramidOffsets; // exact sampling: first texel of each bordered pyramid level, and the total
+    std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
+    uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
+    bool buildsPyramid = false;           // pass 1 runs (table or fis with a filtered level computed)
 
-    Buffer pyramid;  // binding 0
-    Buffer output;   // binding 1
-    Buffer geometry; // binding 2: per pyramid level, (texel direction, solid angle)
-    Buffer table;    // binding 3: tap table or FIS samples (one vec4 when unused)
-    std::unique_ptr<PipelineLayout> layout;
-    std::unique_ptr<ComputePipeline> pass1;        // the pyramid; null for the reference method
-    std::unique_ptr<ComputePipeline> pass1Corners; // the border corners of each pyramid level, with pass1
+    // Buffers (shaders/buffers.glsl).
+    Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
+    Buffer accumulator;   // the reference's running sums (one vec4 when unused)
+    Buffer geometry;      // per pyramid level, (texel direction, solid angle)
+    Buffer table;         // tap table or FIS samples (one vec4 when unused)
+    BufferView tableView, pyramidView;
+    // Images (shaders/images.glsl).
+    CubeImageResource pyramidImage;          // hardware sampling: mips 0..pyramidDepth
+    ImageView pyramidAll;                    // cube, every mip: pass 2 reads
+    std::vector<ImageView> pyramidMipCubes;  // cube, mip k alone: pass 1 reads it for level k + 1
+    std::vector<ImageView> pyramidMipArrays; // 2D array, mip k: pass 1 writes
+    CubeImageResource intermediate, packed;  // conversion: pass 2's RGBA32F output and the R32_UINT words
+    std::vector<ImageView> intermediateMips, packedMips;
+    std::unique_ptr<Sampler> linear, nearest;
+    // A 1x1 cube for the image bindings that a set's dispatches do not read: every binding of a set
+    // holds a valid descriptor (Mesa's lavapipe reads them all when a set is bound).
+    CubeImageResource placeholder;
+    ImageView placeholderCube, placeholderArray;
+
+    // The tools' own source and output cubes (run()), made at the first run().
+    CubeImageResource runSource, runOutput;
+    ImageView runSourceView;
+
+    // The images that the descriptor sets refer to: the caller's last ones (or run()'s).
+    VkImageView boundSource = VK_NULL_HANDLE;
+    VkImage boundOutput = VK_NULL_HANDLE;
+    std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
+    std::unique_ptr<FilterDescriptors> descriptors;
+    std::vector<VkDescriptorSet> pyramidSets; // per pyramid level 0..pyramidDepth
+    std::vector<VkDescriptorSet> levelSets;   // per output level
+    std::vector<VkDescriptorSet> convertSets; // per output level
+
+    std::unique_ptr<ComputePipeline> pass1;        // the pyramid (the reference: its level 0, the source)
+    std::unique_ptr<ComputePipeline> pass1Corners; // exact sampling: the border corners of each pyramid level
     std::unique_ptr<ComputePipeline> pass2;        // table, fis or reference
     std::unique_ptr<ComputePipeline> copy;         // pass 2 at the levels with alpha = 0; null when none is computed
+    std::unique_ptr<ComputePipeline> convert;      // the conversion pass; null unless convertOutput
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
-    uint32_t copyLevels = 0;             // bit m: output level m has alpha = 0, a copy of the source
     int tableTaps = 0;                   // table method: N per frame
-    int tableCoefficientCount = 0;       // table method: 3 (quadratic) or 1 (constant)
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
@@ -46,41 +80,52 @@ struct Filter::Impl {
 
     Impl(const Device& d, const FilterSettings& s);
 
-    // Timer reset, boundary 0, pass 1 and a barrier, a boundary; then each output level and a boundary
-    // after it (no barrier between levels: they write disjoint texels and read only the pyramid).
+    // Makes the output views and every descriptor set for this source and output, unless they are
+    // the ones bound already.
+    void bindImages(VkImageView source, VkImage output);
+    // Timer reset, a barrier against earlier use of the Filter's resources, boundary 0, pass 1 and a
+    // barrier, a boundary; then each output level and a boundary after it (no barrier between
+    // levels: they write disjoint mips and read only the pyramid); then the conversion, if any.
     void recordPasses(VkCommandBuffer commandBuffer);
 };
 
 // Pass recorders, one per file (pyramid_pass.cpp; for pass 2, one output level at a time:
-// copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, importance_sampling_pass.cpp): each records
-// its dispatches and appends them to impl.dispatches.
-std::span<const uint32_t> pyramidSpirv();
-std::span<const uint32_t> pyramidCornersSpirv();
-// pyramid.comp's specialization constants: kBoxKind, kInverseSolidAngle.
-std::array<int32_t, 2> pyramidSpecialization(const PyramidSettings& pyramid);
+// copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, importance_sampling_pass.cpp; then
+// convert_pass.cpp): each binds its sets, records its dispatches and appends them to impl.dispatches.
+// Pass 1: the pipelines of the settings (the reference's: level 0 of the exact pyramid alone).
+void makePyramidPipelines(Filter::Impl& impl);
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
 
-std::span<const uint32_t> copyLevelSpirv();
+// Pass 2: the pipeline of the method, sampling and output format (the conversion writes RGBA32F).
+std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl);
 // Records output level `level` (alpha = 0: a copy of the source) under the method's pass name.
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
-std::span<const uint32_t> referenceSpirv();
+std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl);
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
-std::span<const uint32_t> tableSpirv();
-// Throws ProbeError with every reason why `table` cannot serve `settings`.
-void checkTableFits(const TapTable& table, const FilterSettings& settings);
-// The table buffer: every level in the published layout, level 0 first.
+std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl);
+// The table buffer: every level in the published layout, level 0 first, then per level the tap
+// groups of four in use.
 std::vector<float> tableBufferData(const TapTable& table);
 uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBufferData
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
-std::span<const uint32_t> importanceSamplingSpirv();
+std::unique_ptr<ComputePipeline> makeImportanceSamplingPipeline(const Filter::Impl& impl);
 // The table buffer for FIS: every output level's samples (probe::importanceSamplesPerLevel) as
 // vec4(direction in the tangent frame, pyramid level); sampleOffsets gets each level's first sample
 // and the total.
 std::vector<float> importanceSamplingBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
 void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+
+// The conversion pass: packs each output level computed into `packed`, then copies it into `output`
+// (in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL).
+std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl);
+void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output);
+
+// The SPIR-V of a pass-2 shader for the output format: `variants` holds the RGBA32F, RGBA16F and
+// B10G11R11 builds, in that order (the conversion pass's input is RGBA32F).
+std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std::span<const uint32_t>, 3> variants);
 
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
 // impl.dispatches.

@@ -2,7 +2,12 @@
 // probecore in the tangent frame, in the table buffer, and one dispatch per output level computed.
 #include <cstdint>
 
-#include <importance_sampling.spv.h>
+#include <importance_sampling_exact_b10g11r11.spv.h>
+#include <importance_sampling_exact_rgba16f.spv.h>
+#include <importance_sampling_exact_rgba32f.spv.h>
+#include <importance_sampling_hardware_b10g11r11.spv.h>
+#include <importance_sampling_hardware_rgba16f.spv.h>
+#include <importance_sampling_hardware_rgba32f.spv.h>
 
 #include "filter_impl.h"
 #include "probe/importance_sampling.h"
@@ -14,6 +19,7 @@ namespace {
 struct ImportanceSamplingConstants {
     int32_t baseSize;
     int32_t pyramidLevels;
+    int32_t level;
     uint32_t firstTexel;
     uint32_t endTexel;
     uint32_t firstSample;
@@ -22,16 +28,20 @@ struct ImportanceSamplingConstants {
 
 } // namespace
 
-std::span<const uint32_t> importanceSamplingSpirv() { return kImportanceSamplingSpv; }
+std::unique_ptr<ComputePipeline> makeImportanceSamplingPipeline(const Filter::Impl& impl) {
+    const std::span<const uint32_t> spirv =
+        impl.sampling == Sampling::hardware
+            ? outputVariant(impl, {kImportanceSamplingHardwareRgba32fSpv, kImportanceSamplingHardwareRgba16fSpv,
+                                   kImportanceSamplingHardwareB10g11r11Spv})
+            : outputVariant(impl,
+                            {kImportanceSamplingExactRgba32fSpv, kImportanceSamplingExactRgba16fSpv, kImportanceSamplingExactB10g11r11Spv});
+    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv);
+}
 
 std::vector<float> importanceSamplingBufferData(const FilterSettings& s, std::vector<uint32_t>& sampleOffsets) {
-    ImportanceSamplingSettings settings;
-    settings.samples = s.fisSamples;
-    settings.levelSamples = s.fisLevelSamples;
-    settings.bias = s.fisBias;
     std::vector<float> data;
     sampleOffsets = {0};
-    for (const std::vector<Tap>& level : importanceSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, settings)) {
+    for (const std::vector<Tap>& level : importanceSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis)) {
         for (const Tap& sample : level)
             data.insert(data.end(), {static_cast<float>(sample.direction.x), static_cast<float>(sample.direction.y),
                                      static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});
@@ -46,6 +56,7 @@ void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBu
     const uint32_t firstSample = impl.sampleOffsets[m];
     const ImportanceSamplingConstants constants{s.faceSize,
                                                 impl.pyramidLevels,
+                                                m,
                                                 impl.outputOffsets[m],
                                                 impl.outputOffsets[m + 1],
                                                 firstSample,

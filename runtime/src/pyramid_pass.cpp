@@ -1,10 +1,14 @@
-// Pass 1 (shaders/pyramid.comp, then shaders/pyramid_corners.comp): per pyramid level, one dispatch for
-// its faces and edges and one for its border corners, down to the depth:
-// level 0's border, then each level from the one before it.
+// Pass 1, per pyramid level down to the depth, the source first (level 0):
+// - exact sampling (shaders/pyramid.comp, then shaders/pyramid_corners.comp): each level of the
+//   bordered buffer, faces and edges, then its border corners; the reference builds level 0 alone,
+//   the source it reads texel by texel, with no corners;
+// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image.
 #include <cstdint>
 
 #include <pyramid.spv.h>
 #include <pyramid_corners.spv.h>
+#include <pyramid_image_rgba16f.spv.h>
+#include <pyramid_image_rgba32f.spv.h>
 
 #include "filter_impl.h"
 
@@ -19,22 +23,37 @@ struct PyramidConstants {
 
 } // namespace
 
-std::span<const uint32_t> pyramidSpirv() { return kPyramidSpv; }
-std::span<const uint32_t> pyramidCornersSpirv() { return kPyramidCornersSpv; }
-
-std::array<int32_t, 2> pyramidSpecialization(const PyramidSettings& pyramid) {
-    return {pyramid.kind == PyramidKind::box ? 1 : 0, pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
+void makePyramidPipelines(Filter::Impl& impl) {
+    const PyramidSettings pyramid = impl.settings.method.pyramid();
+    // The shaders' kBoxKind and kInverseSolidAngle.
+    const std::array<int32_t, 2> specialization{pyramid.kind == PyramidKind::box ? 1 : 0,
+                                                pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
+    const VkDevice device = impl.device.device();
+    const VkPipelineLayout layout = impl.descriptors->pipelineLayout();
+    if (impl.sampling == Sampling::hardware) {
+        const std::span<const uint32_t> spirv = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT
+                                                    ? std::span<const uint32_t>(kPyramidImageRgba16fSpv)
+                                                    : kPyramidImageRgba32fSpv;
+        impl.pass1 = std::make_unique<ComputePipeline>(device, layout, spirv, specialization);
+        return;
+    }
+    impl.pass1 = std::make_unique<ComputePipeline>(device, layout, kPyramidSpv, specialization);
+    if (impl.buildsPyramid) impl.pass1Corners = std::make_unique<ComputePipeline>(device, layout, kPyramidCornersSpv);
 }
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    for (int level = 0; level <= impl.pyramidDepth; ++level) {
+    const bool hardware = impl.sampling == Sampling::hardware;
+    const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
+    for (int level = 0; level <= depth; ++level) {
         if (level > 0) computeBarrier(commandBuffer);
+        impl.descriptors->bind(commandBuffer, impl.pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
-        // Level 0: the border rings of 4 S + 4 texels per face; the others: every texel with its border.
         const int size = s.faceSize >> level;
-        const std::size_t texels = level == 0 ? std::size_t(kFaceCount) * (4 * size + 4) : pyramidLevelTexels(size);
+        // Hardware: every texel of the mip; exact: every texel of each face with its border.
+        const std::size_t texels = hardware ? texelCount(size) : pyramidLevelTexels(size);
         dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texels));
+        if (!impl.pass1Corners) continue;
         computeBarrier(commandBuffer);
         dispatchPass(impl, commandBuffer, *impl.pass1Corners, "pyramid", level, constants, groupsFor(kFaceCount * 4));
     }

@@ -1,10 +1,12 @@
 // The exact reference on the GPU (shaders/reference.comp): per output level computed, one dispatch
 // per chunk of source rows (at most kChunkTexels source texels, within one face), each chunk's sum
-// added to the output texels, with a barrier between chunks.
+// added to the accumulator, with a barrier between chunks; the last chunk writes the output mip.
 #include <algorithm>
 #include <cstdint>
 
-#include <reference.spv.h>
+#include <reference_b10g11r11.spv.h>
+#include <reference_rgba16f.spv.h>
+#include <reference_rgba32f.spv.h>
 
 #include "filter_impl.h"
 
@@ -27,7 +29,10 @@ struct ReferenceConstants {
 
 } // namespace
 
-std::span<const uint32_t> referenceSpirv() { return kReferenceSpv; }
+std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl) {
+    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(),
+                                             outputVariant(impl, {kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
+}
 
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;

@@ -1,13 +1,16 @@
-// Pass 2 with a tap table (shaders/table_filter.comp): the table's fit with the settings, its
-// upload in the published layout (then the tap groups each level uses), and one dispatch per output
-// level computed (copy_level_pass.cpp does the levels with alpha = 0).
+// Pass 2 with a tap table (shaders/table_filter.comp): its upload in the published layout (then the
+// tap groups each level uses), and one dispatch per output level computed (copy_level_pass.cpp does
+// the levels with alpha = 0).
 #include <cstdint>
 
-#include <fmt/format.h>
-#include <table_filter.spv.h>
+#include <table_filter_exact_b10g11r11.spv.h>
+#include <table_filter_exact_rgba16f.spv.h>
+#include <table_filter_exact_rgba32f.spv.h>
+#include <table_filter_hardware_b10g11r11.spv.h>
+#include <table_filter_hardware_rgba16f.spv.h>
+#include <table_filter_hardware_rgba32f.spv.h>
 
 #include "filter_impl.h"
-#include "probe/error.h"
 #include "probe/table_io.h"
 
 namespace probe::gpu {
@@ -26,25 +29,13 @@ struct TableConstants {
 
 } // namespace
 
-std::span<const uint32_t> tableSpirv() { return kTableFilterSpv; }
-
-void checkTableFits(const TapTable& table, const FilterSettings& s) {
-    validateTable(table, "tap table");
-    std::vector<std::string> reasons;
-    if (table.baseSize != s.faceSize) reasons.push_back(fmt::format("it is for base size {}, not {}", table.baseSize, s.faceSize));
-    if (table.levelCount != s.levelCount) reasons.push_back(fmt::format("it has {} levels, not {}", table.levelCount, s.levelCount));
-    if (table.mapping != s.mapping)
-        reasons.push_back(fmt::format("it is for the {} roughness mapping, not {}", roughnessMappingName(table.mapping),
-                                      roughnessMappingName(s.mapping)));
-    if (!(table.pyramid == s.pyramid))
-        reasons.push_back(fmt::format("it was fitted over the {} {} pyramid, not {} {}", pyramidKindName(table.pyramid.kind),
-                                      pyramidWeightingName(table.pyramid.weighting), pyramidKindName(s.pyramid.kind),
-                                      pyramidWeightingName(s.pyramid.weighting)));
-    if (!reasons.empty()) {
-        std::string text;
-        for (const std::string& r : reasons) text += (text.empty() ? "" : "; ") + r;
-        throw ProbeError(fmt::format("tap table does not fit: {}", text));
-    }
+std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
+    const std::span<const uint32_t> spirv =
+        impl.sampling == Sampling::hardware
+            ? outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv})
+            : outputVariant(impl, {kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
+    const std::array<int32_t, 1> form{coefficientCount(impl.settings.method.table->form)}; // the shader's kCoefficientCount
+    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv, form);
 }
 
 std::vector<float> tableBufferData(const TapTable& table) {

@@ -22,7 +22,8 @@ struct ImportanceSamplingSettings {
     int samplesAt(int level) const { return levelSamples.empty() ? samples : levelSamples[static_cast<std::size_t>(level)]; }
 };
 
-// Throws ProbeError unless every sample count is >= 1 and a per-level list has levelCount entries.
+// Throws ParameterError ("samples", "fis-bias") unless every sample count is >= 1, a per-level list
+// has levelCount entries and the bias is finite.
 void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount);
 
 // The per-level mix of sweeps and scenes: N at level 1, 4N at level 2, 16N from level 3 on, at most

@@ -24,11 +24,11 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const s
 
 struct ProbePlan {
     std::string probe;
-    FilterMethod method = FilterMethod::table;
+    MethodKind method = MethodKind::table;
     std::vector<int> levels;                            // output levels to compute, ascending
     std::vector<std::vector<std::string>> levelReaders; // per entry of `levels`: the materials that read it
     bool readsPyramid = false;                          // some level is filtered (not a copy of the source)
-    int pyramidLevels = 0;                              // pyramid levels to build below the source
+    int pyramidLevels = 0;                              // pyramid levels to build below the source (the reference: 0)
     bool irradiance = false;
     std::vector<std::string> diffuseMaterials;
 };
@@ -48,7 +48,7 @@ struct Plan {
 // The name of each pass, as Plan::passes() lists it and a run records what it ran.
 std::string loadPass(const std::string& probe);
 std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 0 (the border) to depth
-std::string levelPass(const std::string& probe, int level, FilterMethod method);
+std::string levelPass(const std::string& probe, int level, MethodKind method);
 std::string irradiancePass(const std::string& probe);
 inline constexpr const char* kDfgPass = "dfg-table";
 

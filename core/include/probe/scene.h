@@ -20,13 +20,10 @@
 
 #include <glm/vec3.hpp>
 
+#include "probe/filter_method.h"
 #include "probe/roughness.h"
 
 namespace probe {
-
-enum class FilterMethod { table, fis, reference };
-FilterMethod parseFilterMethod(std::string_view name); // "table", "fis", "reference"; throws ProbeError
-std::string_view filterMethodName(FilterMethod method);
 
 struct SceneProbe {
     std::string name;
@@ -34,9 +31,8 @@ struct SceneProbe {
     int faceSize = 128;
     int levelCount = 0; // after parsing: the default for the face size when not given
     RoughnessMapping mapping = RoughnessMapping::gltf;
-    FilterMethod method = FilterMethod::table;
-    int samples = 32;                           // FIS only
-    std::optional<std::filesystem::path> table; // table method: a table file instead of the built-in one
+    FilterMethod method;                        // its table is left null: `table` or the compiled-in one
+    std::optional<std::filesystem::path> table; // table method: a table file instead of the compiled-in one
 };
 
 struct SceneMaterial {

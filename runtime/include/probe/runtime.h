@@ -1,27 +1,32 @@
-// probe runtime: GGX filtering of reflection probes with Vulkan compute (DESIGN.md).
+// probe runtime: GGX filtering of reflection probes with Vulkan compute.
 //
 // Two ways to use it:
 // - Tools: a Device owns a headless Vulkan 1.2 instance and device, and Filter::run uploads a
 //   probe, runs the passes, reads the levels back and times every pass with timestamp queries.
 // - Engines: wrap your own VkDevice in a Device and call Filter::record to record the passes into
-//   your command buffer, from your cube image to your output cube's mip chain.
+//   your command buffer, from your source cube to your output cube's mips (see Filter::record for
+//   what the caller owes).
 //
-// All data lives in storage buffers (RGBA32F texels, all levels of all faces packed, see
-// shaders/buffers.glsl) and every bilinear read is the shader's own arithmetic, following the
-// shared sampling model of probecore, so that the GPU equals the CPU model to float rounding.
-// SPIR-V is compiled from shaders/ at build time and embedded; nothing compiles at run time.
-// Errors (no device, unsupported format, a table that does not fit) throw probe::ProbeError.
+// Two ways to read the pyramid (Sampling): through the hardware sampler (the pyramid is a cube
+// image with mips, each tap one trilinear textureLod through a seamless sampler: what GPUs are
+// built for), or exactly (the pyramid in a storage buffer with a one-texel border per face, every
+// bilinear read the shader's own arithmetic, following probecore's sampling model to float
+// rounding: the verification mode). SPIR-V is compiled from shaders/ at build time and embedded;
+// nothing compiles at run time. Errors (no device, an unsupported format or feature, a table that
+// does not fit) throw probe::ProbeError naming what is missing; bad parameter values throw
+// probe::ParameterError naming the parameter.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <vulkan/vulkan.h>
 
 #include "probe/cube_image.h"
-#include "probe/pyramid.h"
+#include "probe/filter_method.h"
 #include "probe/roughness.h"
 #include "probe/sh.h"
 #include "probe/tap_table.h"
@@ -30,7 +35,7 @@ namespace probe::gpu {
 
 // A Vulkan physical device as the runtime names it in reports.
 struct DeviceInfo {
-    int index = -1;     // position in vkEnumeratePhysicalDevices order (what `--device N` picks)
+    int index = -1;     // position in vkEnumeratePhysicalDevices order (what DeviceOptions::choice picks by number)
     std::string name;   // deviceName
     std::string driver; // driverName and driverInfo, e.g. "llvmpipe, Mesa 22.3.6 (LLVM 15.0.6)"
     std::string type;   // "discrete", "integrated", "virtual", "cpu" or "other"
@@ -42,9 +47,10 @@ struct DeviceInfo {
 std::vector<DeviceInfo> listDevices();
 
 struct DeviceOptions {
-    // "" picks the first discrete GPU, else the first CPU device (lavapipe), else the first device;
-    // a number picks that index of listDevices(); anything else is a case-insensitive substring of
-    // the device name. No match, or no device at all: ProbeError.
+    // "" picks by type: the first discrete GPU, else integrated, else virtual, else CPU (lavapipe),
+    // else the first device; a number picks that index of listDevices(); anything else is a
+    // case-insensitive substring of the device name. No match, or no device at all: ParameterError
+    // ("device").
     std::string choice;
     // Enables VK_LAYER_KHRONOS_validation and collects every warning and error it reports
     // (validationMessages()); ProbeError when the layer is not installed.
@@ -57,7 +63,9 @@ public:
     // Creates an instance and a device. Throws ProbeError naming what is missing.
     explicit Device(const DeviceOptions& options = {});
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
-    // be Vulkan 1.2+; `queue` belongs to `queueFamily`, which must support compute.
+    // be Vulkan 1.2+; `queue` belongs to `queueFamily`, which must support compute. The runtime
+    // needs no device feature or extension beyond Vulkan 1.2 core (the exact sampling mode's table
+    // shader uses subgroup vote, a core operation that every desktop driver has).
     Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice device, uint32_t queueFamily, VkQueue queue);
     ~Device();
     Device(const Device&) = delete;
@@ -80,39 +88,43 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-enum class Method {
-    table,     // pass 1 pyramid + pass 2 tap table (Manson & Sloan); needs subgroup vote in compute shaders
-    fis,       // pass 1 pyramid + filtered importance sampling (Krivanek & Colbert)
-    reference, // brute force, every source texel for every output texel
+// How pass 1 and pass 2 read the pyramid (see the top of this file).
+enum class Sampling {
+    automatic, // hardware on GPUs; on CPU devices (lavapipe) the mode measured faster there (README)
+    hardware,  // a cube image with mips through a seamless trilinear sampler
+    exact,     // a bordered storage buffer, the shader's own bilinear arithmetic (probecore's model)
 };
+std::string_view samplingName(Sampling sampling); // "automatic", "hardware", "exact"
+Sampling parseSampling(std::string_view name);    // ParameterError("sampling") otherwise
+
+// The output cube's texel formats: RGBA16F (what engines use), RGBA32F, B10G11R11 (unsigned, 5-bit
+// exponents). Values are clamped to the format's largest finite value, so no texel is Inf.
+std::string_view formatName(VkFormat format); // "rgba16f", "rgba32f", "b10g11r11"
+VkFormat parseFormat(std::string_view name);  // ParameterError("format") for any other name
 
 struct FilterSettings {
-    Method method = Method::reference;
-    int faceSize = 128; // S_0, a power of two: the source and output level 0
-    int levelCount = 7; // M output levels, face size S_0 >> m
+    FilterMethod method; // table (with its table, which the caller keeps alive), fis, or reference
+    int faceSize = 128;  // S_0, a power of two: the source and output level 0
+    int levelCount = 7;  // M output levels, face size S_0 >> m
     RoughnessMapping mapping = RoughnessMapping::gltf;
-    PyramidSettings pyramid;          // pass 1 (table and fis)
-    int fisSamples = 32;              // N Hammersley samples per output texel (fis)
-    std::vector<int> fisLevelSamples; // per output level, level 0 first (fis); empty: fisSamples at every level
-    double fisBias = 0.0;             // added to each sample's level (fis); 0 is the accurate setting
-    // The tap table (table method; the caller keeps it alive while the Filter is built). Refused
-    // with the reason unless its base size, level count, mapping and pyramid equal the settings'.
-    const TapTable* table = nullptr;
+    Sampling sampling = Sampling::automatic;
+    // The output cube's format: run()'s own output image, and the format record()'s caller's output
+    // cube must have. B10G11R11 goes through a conversion pass where the device cannot store it.
+    VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     // Only these output levels (ascending, each in [0, M)); empty: every level. Levels left out are
     // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
     // of every level.
     std::vector<int> levels;
-    // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis), after
-    // the border of level 0; none of it when every level computed is a copy (alpha = 0).
-    // The levels computed must read no deeper: probe::deepestPyramidLevelRead of their taps
-    // (probe/plan.h) is the depth they need.
+    // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis); none
+    // of it when every level computed is a copy (alpha = 0). The levels computed must read no deeper:
+    // probe::deepestPyramidLevelRead of their taps (probe/plan.h) is the depth they need.
     int pyramidDepth = -1;
 };
 
 // GPU time of one pass: the median over the repeats, from timestamp queries.
 struct PassTime {
-    std::string name; // "pyramid", "table", "fis", "reference" or "total"
+    std::string name; // "pyramid", "table", "fis", "reference", "convert" or "total"
     double medianMs = 0.0;
     std::vector<double> runsMs; // one per repeat
 };
@@ -120,30 +132,65 @@ struct PassTime {
 // One vkCmdDispatch of a run.
 struct Dispatch {
     std::string pass;
-    int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source's
-                         // border); "sh": the summation stage (0 projects the source)
+    int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source; the
+                         // reference builds it alone, to read it texel by texel);
+                         // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups (x; y = z = 1)
 };
 
-// The buffers and pipelines of one filter setting, reusable for many probes.
+// The caller's source cube for Filter::record: a view of type VK_IMAGE_VIEW_TYPE_CUBE whose first
+// mip is the S_0 face size (other mips are not read), of a format the device can sample
+// (VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT): RGBA16F, RGBA32F and B10G11R11 on every desktop GPU.
+struct SourceCube {
+    VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+// The caller's output cube for Filter::record: a 2D image with 6 array layers (cube compatible or
+// not) and at least M mips, mip m of face size S_0 >> m, of FilterSettings::outputFormat.
+struct OutputCube {
+    VkImage image = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+// The resources and pipelines of one filter setting, reusable for many probes.
 class Filter {
 public:
-    // Checks the settings (size, levels, device limits) and builds the pipelines and buffers.
+    // Checks the settings (method, size, levels, formats, device limits) and builds the pipelines,
+    // the pyramid and the tables. A pyramid that the device cannot filter and store as RGBA32F is
+    // RGBA16F, with a warning (warnings()).
     Filter(const Device& device, const FilterSettings& settings);
     ~Filter();
     Filter(const Filter&) = delete;
     Filter& operator=(const Filter&) = delete;
 
     // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time) and
-    // returns the M output levels (those outside FilterSettings::levels empty).
+    // returns the M output levels (those outside FilterSettings::levels empty), read back from the
+    // output format.
     CubeLevels run(const CubeImage& source, int repeat = 1);
 
-    // Engines: records the passes into `commandBuffer`: copies mip 0 of `sourceCube` (RGBA32F, 6
-    // layers of S_0^2, layout TRANSFER_SRC_OPTIMAL, usage TRANSFER_SRC) into the pyramid and writes
-    // mips 0..M-1 of `outputCube` (RGBA32F, 6 layers, layout TRANSFER_DST_OPTIMAL, usage
-    // TRANSFER_DST; only the mips of FilterSettings::levels). The caller orders it against its own
-    // work. timings() reads the timestamps once the caller's submission has completed.
-    void record(VkCommandBuffer commandBuffer, VkImage sourceCube, VkImage outputCube);
+    // Engines: records the passes into `commandBuffer`, from `source` to mips 0..M-1 of `output`
+    // (only the mips of FilterSettings::levels are written). What the caller owes:
+    // - source: usage SAMPLED; the view's subresources in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+    //   its writes made visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_READ_BIT.
+    // - output: usage STORAGE, the mips written in VK_IMAGE_LAYOUT_GENERAL, no work on them pending.
+    //   A B10G11R11 output on a device that cannot store that format is written by a copy instead:
+    //   usage TRANSFER_DST and layout VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL (outputNeedsTransfer()).
+    // - after: the outputs are written at VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT with
+    //   VK_ACCESS_SHADER_WRITE_BIT (VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT when
+    //   converted): the caller's barrier makes them visible to its readers.
+    // The Filter orders its own work (a barrier before its first dispatch covers its resources' use
+    // by a previous recording on the same queue). record() makes views of the caller's images and
+    // keeps them until the next record() or the Filter's end: a command buffer recorded before must
+    // have completed by then. Throws ProbeError naming the format and usage the device lacks.
+    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output);
+
+    // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA32F or RGBA16F),
+    // whether a B10G11R11 output is converted through a copy, and the warnings of construction.
+    Sampling sampling() const;
+    VkFormat pyramidFormat() const;
+    bool outputNeedsTransfer() const;
+    const std::vector<std::string>& warnings() const;
 
     // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
     // the queue has no timestamps.
@@ -213,20 +260,17 @@ struct SphereScene {
 // from +Z, over the background. Returns linear RGB, cellSize * materials wide, cellSize high.
 Image renderSpheres(const Device& device, const SphereScene& scene);
 
-// A tap table compiled into this build: tables/<name>.json as probefit writes it (beside the
-// generated <name>.h and <name>.glsl), with its inputs and recorded errors.
+// A tap table compiled into this build from its generated header (tables/<name>.h, as probefit
+// writes it): the tables that the command line picks by default (the build option
+// PROBE_COMPILED_TABLES lists them). Others are read from their files (probe::readTable).
 struct CompiledTable {
     std::string name;
     TapTable table;
 };
-// Every compiled-in table, in name order (empty when tables/ holds none).
+// Every compiled-in table, in name order.
 const std::vector<CompiledTable>& compiledTables();
 // The compiled-in table for these settings (the quadratic 8-tap one when there are several), or
 // null.
 const CompiledTable* findCompiledTable(int faceSize, int levelCount, RoughnessMapping mapping, const PyramidSettings& pyramid);
-
-std::string_view methodName(Method method);
-// "table", "fis" or "reference"; ProbeError otherwise.
-Method parseMethod(std::string_view name);
 
 } // namespace probe::gpu

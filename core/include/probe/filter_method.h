@@ -1,0 +1,40 @@
+// How a probe is filtered: the exact reference, a tap table (Manson & Sloan) or filtered importance
+// sampling (Krivanek & Colbert). One description for the CPU filters, scene files, the GPU runtime
+// and the command line.
+#pragma once
+
+#include <string_view>
+
+#include "probe/importance_sampling.h"
+#include "probe/tap_sum.h"
+#include "probe/tap_table.h"
+
+namespace probe {
+
+enum class MethodKind { table, fis, reference };
+// "table", "fis" or "reference"; parsing throws ParameterError("method", ...) for anything else.
+std::string_view methodKindName(MethodKind kind);
+MethodKind parseMethodKind(std::string_view name);
+
+struct FilterMethod {
+    MethodKind kind = MethodKind::table;
+    const TapTable* table = nullptr; // table: the tap table (the caller keeps it alive)
+    ImportanceSamplingSettings fis;  // fis: samples per texel (or per level), level bias, pyramid
+
+    // Pass 1's pyramid: the table's (it was fitted over it) or FIS's.
+    PyramidSettings pyramid() const { return kind == MethodKind::table && table ? table->pyramid : fis.pyramid; }
+};
+
+// Throws ParameterError naming the parameter and every reason unless `method` filters probes of
+// this base size, level count and mapping: a table of that shape (validateTable), FIS sample counts
+// of at least 1 (one per level when given per level).
+void validateMethod(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
+
+// The taps of every output level (empty for the reference, which reads no pyramid). A table's
+// generator refers to method.table.
+TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
+
+// Filters a probe on the CPU with the shared model: the reference, or pass 1 and the method's taps.
+CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method);
+
+} // namespace probe

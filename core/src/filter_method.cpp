@@ -1,0 +1,62 @@
+#include "probe/filter_method.h"
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+#include "probe/reference.h"
+#include "probe/table_filter.h"
+
+namespace probe {
+
+std::string_view methodKindName(MethodKind kind) {
+    switch (kind) {
+    case MethodKind::table: return "table";
+    case MethodKind::fis: return "fis";
+    case MethodKind::reference: return "reference";
+    }
+    return "reference";
+}
+
+MethodKind parseMethodKind(std::string_view name) {
+    for (MethodKind kind : {MethodKind::table, MethodKind::fis, MethodKind::reference})
+        if (methodKindName(kind) == name) return kind;
+    throw ParameterError("method", fmt::format("{}: expected table, fis or reference", name));
+}
+
+void validateMethod(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping) {
+    switch (method.kind) {
+    case MethodKind::table: {
+        if (!method.table) throw ParameterError("table", "missing: the table method needs a tap table");
+        const TapTable& table = *method.table;
+        validateTable(table, "tap table");
+        std::string reasons;
+        const auto add = [&](const std::string& reason) { reasons += (reasons.empty() ? "" : "; ") + reason; };
+        if (table.baseSize != baseSize) add(fmt::format("it is for base size {}, not {}", table.baseSize, baseSize));
+        if (table.levelCount != levelCount) add(fmt::format("it has {} levels, not {}", table.levelCount, levelCount));
+        if (table.mapping != mapping)
+            add(fmt::format("it is for the {} roughness mapping, not {}", roughnessMappingName(table.mapping),
+                            roughnessMappingName(mapping)));
+        if (!reasons.empty()) throw ParameterError("table", fmt::format("does not fit: {}", reasons));
+        break;
+    }
+    case MethodKind::fis: validateSampleCounts(method.fis, levelCount); break;
+    case MethodKind::reference: break;
+    }
+}
+
+TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping) {
+    switch (method.kind) {
+    case MethodKind::table: return tableTapGenerator(*method.table);
+    case MethodKind::fis: return importanceSampleTapGenerator(baseSize, levelCount, mapping, method.fis);
+    case MethodKind::reference: break;
+    }
+    return {};
+}
+
+CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method) {
+    validateMethod(method, source.size, levelCount, mapping);
+    if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
+    return filterWithTaps(buildPyramid(source, method.pyramid()), levelCount, methodTapGenerator(method, source.size, levelCount, mapping));
+}
+
+} // namespace probe

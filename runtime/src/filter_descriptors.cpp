@@ -1,0 +1,113 @@
+#include "filter_descriptors.h"
+
+#include <array>
+
+#include "compute_pipeline.h"
+#include "vulkan_check.h"
+
+namespace probe::gpu {
+
+namespace {
+
+VkDescriptorType bindingType(uint32_t binding) {
+    switch (binding) {
+    case kPyramidBuffer:
+    case kAccumulator:
+    case kGeometry: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    case kTableTexels:
+    case kPyramidTexels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    case kSourceCube:
+    case kPyramidCube: return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    default: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    }
+}
+
+} // namespace
+
+FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device_(device) {
+    std::array<VkDescriptorSetLayoutBinding, kFilterBindingCount> bindings{};
+    for (uint32_t b = 0; b < kFilterBindingCount; ++b) bindings[b] = {b, bindingType(b), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    setInfo.bindingCount = kFilterBindingCount;
+    setInfo.pBindings = bindings.data();
+    vkCheck(vkCreateDescriptorSetLayout(device_, &setInfo, nullptr, &setLayout_), "vkCreateDescriptorSetLayout");
+
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushConstantBytes};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.setLayoutCount = 1;
+    layoutInfo.pSetLayouts = &setLayout_;
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    vkCheck(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_), "vkCreatePipelineLayout");
+
+    const std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * maxSets},
+                                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2 * maxSets},
+                                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * maxSets},
+                                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * maxSets}}};
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = maxSets;
+    poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    vkCheck(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool_), "vkCreateDescriptorPool");
+}
+
+FilterDescriptors::~FilterDescriptors() {
+    vkDestroyDescriptorPool(device_, pool_, nullptr);
+    vkDestroyPipelineLayout(device_, pipelineLayout_, nullptr);
+    vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);
+}
+
+VkDescriptorSet FilterDescriptors::allocate() {
+    VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    info.descriptorPool = pool_;
+    info.descriptorSetCount = 1;
+    info.pSetLayouts = &setLayout_;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    vkCheck(vkAllocateDescriptorSets(device_, &info, &set), "vkAllocateDescriptorSets");
+    return set;
+}
+
+void FilterDescriptors::reset() { vkCheck(vkResetDescriptorPool(device_, pool_, 0), "vkResetDescriptorPool"); }
+
+void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const {
+    const VkDescriptorBufferInfo info{buffer, 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = set;
+    write.dstBinding = binding;
+    write.descriptorCount = 1;
+    write.descriptorType = bindingType(binding);
+    write.pBufferInfo = &info;
+    vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+}
+
+void FilterDescriptors::writeTexelBuffer(VkDescriptorSet set, FilterBinding binding, VkBufferView view) const {
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = set;
+    write.dstBinding = binding;
+    write.descriptorCount = 1;
+    write.descriptorType = bindingType(binding);
+    write.pTexelBufferView = &view;
+    vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+}
+
+void FilterDescriptors::writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler,
+                                     VkImageLayout layout) const {
+    const VkDescriptorImageInfo info{sampler, view, layout};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = set;
+    write.dstBinding = binding;
+    write.descriptorCount = 1;
+    write.descriptorType = bindingType(binding);
+    write.pImageInfo = &info;
+    vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
+}
+
+void FilterDescriptors::writeStorage(VkDescriptorSet set, FilterBinding binding, VkImageView view) const {
+    writeSampled(set, binding, view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
+}
+
+void FilterDescriptors::bind(VkCommandBuffer commandBuffer, VkDescriptorSet set) const {
+    vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_, 0, 1, &set, 0, nullptr);
+}
+
+} // namespace probe::gpu
