@@ -233,5 +233,7 @@ const vec4 probeTableCoeffs[420] = vec4[](
     vec4(0.00915854983f, 0.0808577463f, 0.0466485582f, 0.00333201233f), vec4(0.0244313087f, 0.250619739f, 0.0108455503f, 0.0145827942f),
     vec4(0.0323693939f, 0.0453330874f, 0.032108888f, 0.0291877054f), vec4(0.0387724042f, -0.166981161f, 0.00852080062f, 0.00348281604f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 8x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1020.248450206;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {4, 4, 4, 4, 4, 4, 4};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.07145633760686543, 0.2733307833366431, 4, 127, 1, 0.07195025204756436, 0.27445713887950657, 3, 127, 126, 0.9197123776420835},
+    {0.07950491260574476, 0.20479336722088978, 4, 61, 63, 0.07993536130962908, 0.20789780557863674, 2, 60, 63, 0.878877684332192},
+    {0.08325034190958429, 0.15975400886106453, 5, 0, 0, 0.08356614182319613, 0.15975400886106453, 5, 0, 0, 0.8091882465289377},
+    {0.06923556704953626, 0.12607253368585059, 0, 0, 15, 0.06999980563532643, 0.12607253368585059, 0, 0, 15, 0.910653917487642},
+    {0.07144734499407726, 0.09564278746375032, 2, 0, 0, 0.07144734499407726, 0.09564278746375032, 2, 0, 0, 0.9263616076098179},
+    {0.09549642191143444, 0.1224591506209917, 2, 0, 0, 0.09549642191143444, 0.1224591506209917, 2, 0, 0, 0.9233661251507648},
+    {0.0736153053156368, 0.08321903742775233, 4, 0, 0, 0.0736153053156368, 0.08321903742775233, 4, 0, 0, 0.9313256816705652},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1680] = {
     1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f, 1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f,

@@ -443,5 +443,7 @@ const vec4 probeTableCoeffs[840] = vec4[](
     vec4(0.00337375491f, -0.0713595375f, 0.0574486032f, 0.00285822782f), vec4(-0.282783151f, 0.0315016545f, 0.00568715623f, 0.0145269856f),
     vec4(0.0293981936f, 0.0320839956f, 0.0122469002f, 0.0072391429f), vec4(0.0507326871f, -0.0149010075f, 0.00365438266f, 0.00263772719f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
 
 #endif

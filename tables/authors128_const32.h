@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 16x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 364.67327608;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {8, 8, 8, 8, 8, 8, 8};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.0714563376068654, 0.2733307833366429, 4, 127, 1, 0.07195025204756432, 0.2744571388795067, 3, 127, 126, 0.9197123776420838},
+    {0.05644870112006635, 0.15906381459974814, 3, 1, 1, 0.056814248377121804, 0.16502928792879354, 3, 2, 63, 0.8891971669372039},
+    {0.060907956203111006, 0.1495862869552669, 2, 0, 31, 0.061232156654066644, 0.1495862869552669, 2, 0, 31, 0.9035459476377177},
+    {0.05376683524492664, 0.11774505768164391, 2, 0, 15, 0.05465087073796946, 0.11774505768164391, 2, 0, 15, 0.8895403046726647},
+    {0.05472485047680301, 0.07704101167814872, 3, 1, 6, 0.05472485047680301, 0.07704101167814872, 3, 1, 6, 0.8499693533408775},
+    {0.05649920279038586, 0.07299360062736535, 3, 3, 0, 0.05649920279038586, 0.07299360062736535, 3, 3, 0, 0.9535297846406058},
+    {0.05707320286441516, 0.06410291522989697, 5, 1, 1, 0.05707320286441516, 0.06410291522989697, 5, 1, 1, 0.9713192574834826},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3360] = {
     1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f, 1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f,

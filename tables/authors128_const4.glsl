@@ -76,5 +76,7 @@ const vec4 probeTableCoeffs[105] = vec4[](
     vec4(0.193691909f, 0.153830856f, 0.171509251f, 0.0559894592f), vec4(0.216535985f, 0.029588636f, 0.186198428f, 0.0292571355f),
     vec4(0.186530352f, 0.217139855f, 0.0297039486f, 0.0300241802f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 3 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: authors128_const4.fit1, 1: authors128_const4.fit1, 2: authors128_const4.fit1, 3: authors128_const4.main, 4: authors128_const4.fit2, 5: authors128_const4.fit1, 6: authors128_const4.main; the fits: [authors128_const4.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [authors128_const4.fit1: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [authors128_const4.fit2: seam weight 5, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 5 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1184.532671942;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {1, 1, 1, 1, 1, 1, 1};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.06953161430180886, 0.27113314756457724, 4, 127, 1, 0.07023414185127873, 0.27113314756457724, 4, 127, 1, 0.9165239835350163},
+    {0.12931759280685212, 0.3138954410468149, 0, 3, 63, 0.1299199225022656, 0.31509018791807214, 2, 63, 1, 0.8849973919912447},
+    {0.13267662368122296, 0.2577037738670542, 1, 0, 28, 0.1326994689091626, 0.2590340276938633, 0, 0, 3, 0.8351482135805582},
+    {0.12477540096171491, 0.2148991531087334, 0, 3, 14, 0.1252210510956607, 0.2165873057188874, 1, 3, 14, 0.8466174171025453},
+    {0.17692752596135305, 0.25478059911446777, 1, 1, 2, 0.17692752596135305, 0.25478059911446777, 1, 1, 2, 0.8526471372708078},
+    {0.17013555855701434, 0.21670533216359764, 0, 3, 3, 0.17013555855701434, 0.21670533216359764, 0, 3, 3, 0.9330495808017536},
+    {0.14339357550558587, 0.15949203164323236, 1, 0, 0, 0.14339357550558587, 0.15949203164323236, 1, 0, 0, 0.9249785258181071},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[420] = {
     -2.3602599e-05f, -0.000120120421f, -3.56162957e-07f, 0.00302299042f, -0.00103232532f, 0.00535795512f, -3.86025164e-07f, 3.45787839e-06f,

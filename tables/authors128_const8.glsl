@@ -128,5 +128,7 @@ const vec4 probeTableCoeffs[210] = vec4[](
     vec4(0.0349449329f, 0.0410369188f, 0.128155276f, 0.0461565666f), vec4(0.116112314f, 0.0349688716f, 0.0147208218f, 0.043057628f),
     vec4(0.0567115732f, 0.0732674226f, 0.0392665192f, 0.0188570544f), vec4(0.10086786f, 0.131821156f, 0.0132047804f, 0.0131892031f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
 
 #endif

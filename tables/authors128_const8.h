@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 4x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 130.331512504;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {2, 2, 2, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.0714563376068654, 0.27333078333664296, 4, 127, 1, 0.07195025204756433, 0.2744571388795065, 3, 127, 126, 0.9197123776420835},
+    {0.14415517625611543, 0.2769411846494067, 3, 58, 60, 0.14337410835113215, 0.284461553884243, 2, 59, 4, 0.9306197104896983},
+    {0.12411106783214798, 0.2412115281534748, 4, 31, 30, 0.12451309626770626, 0.2412115281534748, 4, 31, 30, 0.9277461772433184},
+    {0.0885196184156916, 0.15587391323675115, 4, 8, 0, 0.08907390278291753, 0.15587391323675115, 4, 8, 0, 0.9198003967342401},
+    {0.09753334246082922, 0.12362758770385719, 5, 1, 6, 0.09753334246082922, 0.12362758770385719, 5, 1, 6, 0.8729550395056549},
+    {0.12518557019324342, 0.1525825410390049, 4, 1, 2, 0.12518557019324342, 0.1525825410390049, 4, 1, 2, 0.9625106688125382},
+    {0.09814752861891021, 0.1092715992723131, 3, 0, 0, 0.09814752861891021, 0.1092715992723131, 3, 0, 0, 0.9063388994619743},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[840] = {
     1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f, 1.5544776e-05f, -0.0001967196f, -3.6559328e-07f, 0.00331023103f,

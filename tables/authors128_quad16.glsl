@@ -653,5 +653,7 @@ const vec4 probeTableCoeffs[1260] = vec4[](
     vec4(-0.00674939388f, -0.0490860604f, -0.0274804328f, -0.00189412502f), vec4(-0.0134562701f, 0.0111795329f, -0.00659554033f, -0.00920835417f),
     vec4(-0.0206979718f, -0.0269791707f, -0.0194791351f, -0.0180760752f), vec4(-0.0224221423f, -0.0632971004f, -0.00511681056f, -0.00209638337f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 8x3 (taps split 1 texels apart), --init table const 16x3; an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 234.912244544;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {4, 4, 4, 4, 4, 4, 4};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.05375888502117225, 0.29053955164953993, 5, 0, 127, 0.05480807994767364, 0.29053955164953993, 5, 0, 127, 0.879386515946305},
+    {0.05713789769794541, 0.1855235052138417, 5, 63, 63, 0.057972937083229405, 0.1924664051759819, 3, 1, 63, 0.872321522733684},
+    {0.05877882129152179, 0.15973499395368398, 5, 31, 0, 0.05937990083032797, 0.15973499395368398, 5, 31, 0, 0.8763795744061705},
+    {0.05252957128466927, 0.13286995258926237, 0, 15, 0, 0.0534971595542107, 0.13286995258926237, 0, 15, 0, 0.8630123811925352},
+    {0.058776113315988754, 0.08786766345926397, 5, 6, 1, 0.058776113315988754, 0.08786766345926397, 5, 6, 1, 0.7349625935953293},
+    {0.065389444914378, 0.08329071816831717, 3, 2, 1, 0.065389444914378, 0.08329071816831717, 3, 2, 1, 0.7923942928666348},
+    {0.07268773836202849, 0.0822321808084188, 4, 0, 0, 0.07268773836202849, 0.0822321808084188, 4, 0, 0, 0.9334746811695858},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5040] = {
     0.000275334693f, -0.00281590875f, 0.000320563762f, 0.00795191433f, 0.000192667954f, -2.35439456e-05f, 0.000123673206f, 0.00286303298f,

@@ -1283,5 +1283,7 @@ const vec4 probeTableCoeffs[2520] = vec4[](
     vec4(-0.000572168443f, 0.0156063139f, -0.0119984346f, -0.00073270651f), vec4(-0.022322705f, -0.00560622895f, -0.000968055683f, -0.00286221597f),
     vec4(-0.0055079204f, -0.00663420931f, -0.00261285645f, -0.000627067115f), vec4(-0.0094218757f, 0.00300466875f, -0.000637328718f, -0.00044163139f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
 
 #endif

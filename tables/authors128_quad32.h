@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 16x3 (taps split 1 texels apart), --init table const 32x3; an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 487.752958194;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {8, 8, 8, 8, 8, 8, 8};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.05200062906099483, 0.3015780738013173, 2, 127, 127, 0.05248547816153627, 0.3015780738013173, 2, 127, 127, 0.8721903364128823},
+    {0.03827957862014991, 0.16383419269508936, 5, 0, 0, 0.038955294836231884, 0.16383419269508936, 5, 0, 0, 0.8617217877032111},
+    {0.04244742081098342, 0.14165969410169257, 5, 0, 0, 0.04274183039143248, 0.14165969410169257, 5, 0, 0, 0.8822347297228571},
+    {0.04099594047696513, 0.1090905952206533, 2, 0, 15, 0.041885784385124525, 0.1090905952206533, 2, 0, 15, 0.8628353517331615},
+    {0.04455507240741499, 0.06473713662784691, 3, 1, 6, 0.04455507240741499, 0.06473713662784691, 3, 1, 6, 0.6496928503186123},
+    {0.03953528660467926, 0.0461350250579694, 2, 2, 1, 0.03953528660467926, 0.0461350250579694, 2, 2, 1, 0.8172345862548447},
+    {0.054736385998866544, 0.06113468718834577, 5, 1, 1, 0.054736385998866544, 0.06113468718834577, 5, 1, 1, 0.946084052178192},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[10080] = {
     -0.000322945678f, -0.00581165217f, -0.000249482255f, 0.00441160472f, 3.53431788e-05f, -4.758246e-05f, -0.000832329679f, 0.002076281f,

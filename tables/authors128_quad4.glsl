@@ -181,5 +181,7 @@ const vec4 probeTableCoeffs[315] = vec4[](
     vec4(1.39266911e-06f, -1.50406913e-06f, -7.48750324e-07f, 6.56779207e-07f), vec4(-4.38692638e-07f, -2.26128805e-06f, 3.51741437e-06f, 1.94106588e-06f),
     vec4(-2.58805903e-06f, -2.29012684e-07f, 2.98361988e-06f, -2.49662162e-06f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 2 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: authors128_quad4.main, 1: authors128_quad4.fit1, 2: authors128_quad4.main, 3: authors128_quad4.main, 4: authors128_quad4.fit1, 5: authors128_quad4.main, 6: authors128_quad4.main; the fits: [authors128_quad4.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 4x3; an --init's exact filter is kept where the fit is not better] [authors128_quad4.fit1: seam weight 2, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 4x3; an --init's exact filter is kept where the fit is not better])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 673.816370997;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {1, 1, 1, 1, 1, 1, 1};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.057289781032036975, 0.27857989937110844, 1, 0, 127, 0.05857451016274922, 0.28124508813006643, 1, 1, 127, 0.8923205364935323},
+    {0.12123929589106898, 0.32986576095015874, 4, 61, 63, 0.12267406474447974, 0.36989351976375867, 5, 1, 1, 0.829778276802457},
+    {0.10676936155233505, 0.24494733309006542, 1, 31, 30, 0.10729112648249517, 0.24494733309006542, 1, 31, 30, 0.7062250913685505},
+    {0.09691039728676536, 0.21267210703764958, 2, 15, 0, 0.09816110307410622, 0.21267210703764958, 2, 15, 0, 0.7797499392999118},
+    {0.12787010565196505, 0.20577704609606742, 3, 6, 6, 0.12787010565196505, 0.20577704609606742, 3, 6, 6, 0.36994572469567355},
+    {0.12198726759687374, 0.17012547823680224, 4, 1, 2, 0.12198726759687374, 0.17012547823680224, 4, 1, 2, 0.7496122946785637},
+    {0.14338805756630318, 0.15948624220242483, 1, 0, 0, 0.14338805756630318, 0.15948624220242483, 1, 0, 0, 0.9249787024174441},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1260] = {
     -2.05227097e-05f, -0.000516284374f, 9.27697984e-05f, 0.00544270966f, -0.000779582188f, 0.0106618656f, -0.000121233745f, 0.000346018962f,

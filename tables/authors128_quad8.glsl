@@ -338,5 +338,7 @@ const vec4 probeTableCoeffs[630] = vec4[](
     vec4(1.47650043e-08f, -2.98605158e-08f, 6.85993395e-09f, -6.04248882e-08f), vec4(-9.45233403e-09f, 7.98202571e-09f, 6.95443063e-08f, 3.58153258e-08f),
     vec4(-1.13599166e-08f, -1.55464193e-08f, 3.58326098e-08f, 2.86984694e-08f), vec4(1.03113891e-08f, 2.74840541e-08f, -1.0652081e-08f, 1.32274645e-08f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "authors";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 4x3 (taps split 1 texels apart), --init table const 8x3; an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 192.613172729;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {2, 2, 2, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0.05682524266509869, 0.23957996887560853, 1, 127, 1, 0.05770129473905857, 0.2448068902578189, 0, 125, 1, 0.896403308760382},
+    {0.10188419132358287, 0.27522236423966795, 0, 63, 0, 0.10272843081089619, 0.2859064361768076, 0, 61, 2, 0.7692922324333434},
+    {0.08219440081088074, 0.2100037406602582, 2, 31, 0, 0.0827322608736019, 0.2100037406602582, 2, 31, 0, 0.8474490809077019},
+    {0.06713737416582162, 0.1581227468701983, 2, 15, 0, 0.06833062664753944, 0.1581227468701983, 2, 15, 0, 0.8812386959307169},
+    {0.0805460541981901, 0.11563628180986436, 3, 7, 0, 0.0805460541981901, 0.11563628180986436, 3, 7, 0, 0.8730488740154625},
+    {0.09143783824396083, 0.11601176611684595, 3, 1, 2, 0.09143783824396083, 0.11601176611684595, 3, 1, 2, 0.8384113837538357},
+    {0.09814751975215237, 0.10927155539906372, 3, 0, 0, 0.09814751975215237, 0.10927155539906372, 3, 0, 0, 0.9063392985892964},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2520] = {
     6.34218213e-06f, -0.00212720013f, 0.00019076679f, 0.00933420099f, -1.28979536e-05f, -7.34669447e-05f, -0.00112857379f, 0.00339723169f,

@@ -233,5 +233,7 @@ const vec4 probeTableCoeffs[420] = vec4[](
     vec4(-0.0285925269f, 0.0289859083f, 0.0445814915f, 0.00855790731f), vec4(0.0291338284f, 0.545118034f, 0.0258288048f, 0.0507751219f),
     vec4(0.0391347259f, 0.00884944201f, -0.464763165f, 0.0300819054f), vec4(0.0276910923f, 0.0388627686f, 0.0321287923f, 0.0989772603f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 4, 4, 4, 4, 4, 4);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 3 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: gltf128_const16.main, 1: gltf128_const16.fit2, 2: gltf128_const16.fit2, 3: gltf128_const16.fit1, 4: gltf128_const16.fit1, 5: gltf128_const16.fit2, 6: gltf128_const16.fit1; the fits: [gltf128_const16.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 8x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better] [gltf128_const16.fit1: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 8x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better] [gltf128_const16.fit2: seam weight 1, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 8x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 4087.635164936;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 4, 4, 4, 4, 4, 4};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.06721013496663247, 0.14479290871656467, 5, 0, 30, 0.06782463755900618, 0.15072401737358374, 5, 62, 0, 0.9168566987630594},
+    {0.06665321451501437, 0.09801762492205386, 2, 0, 31, 0.06754246927595135, 0.09801762492205386, 2, 0, 31, 0.9249426876353288},
+    {0.07219782626787691, 0.09390859350943098, 0, 12, 2, 0.07394229181595133, 0.09499335434998263, 4, 12, 2, 0.9232606227510004},
+    {0.0809010787352025, 0.10369541986041558, 5, 6, 6, 0.0809010787352025, 0.10369541986041558, 5, 6, 6, 0.9206198534553979},
+    {0.09739372829831021, 0.12554596940468252, 2, 0, 3, 0.09739372829831021, 0.12554596940468252, 2, 0, 3, 0.9914446964349312},
+    {0.069111294627382, 0.07750193050190204, 5, 0, 0, 0.069111294627382, 0.07750193050190204, 5, 0, 0, 0.9202381439200333},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1680] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -443,5 +443,7 @@ const vec4 probeTableCoeffs[840] = vec4[](
     vec4(-0.0101833697f, 0.0184378643f, 0.0429753959f, 0.0117241163f), vec4(0.0273593161f, 0.0652739406f, -0.0296130199f, 0.0962701067f),
     vec4(0.0163034592f, 0.00392990001f, -0.0164314043f, 0.0165631566f), vec4(0.0202654209f, -0.044435095f, 0.0417299718f, -0.0591146238f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 8, 8, 8, 8, 8, 8);
 
 #endif

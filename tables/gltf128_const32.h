@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 2 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: gltf128_const32.main, 1: gltf128_const32.fit1, 2: gltf128_const32.fit1, 3: gltf128_const32.fit1, 4: gltf128_const32.fit1, 5: gltf128_const32.fit1, 6: gltf128_const32.fit1; the fits: [gltf128_const32.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [gltf128_const32.fit1: seam weight 1, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 16x3 (taps split 1 texels apart); an --init's exact filter is kept where the fit is not better])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1527.867138662;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 8, 8, 8, 8, 8, 8};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.06153829218093136, 0.12936468066859552, 3, 0, 3, 0.06201423233436528, 0.13310307302492763, 0, 63, 61, 0.8797080271721449},
+    {0.06232740595969328, 0.09503608243331119, 0, 30, 29, 0.06304587004502381, 0.09717192131366727, 0, 29, 2, 0.8980903307149241},
+    {0.06374182783965823, 0.08299828068698009, 5, 3, 13, 0.06529060979405912, 0.08518113501308025, 1, 5, 13, 0.8418081681713173},
+    {0.06799373459709145, 0.08463529808768609, 5, 1, 6, 0.06799373459709145, 0.08463529808768609, 5, 1, 6, 0.7365734511178077},
+    {0.06832550758611519, 0.08639548818552406, 5, 0, 0, 0.06832550758611519, 0.08639548818552406, 5, 0, 0, 0.9390550822941272},
+    {0.05922399198024604, 0.06459095790125165, 4, 1, 0, 0.05922399198024604, 0.06459095790125165, 4, 1, 0, 0.9262211706872648},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3360] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -76,5 +76,7 @@ const vec4 probeTableCoeffs[105] = vec4[](
     vec4(0.095590733f, 0.154284522f, 0.0955255181f, 0.154489264f), vec4(0.0956237912f, 0.154528871f, 0.0956966951f, 0.154357478f),
     vec4(0.0955004543f, 0.154487759f, 0.0955810174f, 0.154333889f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 1, 1, 1, 1, 1, 1);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 4 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: gltf128_const4.main, 1: gltf128_const4.fit1, 2: gltf128_const4.fit2, 3: gltf128_const4.fit3, 4: gltf128_const4.fit2, 5: gltf128_const4.fit1, 6: gltf128_const4.main; the fits: [gltf128_const4.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [gltf128_const4.fit1: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [gltf128_const4.fit2: seam weight 4, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 4 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [gltf128_const4.fit3: seam weight 5, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 5 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 2633.63580579;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 1, 1, 1, 1, 1, 1};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.1409731554027413, 0.24637343316854798, 3, 1, 22, 0.14180001548764345, 0.2648637213666269, 3, 1, 32, 0.9145498402818769},
+    {0.15315906783675, 0.2362886964283534, 5, 23, 4, 0.1533917566152862, 0.24663034065755374, 1, 23, 4, 0.911776445161024},
+    {0.1578303191312333, 0.1965710405388536, 5, 11, 4, 0.15709383788229475, 0.20579618331964175, 2, 4, 12, 0.9333447516777703},
+    {0.18144324258631717, 0.2454479835006155, 1, 2, 5, 0.18144324258631717, 0.2454479835006155, 1, 2, 5, 0.7807719656225939},
+    {0.16018037084400744, 0.20940933448363752, 4, 0, 3, 0.16018037084400744, 0.20940933448363752, 4, 0, 3, 0.9512473211354787},
+    {0.168115846596853, 0.16818655060829305, 2, 0, 0, 0.168115846596853, 0.16818655060829305, 2, 0, 0, 0.9997931660073431},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[420] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -128,5 +128,7 @@ const vec4 probeTableCoeffs[210] = vec4[](
     vec4(0.0512238108f, 0.0281082895f, 0.0512173772f, 0.0281201322f), vec4(0.123127609f, 0.0627669767f, 0.122860119f, 0.0631179959f),
     vec4(0.05123806f, 0.0281313621f, 0.0512218997f, 0.0280578118f), vec4(0.063049309f, 0.123167187f, 0.0625491813f, 0.122873053f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 2, 2, 2, 2, 2, 2);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 2 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: gltf128_quad16.main, 1: gltf128_quad16.main, 2: gltf128_quad16.main, 3: gltf128_quad16.main, 4: gltf128_quad16.main, 5: gltf128_quad16.fit1, 6: gltf128_quad16.main; the fits: [gltf128_quad16.main: seam weight 2, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 8x3 (taps split 1 texels apart), --init table const 16x3; an --init's exact filter is kept where the fit is not better] [gltf128_quad16.fit1: seam weight 2, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 8x3 (taps split 1 texels apart), --init table const 16x3; an --init's exact filter is kept where the fit is not better])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1523.061885323;
+inline constexpr double kSeamWeight = 2;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 4, 4, 4, 4, 4, 4};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.049519249048232294, 0.1365718544265976, 0, 0, 63, 0.050685809659237274, 0.13947119183355086, 3, 63, 1, 0.8715792982038331},
+    {0.05926465383511285, 0.1043046995207949, 3, 0, 31, 0.060477489115430605, 0.10601672338187164, 3, 1, 30, 0.8536300856918735},
+    {0.0625850498966992, 0.08743162113080577, 0, 10, 3, 0.06473740137352522, 0.08883538126963957, 0, 12, 3, 0.7486217652823195},
+    {0.06984522675997137, 0.0908960556860391, 5, 1, 6, 0.06984522675997137, 0.0908960556860391, 5, 1, 6, 0.5848240864169814},
+    {0.07464730520301399, 0.09742332198830614, 2, 3, 3, 0.07464730520301399, 0.09742332198830614, 2, 3, 3, 0.7861832000544982},
+    {0.06936042347081615, 0.07844788105166817, 5, 0, 0, 0.06936042347081615, 0.07844788105166817, 5, 0, 0, 0.9252351099290909},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5040] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 16x3 (taps split 1 texels apart), --init table const 32x3; an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 737.29995517;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 8, 8, 8, 8, 8, 8};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.047773743847408005, 0.15975533475096398, 2, 63, 0, 0.048804122896562455, 0.15975533475096398, 2, 63, 0, 0.8937059651701816},
+    {0.05326494641814409, 0.10002635246419271, 4, 30, 31, 0.054272637819507294, 0.10002635246419271, 4, 30, 31, 0.8359636256333929},
+    {0.05878471099695557, 0.08360339867055963, 0, 10, 4, 0.06101733106654499, 0.08625990838777042, 2, 4, 3, 0.580140845161483},
+    {0.06677876614345384, 0.09142415328050911, 1, 5, 2, 0.06677876614345384, 0.09142415328050911, 1, 5, 2, 0.3887719121833495},
+    {0.05652864945683778, 0.06568856367530837, 4, 2, 2, 0.05652864945683778, 0.06568856367530837, 4, 2, 2, 0.7900984737653786},
+    {0.05784176053764194, 0.06304761875590069, 4, 1, 1, 0.05784176053764194, 0.06304761875590069, 4, 1, 1, 0.929560714877552},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[10080] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -181,5 +181,7 @@ const vec4 probeTableCoeffs[315] = vec4[](
     vec4(-0.0107421549f, -0.0575333349f, -0.0407270193f, -0.0305262115f), vec4(-0.0152527792f, -0.0780671388f, -0.0220337696f, -0.113567419f),
     vec4(-0.0341417082f, -0.0305533148f, -0.0374549143f, -0.0320726447f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 1, 1, 1, 1, 1, 1);
 
 #endif

@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(probefit select: per level, the lowest impulse L1 among 2 fits whose seams stay within the bound of seam_measure.h (level: fit) 0: gltf128_quad4.main, 1: gltf128_quad4.fit1, 2: gltf128_quad4.fit1, 3: gltf128_quad4.fit1, 4: gltf128_quad4.main, 5: gltf128_quad4.main, 6: gltf128_quad4.main; the fits: [gltf128_quad4.main: seam weight 0, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [gltf128_quad4.fit1: seam weight 2, Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table const 4x3; an --init's exact filter is kept where the fit is not better])probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1816.5613073609998;
+inline constexpr double kSeamWeight = 0;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 1, 1, 1, 1, 1, 1};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.12549696007222538, 0.2406128769532628, 0, 63, 63, 0.12748209117065493, 0.2515336564660095, 0, 62, 62, 0.847499911840391},
+    {0.11892600581320746, 0.20785744822575458, 5, 0, 0, 0.12059561660280461, 0.20785744822575458, 5, 0, 0, 0.9008226939518728},
+    {0.1351838468923298, 0.19432556502480994, 0, 10, 3, 0.13783884708000482, 0.19432556502480994, 0, 10, 3, 0.9498294652216939},
+    {0.12850879424138179, 0.17553911497517274, 3, 5, 4, 0.12850879424138179, 0.17553911497517274, 3, 5, 4, 0.8156142607881662},
+    {0.11974126270518023, 0.1551070992054617, 4, 0, 3, 0.11974126270518023, 0.1551070992054617, 4, 0, 3, 0.9278072079792323},
+    {0.16309865931151576, 0.16837590790063298, 4, 1, 0, 0.16309865931151576, 0.16837590790063298, 4, 1, 0, 0.9385263580083443},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1260] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

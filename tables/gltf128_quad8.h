@@ -23,6 +23,23 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 4x3 (taps split 1 texels apart), --init table const 8x3; an --init's exact filter is kept where the fit is not better)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 437.467444387;
+inline constexpr double kSeamWeight = 2;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[7] = {0, 2, 2, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[7][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.0710836184767775, 0.18801232458874328, 1, 0, 63, 0.07204750052870931, 0.18801232458874328, 1, 0, 63, 0.9072893060338647},
+    {0.08112109776634116, 0.1351318043061104, 4, 31, 31, 0.08194624959540965, 0.13710698886132555, 4, 5, 27, 0.8654695444158318},
+    {0.09054385163411859, 0.134788597027436, 2, 11, 4, 0.09245583057606621, 0.1478214734307955, 3, 11, 11, 0.8159395241016186},
+    {0.10487194123666767, 0.13123270378441207, 2, 5, 2, 0.10487194123666767, 0.13123270378441207, 2, 5, 2, 0.8728230863210624},
+    {0.09837302861293641, 0.11941364894899138, 2, 1, 1, 0.09837302861293641, 0.11941364894899138, 2, 1, 1, 0.8097787840274999},
+    {0.10151983233221645, 0.11987881257232832, 3, 1, 1, 0.10151983233221645, 0.11987881257232832, 3, 1, 1, 0.9694576970743753},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2520] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

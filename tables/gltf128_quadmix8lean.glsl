@@ -1283,5 +1283,7 @@ const vec4 probeTableCoeffs[2520] = vec4[](
     vec4(-0.00226224214f, -0.00127582252f, -0.00685957959f, -0.0166147687f), vec4(-0.0405068621f, -0.010711899f, -0.00207373896f, -0.0035841472f),
     vec4(-0.0584156141f, -0.00681135012f, -0.00571201788f, -0.00440607453f), vec4(-0.0123999286f, -0.0210427735f, -0.00627609296f, -0.00934441667f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[7] = int[](0, 2, 2, 4, 4, 8, 8);
 
 #endif

@@ -200,5 +200,7 @@ const vec4 probeTableCoeffs[360] = vec4[](
     vec4(0.0438595824f, -0.0331167467f, 0.00651684217f, 0.00343465037f), vec4(0.0260738842f, -0.00966611318f, -0.00811495725f, 0.0249914993f),
     vec4(-0.00949265342f, -0.000121233919f, 0.00282180542f, 0.00285717216f), vec4(0.0115037262f, -0.00616925489f, 0.00828706007f, 0.0277528968f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[4] = int[](0, 2, 2, 2);
 
 #endif

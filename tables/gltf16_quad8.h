@@ -20,6 +20,20 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 7.335161469;
+inline constexpr double kSeamWeight = 1;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[4] = {0, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[4][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.10592461523346453, 0.19038745044530386, 4, 0, 0, 0.10592461523346453, 0.19038745044530386, 4, 0, 0, 0.9079545147944218},
+    {0.1041793916898004, 0.13130862165880222, 2, 1, 2, 0.1041793916898004, 0.13130862165880222, 2, 1, 2, 0.8542608607715849},
+    {0.10985759848732704, 0.1326737995467689, 2, 1, 0, 0.10985759848732704, 0.1326737995467689, 2, 1, 0, 0.90531527683093},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1440] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -384,5 +384,7 @@ const vec4 probeTableCoeffs[720] = vec4[](
     vec4(0.084403567f, -0.0488951951f, 0.053140875f, 0.000915772573f), vec4(-0.0151551841f, 0.0459585898f, -0.0434780978f, -0.0395184644f),
     vec4(0.0747015253f, -0.00638997555f, 0.0315800197f, -0.0494957715f), vec4(-0.0519932657f, -0.0472391769f, -0.0546703823f, 0.05051459f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[8] = int[](0, 2, 2, 2, 2, 2, 2, 2);
 
 #endif

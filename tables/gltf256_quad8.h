@@ -24,6 +24,24 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 1528.826088306;
+inline constexpr double kSeamWeight = 1;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[8] = {0, 2, 2, 2, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[8][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.10858455960190933, 0.18508474685128765, 5, 127, 8, 0.11028548800713295, 0.21500544409843098, 4, 126, 3, 0.9241767484829304},
+    {0.08458371738671819, 0.138424681452082, 2, 0, 0, 0.08630705130899342, 0.14343153692834187, 0, 61, 2, 0.7678942713169925},
+    {0.09771585765559578, 0.14473924469529448, 5, 26, 6, 0.09898800699057209, 0.1581442114300716, 0, 27, 6, 0.6245712495837322},
+    {0.11392802428215662, 0.19625245643693284, 0, 10, 3, 0.11902114011117622, 0.19625245643693284, 0, 10, 3, 0.5907555952682148},
+    {0.11903170665297366, 0.17102382641707584, 3, 6, 5, 0.11903170665297366, 0.17102382641707584, 3, 6, 5, 0.6270070922112148},
+    {0.10782797344877272, 0.13720674965360669, 3, 2, 2, 0.10782797344877272, 0.13720674965360669, 3, 2, 2, 0.7109428150164537},
+    {0.1083028560821444, 0.12033325690987588, 2, 0, 0, 0.1083028560821444, 0.12033325690987588, 2, 0, 0, 0.8907126212559957},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2880] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

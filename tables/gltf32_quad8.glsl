@@ -246,5 +246,7 @@ const vec4 probeTableCoeffs[450] = vec4[](
     vec4(0.0901139379f, 0.0368500017f, 0.0738213062f, -0.111687787f), vec4(-0.126188055f, -0.130374283f, -0.0371492729f, 0.00824170653f),
     vec4(-0.00475666998f, -0.0340786912f, -0.0191941205f, -0.0772075877f), vec4(-0.0383698493f, 0.0121400068f, -0.0545896068f, -0.0109163802f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[5] = int[](0, 2, 2, 2, 2);
 
 #endif

@@ -21,6 +21,21 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 60 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 14.437519422;
+inline constexpr double kSeamWeight = 1;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[5] = {0, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[5][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.0848599122775455, 0.2139572033793715, 1, 0, 0, 0.08584548274267087, 0.2139572033793715, 1, 0, 0, 0.9237148407812806},
+    {0.11318455900686311, 0.17562875499558114, 1, 0, 7, 0.11318455900686311, 0.17562875499558114, 1, 0, 7, 0.6709370717010081},
+    {0.09773422168328162, 0.1233022678339099, 1, 1, 1, 0.09773422168328162, 0.1233022678339099, 1, 1, 1, 0.6173868877683886},
+    {0.1303054489122625, 0.14499121268154536, 5, 1, 0, 0.1303054489122625, 0.14499121268154536, 5, 1, 0, 0.8071776055523957},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1800] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

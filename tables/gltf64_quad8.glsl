@@ -292,5 +292,7 @@ const vec4 probeTableCoeffs[540] = vec4[](
     vec4(0.105647638f, 0.411262721f, 0.375869423f, 0.123393662f), vec4(0.111664109f, 0.0227763206f, 0.0946049467f, 0.0280158091f),
     vec4(0.411550164f, 0.106627285f, 0.106332958f, 0.415332735f), vec4(0.0495170169f, 0.11335595f, 0.0468326882f, 0.113353983f)
 );
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+const int probeTableTapGroups[6] = int[](0, 2, 2, 2, 2, 2);
 
 #endif

@@ -22,6 +22,22 @@ inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
+inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 1 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level)probetable";
+inline constexpr int kStratifiedBudget = 512;
+inline constexpr double kFitSeconds = 356.745025217;
+inline constexpr double kSeamWeight = 1;
+// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
+inline constexpr int kTapGroups[6] = {0, 2, 2, 2, 2, 2};
+// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst
+// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.
+inline constexpr double kLevelFits[6][11] = {
+    {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+    {0.07080744071324513, 0.15168005197070006, 4, 1, 0, 0.07155292993789503, 0.15178848352925609, 5, 1, 0, 0.8957775485583344},
+    {0.0838198902863949, 0.1433675448074, 0, 0, 15, 0.08531104061716747, 0.1433675448074, 0, 0, 15, 0.47990717736305444},
+    {0.10101936098271054, 0.14763887978057869, 0, 2, 2, 0.10101936098271054, 0.14763887978057869, 0, 2, 2, 0.883850290647225},
+    {0.09399720199724032, 0.12163847466005831, 0, 2, 2, 0.09399720199724032, 0.12163847466005831, 0, 2, 2, 0.14913409518485557},
+    {0.09804953805939697, 0.10392350652976633, 5, 0, 1, 0.09804953805939697, 0.10392350652976633, 5, 0, 1, 0.978248591704052},
+};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2160] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

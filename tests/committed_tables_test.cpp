@@ -3,6 +3,7 @@
 // with those taps), and the generated header and GLSL
 // include are exactly what the table file generates (so they carry the same sizes, levels, mapping,
 // pyramid and coefficients). The headers also compile: committed_table_headers.cpp includes them all.
+// The tables compiled into the runtime from those headers equal their table files.
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "probe/runtime.h"
 #include "probe/table_io.h"
 #include "table_outputs.h"
 
@@ -53,6 +55,35 @@ TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
         EXPECT_EQ(readFile(prefix.string() + ".glsl"), tableGlslInclude(table, name));
     }
     EXPECT_GT(count, 0);
+}
+
+TEST(CompiledTables, EqualTheirTableFiles) {
+    const std::vector<gpu::CompiledTable>& compiled = gpu::compiledTables();
+    ASSERT_FALSE(compiled.empty());
+    for (const gpu::CompiledTable& c : compiled) {
+        SCOPED_TRACE(c.name);
+        const TapTable file = readTable(std::filesystem::path(PROBE_TABLES_DIR) / (c.name + ".json"));
+        const TapTable& t = c.table;
+        EXPECT_EQ(
+            std::tie(t.baseSize, t.levelCount, t.taps, t.form, t.mapping, t.pyramid, t.solver, t.stratifiedBudget),
+            std::tie(file.baseSize, file.levelCount, file.taps, file.form, file.mapping, file.pyramid, file.solver, file.stratifiedBudget));
+        EXPECT_EQ(t.fitSeconds, file.fitSeconds);
+        EXPECT_EQ(t.seamWeight, file.seamWeight);
+        for (int m = 0; m < file.levelCount; ++m) {
+            const TableLevel &a = t.levels[m], &b = file.levels[m];
+            EXPECT_EQ(
+                std::tie(a.stratified.mean, a.stratified.max, a.stratified.worst, a.all.mean, a.all.max, a.all.worst, a.minWeightSum),
+                std::tie(b.stratified.mean, b.stratified.max, b.stratified.worst, b.all.mean, b.all.max, b.all.worst, b.minWeightSum));
+            ASSERT_EQ(a.coefficients.size(), b.coefficients.size());
+            // The headers hold floats, what the GPU reads.
+            for (std::size_t k = 0; k < b.coefficients.size(); ++k)
+                ASSERT_EQ(a.coefficients[k], static_cast<double>(static_cast<float>(b.coefficients[k])))
+                    << "level " << m << " [" << k << "]";
+        }
+    }
+    // --method table finds a compiled-in table at the common sizes of the glTF mapping.
+    for (int size : {16, 32, 64, 128, 256})
+        EXPECT_NE(gpu::findCompiledTable(size, defaultLevelCount(size), RoughnessMapping::gltf, {}), nullptr) << size;
 }
 
 } // namespace

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "probe/error.h"
@@ -104,6 +105,12 @@ std::vector<float> publishedLayout(const TapTable& table) {
     return all;
 }
 
+std::vector<int> tapGroups(const TapTable& table) {
+    std::vector<int> groups;
+    for (int m = 0; m < table.levelCount; ++m) groups.push_back((tapsInUse(table, m) + 3) / 4);
+    return groups;
+}
+
 std::string commentBlock(const TapTable& table) {
     std::string out;
     for (const std::string& line : tableSummary(table)) out += "// " + line + "\n";
@@ -199,6 +206,20 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
     return out;
 }
 
+void setPublishedLayout(TapTable& table, std::span<const double> values) {
+    const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
+    if (values.size() != perLevel * table.levels.size())
+        throw ProbeError(
+            fmt::format("{} coefficients in the published layout, expected {}", values.size(), perLevel * table.levels.size()));
+    const int k = coefficientCount(table.form);
+    std::size_t n = 0;
+    for (TableLevel& level : table.levels)
+        for (int p = 0; p < kTapParameterCount; ++p)
+            for (int coefficient = 0; coefficient < k; ++coefficient)
+                for (int frame = 0; frame < kFrameCount; ++frame)
+                    for (int tap = 0; tap < table.taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = values[n++];
+}
+
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
                               RoughnessMapping mapping, PyramidSettings pyramid) {
     TapTable table = emptyTable(baseSize, levelCount, taps, form, mapping, pyramid);
@@ -222,13 +243,7 @@ TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, i
     if (numbers.size() != perLevel * levelCount)
         throw ProbeError(fmt::format("{}: {} numbers, expected {} ({} levels x {} taps x 3 frames x 5 x {})", path.string(), numbers.size(),
                                      perLevel * levelCount, levelCount, taps, coefficientCount(form)));
-    const int k = coefficientCount(form);
-    std::size_t n = 0;
-    for (TableLevel& level : table.levels)
-        for (int p = 0; p < kTapParameterCount; ++p)
-            for (int coefficient = 0; coefficient < k; ++coefficient)
-                for (int frame = 0; frame < kFrameCount; ++frame)
-                    for (int tap = 0; tap < taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = numbers[n++];
+    setPublishedLayout(table, numbers);
     table.solver = fmt::format("imported from {}", path.filename().string());
     return table;
 }
@@ -282,6 +297,22 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
     out += fmt::format("inline constexpr const char* kMapping = \"{}\";\n", roughnessMappingName(table.mapping));
     out += fmt::format("inline constexpr const char* kPyramidKind = \"{}\";\n", pyramidKindName(table.pyramid.kind));
     out += fmt::format("inline constexpr const char* kPyramidWeighting = \"{}\";\n", pyramidWeightingName(table.pyramid.weighting));
+    out += fmt::format("inline constexpr const char* kSolver = R\"probetable({})probetable\";\n", table.solver);
+    out += fmt::format("inline constexpr int kStratifiedBudget = {};\n", table.stratifiedBudget);
+    out += fmt::format("inline constexpr double kFitSeconds = {};\n", table.fitSeconds);
+    out += fmt::format("inline constexpr double kSeamWeight = {};\n", table.seamWeight);
+    out += "// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).\n";
+    out += fmt::format("inline constexpr int kTapGroups[{}] = {{{}}};\n", table.levelCount, fmt::join(tapGroups(table), ", "));
+    out += "// Per level, what the fit achieved: the impulse-response L1 over the stratified texels (mean, max, worst\n"
+           "// texel face, i, j), the same over all texels (mean < 0: not measured), and the smallest weight sum.\n";
+    out += fmt::format("inline constexpr double kLevelFits[{}][{}] = {{\n", table.levelCount, kLevelFitColumns);
+    for (const TableLevel& level : table.levels) {
+        const auto error = [](const ImpulseError& e) {
+            return fmt::format("{}, {}, {}, {}, {}", e.mean, e.max, e.worst.face, e.worst.i, e.worst.j);
+        };
+        out += fmt::format("    {{{}, {}, {}}},\n", error(level.stratified), error(level.all), level.minWeightSum);
+    }
+    out += "};\n";
     out += "// Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].\n";
     out += fmt::format("inline constexpr float kCoefficients[{}] = {{{}\n}};\n", values.size(), floatList(values, 2, "", ""));
     out += "\n} // namespace probe_tables::" + std::string(name) + "\n";
@@ -303,6 +334,8 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
            "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
            "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";
     out += fmt::format("const vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
+    out += "// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).\n";
+    out += fmt::format("const int probeTableTapGroups[{}] = int[]({});\n", table.levelCount, fmt::join(tapGroups(table), ", "));
     out += "\n#endif\n";
     return out;
 }

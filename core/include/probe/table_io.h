@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,10 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level);
 // A plain-text file of numbers (separated by white space or commas) holding every level in the
 // published layout, level 0 first. The file does not say its shape, so the caller does; the count
 // must match exactly. Errors are left unmeasured.
+// Sets every level's coefficients from the published layout, level after level (ProbeError unless the
+// count matches the table's shape).
+void setPublishedLayout(TapTable& table, std::span<const double> values);
+
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
                               RoughnessMapping mapping, PyramidSettings pyramid);
 void writePublishedTable(const std::filesystem::path& path, const TapTable& table);
@@ -32,9 +37,12 @@ void writePublishedTable(const std::filesystem::path& path, const TapTable& tabl
 // The inputs, solver settings, run time and per-level errors, one per line, for generated comments and logs.
 std::vector<std::string> tableSummary(const TapTable& table);
 
-// Generated sources: a C++ header (constants in namespace probe_tables::<name>) and a GLSL include
-// (PROBE_TABLE_* defines and `const vec4 probeTableCoeffs[]`), both in the published layout, level
-// after level, opening with tableSummary as a comment. `name` must be a C identifier.
+// Generated sources: a C++ header (constants in namespace probe_tables::<name>: the table's shape,
+// solver and fit, kTapGroups and kCoefficients; the runtime compiles tables in from these) and a GLSL
+// include (PROBE_TABLE_* defines, `const vec4 probeTableCoeffs[]` and `const int
+// probeTableTapGroups[]`), both in the published layout, level after level, opening with
+// tableSummary as a comment. `name` must be a C identifier.
+inline constexpr int kLevelFitColumns = 11; // the columns of the header's kLevelFits
 std::string tableCppHeader(const TapTable& table, std::string_view name);
 std::string tableGlslInclude(const TapTable& table, std::string_view name);
 
