@@ -7,6 +7,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "images.glsl"
+#include "sampling.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;

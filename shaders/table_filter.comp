@@ -12,8 +12,8 @@
 #ifndef PROBE_HARDWARE_SAMPLING
 #extension GL_KHR_shader_subgroup_vote : require
 #endif
-#include "frame.glsl"
 #include "images.glsl"
+#include "sampling.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;
@@ -31,21 +31,19 @@ layout(push_constant) uniform Params {
     uint usageFirst; // index of level 0's tap group count in `table`
 } params;
 
-// P for four taps: c0 + c1 theta^2 + c2 phi^2 (or c0).
-vec4 polynomial(uint levelFirst, int parameter, uint group, FrameSetup f) {
-    uint groups = uint(3 * params.taps / 4);
-    uint first = levelFirst + uint(parameter * kCoefficientCount) * groups + group;
-    if (kCoefficientCount == 1) return tableEntry(first);
-    return tableEntry(first) + tableEntry(first + groups) * f.theta2 + tableEntry(first + 2u * groups) * f.phi2;
-}
+uint levelFirst; // the level's first vec4 in `table`
 
-vec3 samplePyramid(vec3 direction, float level) {
+#define PROBE_TAPS params.taps
+#define PROBE_COEFFICIENTS kCoefficientCount
+vec4 probeTableEntry(uint index) { return tableEntry(levelFirst + index); }
+vec3 probeSamplePyramid(vec3 direction, float level) {
 #ifdef PROBE_HARDWARE_SAMPLING
     return textureLod(pyramidCube, direction, level).rgb;
 #else
     return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
 #endif
 }
+#include "table_taps.glsl"
 
 // The texel (its index within the level) that invocation k computes, in a level of face size
 // `size`. Per face, the interior comes first and the ring where the face's own frame counts
@@ -75,28 +73,6 @@ uint texelOfInvocation(uint k, int size) {
     return (face * s + j) * s + i;
 }
 
-// Adds the taps of frame `axis` (tested at the bottom: the host makes at least one tap group a
-// level). Where the frame does not count, its taps weigh 0 at a direction that can be read.
-void addFrame(vec3 d, int axis, uint levelFirst, int groupsInUse, inout vec3 sum, inout float weightSum) {
-    FrameSetup f = frameSetup(d, axis);
-    bool counts = f.weight > 0.0;
-    int g = 0;
-    do {
-        uint group = uint(axis * params.taps / 4 + g);
-        vec4 px = polynomial(levelFirst, 0, group, f);
-        vec4 py = polynomial(levelFirst, 1, group, f);
-        vec4 pz = polynomial(levelFirst, 2, group, f);
-        vec4 pl = polynomial(levelFirst, 3, group, f);
-        vec4 pw = polynomial(levelFirst, 4, group, f);
-        [[unroll]] for (int lane = 0; lane < 4; ++lane) {
-            TapSample s = evaluateTap(f, px[lane], py[lane], pz[lane], pl[lane], pw[lane]);
-            float weight = counts ? s.weight : 0.0;
-            sum += weight * samplePyramid(counts ? s.direction : d, counts ? s.level : 0.0);
-            weightSum += weight;
-        }
-    } while (++g < groupsInUse);
-}
-
 void main() {
     uint invocation = invocationIndex();
     if (invocation >= params.endTexel - params.firstTexel) return;
@@ -106,7 +82,7 @@ void main() {
     // division to find the texel.
     vec3 R = geometry[params.firstTexel + texel].xyz, a = abs(R);
     vec3 d = R / max(max(a.x, a.y), a.z);
-    uint levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
+    levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
     int groupsInUse = int(tableEntry(params.usageFirst + uint(params.level)).x);
     // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is d's
     // major one); the frame about the face's own axis only near its edges, so it comes last.
@@ -114,9 +90,9 @@ void main() {
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
 #ifdef PROBE_HARDWARE_SAMPLING
-    addFrame(d, (major + 1) % 3, levelFirst, groupsInUse, sum, weightSum);
-    addFrame(d, (major + 2) % 3, levelFirst, groupsInUse, sum, weightSum);
-    if (frameWeight(d, major) > 0.0) addFrame(d, major, levelFirst, groupsInUse, sum, weightSum);
+    addTableFrame(d, (major + 1) % 3, groupsInUse, sum, weightSum);
+    addTableFrame(d, (major + 2) % 3, groupsInUse, sum, weightSum);
+    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, sum, weightSum);
 #else
     // Exact sampling is the mode for Mesa's lavapipe, a SIMD back end that runs a branch's body even
     // where no invocation takes it and a loop until every invocation has left it: the third frame is
@@ -126,7 +102,7 @@ void main() {
     int frames = subgroupAny(frameWeight(d, major) > 0.0) ? 3 : 2;
     int k = 0;
     do {
-        addFrame(d, (major + 1 + k) % 3, levelFirst, groupsInUse, sum, weightSum);
+        addTableFrame(d, (major + 1 + k) % 3, groupsInUse, sum, weightSum);
     } while (++k < frames);
 #endif
     storeOutput(texelCoordinates(texel, size), finishTapSum(sum, weightSum));

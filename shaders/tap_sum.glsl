@@ -4,8 +4,6 @@
 #ifndef PROBE_TAP_SUM_GLSL
 #define PROBE_TAP_SUM_GLSL
 
-#include "sampling.glsl"
-
 vec3 finishTapSum(vec3 sum, float weightSum) {
     return weightSum == 0.0 ? vec3(0.0) : max(sum / weightSum, vec3(0.0));
 }

@@ -64,6 +64,8 @@ refused "make one with \`probefit --size 16 --levels 3" --method table --size 16
 refused "needs --table-taps" --method table --table "$fixtures/table_16_quad4_gltf.txt" --size 16
 refused "no Vulkan device of that name" --method fis --device no-such-device --size 16
 refused "--samples 0" --method fis --samples 0 --size 16
+refused "--format rgb8" --method fis --format rgb8 --size 16
+refused "--sampling fast" --method fis --sampling fast --size 16
 refused "one count, or one per output level (4)" --method fis --samples 8 16 --size 16
 
 # FIS with a count per level: the report lists them.

@@ -1,0 +1,87 @@
+// Pass 2 of probefilter's table method as a drop-in compute shader for an engine's own pipeline:
+// one output level of a GGX-filtered cube map from a tap table (Manson & Sloan), each tap one
+// trilinear textureLod of the pyramid through a seamless sampler. It needs no library and no
+// buffers: the table is a generated include (tables/<name>.glsl) compiled into the shader.
+//
+//   #version 450
+//   #extension GL_GOOGLE_include_directive : require
+//   #define PROBE_OUTPUT_FORMAT rgba16f       // optional: the output image's format (default rgba16f)
+//   #include "gltf128_quad8.glsl"             // the table (include path: the tables folder)
+//   #include "engine/probe_table_filter.glsl" // this file (include path: the shaders folder)
+//
+// Set 0 (PROBE_SET to change it):
+//   binding 0 (PROBE_PYRAMID_BINDING)  samplerCube: the pyramid, a cube with the full mip chain of
+//     face size PROBE_TABLE_BASE_SIZE, mip k made from mip k - 1 by the pyramid pass the table was
+//     fitted for (the table's comment names it; probefilter's is the B-spline pass of
+//     docs/design.md). Sampler: linear min/mag filter, linear mipmap mode, clamp to edge, no LOD
+//     bias, maxLod at least the last mip; seamless cube filtering, which Vulkan always does.
+//     Layout SHADER_READ_ONLY_OPTIMAL.
+//   binding 1 (PROBE_OUTPUT_BINDING)   image2DArray, writeonly: the output level's mip, its six faces
+//     as layers (a 2D-array view of one mip of the output cube), layout GENERAL.
+// Push constant: int level, the output level (1 .. PROBE_TABLE_LEVEL_COUNT - 1). Level 0 is a copy
+// of the source (alpha 0): copy mip 0 instead of dispatching.
+// Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level.
+// Outputs are clamped to >= 0 and to the largest finite value of the format.
+#ifndef PROBE_ENGINE_TABLE_FILTER_GLSL
+#define PROBE_ENGINE_TABLE_FILTER_GLSL
+
+#extension GL_EXT_control_flow_attributes : require
+
+#ifndef PROBE_TABLE_BASE_SIZE
+#error "include a generated table (tables/<name>.glsl) before engine/probe_table_filter.glsl"
+#endif
+#ifndef PROBE_SET
+#define PROBE_SET 0
+#endif
+#ifndef PROBE_PYRAMID_BINDING
+#define PROBE_PYRAMID_BINDING 0
+#endif
+#ifndef PROBE_OUTPUT_BINDING
+#define PROBE_OUTPUT_BINDING 1
+#endif
+#ifndef PROBE_OUTPUT_FORMAT
+#define PROBE_OUTPUT_FORMAT rgba16f
+#endif
+
+#include "cube.glsl"
+#include "tap_sum.glsl"
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+layout(set = PROBE_SET, binding = PROBE_PYRAMID_BINDING) uniform samplerCube probePyramid;
+layout(set = PROBE_SET, binding = PROBE_OUTPUT_BINDING, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray probeOutput;
+
+layout(push_constant) uniform ProbeTableParams {
+    int level;
+} probeParams;
+
+#define PROBE_TAPS PROBE_TABLE_TAPS
+#define PROBE_COEFFICIENTS PROBE_TABLE_COEFFICIENT_COUNT
+vec4 probeTableEntry(uint index) {
+    return probeTableCoeffs[uint(probeParams.level) * uint(5 * PROBE_COEFFICIENTS * 3 * PROBE_TAPS / 4) + index];
+}
+vec3 probeSamplePyramid(vec3 direction, float level) { return textureLod(probePyramid, direction, level).rgb; }
+#include "table_taps.glsl"
+
+void main() {
+    int size = PROBE_TABLE_BASE_SIZE >> probeParams.level;
+    ivec3 t = ivec3(gl_GlobalInvocationID);
+    if (t.x >= size || t.y >= size) return;
+    vec3 d = faceUvToCubePoint(t.z, texelCentreUv(t.x, size), texelCentreUv(t.y, size));
+    int groupsInUse = max(probeTableTapGroups[probeParams.level], 1);
+    vec3 a = abs(d);
+    int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    vec3 sum = vec3(0.0);
+    float weightSum = 0.0;
+    addTableFrame(d, (major + 1) % 3, groupsInUse, sum, weightSum);
+    addTableFrame(d, (major + 2) % 3, groupsInUse, sum, weightSum);
+    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, sum, weightSum);
+    // 65504: the largest finite half, so that an rgba16f output holds no Inf; define PROBE_OUTPUT_MAX
+    // for a wider format.
+#ifndef PROBE_OUTPUT_MAX
+#define PROBE_OUTPUT_MAX vec3(65504.0)
+#endif
+    imageStore(probeOutput, t, vec4(min(finishTapSum(sum, weightSum), PROBE_OUTPUT_MAX), 1.0));
+}
+
+#endif

@@ -1,0 +1,132 @@
+// The output and pyramid formats: RGBA16F and B10G11R11 outputs hold the RGBA32F result rounded to
+// their precision in both sampling modes, values beyond a format's range are clamped to its largest
+// finite value, B10G11R11 reaches the same texels through the conversion pass where the device
+// cannot store it, the pyramid falls back to RGBA16F with a warning where RGBA32F cannot be filtered
+// and stored, and formats the device or the filter cannot use are refused by name.
+#include "gpu_test_support.h"
+
+#include <fmt/format.h>
+
+#include "device.h"
+#include "probe/error.h"
+#include "probe/synthetic.h"
+
+using namespace probe;
+using probetest::GpuTest;
+
+namespace {
+
+constexpr int kSize = 16;
+
+// The largest relative rounding error of a format's channels: one spacing of its mantissa, since
+// Vulkan lets an image store round to nearest or toward zero (lavapipe truncates): RGBA16F 10 bits;
+// B10G11R11 6 bits (R, G) and 5 (B).
+double relativeRounding(VkFormat format) { return format == VK_FORMAT_R16G16B16A16_SFLOAT ? 0x1p-10 : 0x1p-5; }
+
+CubeLevels runWith(const gpu::Device& device, gpu::FilterSettings s, VkFormat format, const CubeImage& probe) {
+    s.outputFormat = format;
+    gpu::Filter filter(device, s);
+    return filter.run(probe);
+}
+
+void expectRounded(const CubeLevels& out, const CubeLevels& full, VkFormat format, const std::string& what) {
+    ASSERT_EQ(out.size(), full.size());
+    const double tolerance = relativeRounding(format);
+    for (std::size_t m = 0; m < full.size(); ++m)
+        for (std::size_t k = 0; k < full[m].rgb.size(); ++k) {
+            const double expected = full[m].rgb[k];
+            // Values below the smallest normal round to a multiple of it.
+            ASSERT_NEAR(out[m].rgb[k], expected, tolerance * std::abs(expected) + 1e-7) << what << " level " << m << " [" << k << "]";
+        }
+}
+
+gpu::FilterSettings fisSettings(gpu::Sampling sampling) {
+    gpu::FilterSettings s;
+    s.method.kind = MethodKind::fis;
+    s.method.fis.samples = {16};
+    s.faceSize = kSize;
+    s.levelCount = defaultLevelCount(kSize);
+    s.sampling = sampling;
+    return s;
+}
+
+TEST_F(GpuTest, OutputFormatsHoldTheRgba32fResultRounded) {
+    const CubeImage probe = sunSkyProbe(kSize);
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases) {
+        const gpu::FilterSettings s = fisSettings(c.sampling);
+        const CubeLevels full = runWith(probetest::testDevice(), s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
+        for (VkFormat format : {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32})
+            expectRounded(runWith(probetest::testDevice(), s, format, probe), full, format,
+                          fmt::format("{} {}", gpu::samplingName(c.sampling), gpu::formatName(format)));
+    }
+}
+
+TEST_F(GpuTest, OutputBeyondTheFormatsRangeIsItsLargestFiniteValue) {
+    const CubeImage probe = constantProbe(kSize, glm::vec3(1e6f)); // beyond half's 65504
+    const CubeLevels out = runWith(probetest::testDevice(), fisSettings(gpu::Sampling::hardware), VK_FORMAT_R16G16B16A16_SFLOAT, probe);
+    for (const CubeImage& level : out)
+        for (float v : level.rgb) ASSERT_EQ(v, 65504.0f);
+}
+
+// A device that cannot store B10G11R11 (what Device::Impl reports for one) gets the same texels
+// through the conversion pass and a copy.
+TEST_F(GpuTest, B10G11R11ThroughTheConversionPassEqualsTheDirectStore) {
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    const CubeImage probe = sunSkyProbe(kSize);
+    gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    s.outputFormat = VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+    gpu::Filter direct(shared, s);
+    ASSERT_FALSE(direct.outputNeedsTransfer()) << "the test device stores B10G11R11";
+    const CubeLevels expected = direct.run(probe);
+    device.impl().formatFeatures[VK_FORMAT_B10G11R11_UFLOAT_PACK32] &= ~VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    gpu::Filter converted(device, s);
+    EXPECT_TRUE(converted.outputNeedsTransfer());
+    expectRounded(converted.run(probe), runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe), s.outputFormat, "converted");
+    const CubeLevels out = converted.run(probe);
+    double worst = 0.0;
+    for (std::size_t m = 0; m < out.size(); ++m) worst = std::max(worst, probetest::maxRelativeError(out[m], expected[m]));
+    // Both round to the format: they differ at most by its spacing where the rounding modes differ.
+    EXPECT_LE(worst, 2.0 * relativeRounding(s.outputFormat));
+}
+
+TEST_F(GpuTest, PyramidFallsBackToRgba16fWithAWarning) {
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().formatFeatures[VK_FORMAT_R32G32B32A32_SFLOAT] &= ~VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    const gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    gpu::Filter filter(device, s);
+    EXPECT_EQ(filter.pyramidFormat(), VK_FORMAT_R16G16B16A16_SFLOAT);
+    ASSERT_EQ(filter.warnings().size(), 1u);
+    EXPECT_NE(filter.warnings()[0].find("65504"), std::string::npos) << filter.warnings()[0];
+    const CubeImage probe = sunSkyProbe(kSize);
+    const CubeLevels out = filter.run(probe), full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
+    // Every pyramid texel rounded to half: each output blends them, so the relative error stays the
+    // half's, with room for the roundings of the mips that feed each other.
+    for (std::size_t m = 0; m < out.size(); ++m) EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), 4 * 0x1p-10) << "level " << m;
+}
+
+TEST_F(GpuTest, UnusableFormatsAreRefusedByName) {
+    gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    s.outputFormat = VK_FORMAT_R8G8B8A8_UNORM;
+    try {
+        gpu::Filter filter(probetest::testDevice(), s);
+        ADD_FAILURE() << "an RGBA8 output was accepted";
+    } catch (const ParameterError& e) {
+        EXPECT_EQ(e.parameter, "format");
+    }
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().formatFeatures[VK_FORMAT_R16G16B16A16_SFLOAT] &= ~VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    s.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    try {
+        gpu::Filter filter(device, s);
+        ADD_FAILURE() << "an output format the device cannot store was accepted";
+    } catch (const ProbeError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("rgba16f"), std::string::npos) << message;
+        EXPECT_NE(message.find("storage"), std::string::npos) << message;
+    }
+}
+
+} // namespace
