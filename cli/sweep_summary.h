@@ -1,6 +1,6 @@
 // The sweep's numbers: rows per (method, probe, level), and the summary that answers "what does
 // accuracy cost in time": per method the mean errors and the median time, FIS at its best single
-// setting and at the paper's (bias 1, box), and the two ratios of issue 6; the same ratios against
+// setting and at the paper's (bias 1, box), and the ratios at equal time and at equal error; the same ratios against
 // per-level FIS mixes, the fair match for tables whose levels use different tap counts.
 #pragma once
 

@@ -31,5 +31,6 @@ void main() {
     if (index >= 6u * s * s) return;
     ivec3 t = ivec3(int(index % s), int((index / s) % s), int(index / (s * s)));
     vec3 c = texelFetch(convertInput, t, 0).rgb;
-    imageStore(convertOutput, t, uvec4(packUnsignedFloat(c.r, 6u) | (packUnsignedFloat(c.g, 6u) << 11) | (packUnsignedFloat(c.b, 5u) << 22)));
+    uint packed = packUnsignedFloat(c.r, 6u) | (packUnsignedFloat(c.g, 6u) << 11) | (packUnsignedFloat(c.b, 5u) << 22);
+    imageStore(convertOutput, t, uvec4(packed));
 }

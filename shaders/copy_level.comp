@@ -1,5 +1,5 @@
 // Pass 2 at an output level with alpha = 0, for every method: each texel is a copy of the source
-// texel that contains its centre (DESIGN.md: alpha = 0 means a copy), mirroring core's tap_sum.h.
+// texel that contains its centre (docs/design.md: alpha = 0 means a copy), mirroring core's tap_sum.h.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"

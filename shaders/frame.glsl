@@ -1,6 +1,6 @@
 // The per-tap math of Pass 2, mirroring core's probe/frame.h line by line: the three frames of an
 // output texel, their weights, the polynomial domain (theta, phi) and the evaluation of four taps
-// at once from the published table layout (DESIGN.md "Tap tables").
+// at once from the published table layout (docs/design.md "Tap tables").
 #ifndef PROBE_FRAME_GLSL
 #define PROBE_FRAME_GLSL
 

@@ -1,4 +1,4 @@
-// The GGX lobe of DESIGN.md, mirroring core/include/probe/ggx.h: D through
+// The GGX lobe of docs/design.md, mirroring core/include/probe/ggx.h: D through
 // c^2 (alpha^2 - 1) + 1 = |R - l|^2 / 4 + c^2 alpha^2, c^2 = (1 + R.l) / 2 (no cancellation).
 #ifndef PROBE_GGX_GLSL
 #define PROBE_GGX_GLSL

@@ -1,4 +1,4 @@
-// The exact reference of DESIGN.md on the GPU, mirroring core/src/reference.cpp: for each output
+// The exact reference of docs/design.md on the GPU, mirroring core/src/reference.cpp: for each output
 // texel centre R, F(R) = sum_t L(t) K(R, l_t) dOmega_t / sum_t K(R, l_t) dOmega_t over every source
 // texel t, at the levels with alpha > 0 (copy_level.comp does the others).
 // The source is summed in chunks of rows, one dispatch each (reference_pass.cpp): a chunk's rows

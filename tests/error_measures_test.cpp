@@ -1,4 +1,4 @@
-// The error measures of DESIGN.md on cases whose answer is known.
+// The error measures of docs/design.md on cases whose answer is known.
 #include <gtest/gtest.h>
 
 #include "probe/error_measures.h"

@@ -1,6 +1,6 @@
 // Impulse responses measured on the GPU: one run per source texel and channel (an impulse probe)
 // gives every output texel's weights over the source texels, hence the impulse-response L1 of
-// DESIGN.md against the reference lobe, level by level. It must equal what the CPU model says
+// docs/design.md against the reference lobe, level by level. It must equal what the CPU model says
 // (core's table and FIS impulse forms), so that what the optimizer minimizes is what the shader does.
 #include <fmt/format.h>
 

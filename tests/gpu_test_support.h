@@ -16,7 +16,7 @@
 namespace probetest {
 
 // The device of the whole binary, with VK_LAYER_KHRONOS_validation on; PROBE_TEST_DEVICE picks
-// another than the default (lavapipe here).
+// another than the default (lavapipe in CI).
 inline probe::gpu::Device& testDevice() {
     static probe::gpu::Device device([] {
         probe::gpu::DeviceOptions options;

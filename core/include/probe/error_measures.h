@@ -1,4 +1,4 @@
-// The two error measures of DESIGN.md.
+// The two error measures of docs/design.md.
 #pragma once
 
 #include <vector>

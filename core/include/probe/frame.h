@@ -1,4 +1,4 @@
-// The per-tap math of Pass 2, exactly as DESIGN.md "Frames" and "Polynomial domain" say: the three
+// The per-tap math of Pass 2, exactly as docs/design.md "Frames" and "Polynomial domain" say: the three
 // frames of an output texel, their weights, the polynomial domain (theta, phi), and the evaluation
 // of one tap from its table coefficients. The GLSL shader mirrors this file line by line; the
 // constants come from shared_constants.h. Tap evaluation is templated on the scalar type so that

@@ -1,4 +1,4 @@
-// The GGX lobe of DESIGN.md in a form that stays accurate in float32 for tiny alpha.
+// The GGX lobe of docs/design.md in a form that stays accurate in float32 for tiny alpha.
 #pragma once
 
 #include <cmath>

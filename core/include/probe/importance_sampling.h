@@ -13,7 +13,7 @@ namespace probe {
 
 struct ImportanceSamplingSettings {
     int samples = 32;
-    double bias = 0.0; // added to the level; 0 is the accurate setting (DESIGN.md), Filament uses 1
+    double bias = 0.0; // added to the level; 0 is the accurate setting (docs/design.md), Filament uses 1
     PyramidSettings pyramid;
     // Samples per output level, level 0 first; empty: `samples` at every level. Rough levels need
     // many more samples than sharp ones and hold few texels, so a per-level count buys accuracy cheaply.

@@ -1,4 +1,4 @@
-// The impulse-response L1 of DESIGN.md for any method given as taps (a table or FIS): e(R) of its
+// The impulse-response L1 of docs/design.md for any method given as taps (a table or FIS): e(R) of its
 // normalized weights over base texels against the reference kernel, over a set of output texels.
 #pragma once
 

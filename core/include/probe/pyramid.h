@@ -14,7 +14,7 @@
 
 namespace probe {
 
-// bspline: the Jacobian-weighted quadratic B-spline of DESIGN.md (four seamless bilinear taps at
+// bspline: the Jacobian-weighted quadratic B-spline of docs/design.md (four seamless bilinear taps at
 // +-0.75 fine texels, tap i weighing 0.5 J_i / sum(J) + 0.125).
 // box: each coarse texel averages its 2x2 children on the same face, child i weighing J_i / sum(J)
 // with J_i the child's exact solid angle (or its inverse).

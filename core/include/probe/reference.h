@@ -1,4 +1,4 @@
-// The exact reference of DESIGN.md: brute-force texel-centre quadrature over every source texel,
+// The exact reference of docs/design.md: brute-force texel-centre quadrature over every source texel,
 // accumulated in double. Every other method is judged against it.
 #pragma once
 

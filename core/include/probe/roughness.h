@@ -1,4 +1,4 @@
-// Roughness per output mip level: the mappings of DESIGN.md and the level-count rules.
+// Roughness per output mip level: the mappings of docs/design.md and the level-count rules.
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
 // Pass 2 with a tap table (Manson & Sloan): each output texel sums 3 frames x N taps, read
-// trilinearly from the pyramid, as DESIGN.md "Tap tables" says. The CPU model that the optimizer
+// trilinearly from the pyramid, as docs/design.md "Tap tables" says. The CPU model that the optimizer
 // fits and the GPU shader must match.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The tap table of DESIGN.md (the optimizer's output, the runtime's input), in memory.
+// The tap table of docs/design.md (the optimizer's output, the runtime's input), in memory.
 #pragma once
 
 #include <cstddef>
