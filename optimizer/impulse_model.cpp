@@ -43,7 +43,7 @@ std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels,
 
 ImpulseModel::ImpulseModel(int baseSize, PyramidSettings pyramid, int taps, TableForm form)
     : baseSize_(baseSize), pyramidLevels_(pyramidLevelCount(baseSize)), taps_(taps), form_(form),
-      operators_(pyramidOperators(baseSize, pyramid)) {}
+      operators_(pyramidOperators(baseSize, pyramid)), dense_(operators_) {}
 
 ImpulseModel::Workspace ImpulseModel::workspace() const {
     Workspace ws;
@@ -58,8 +58,8 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
 
 namespace {
 
-// e = sum_t |w_t - k_t| over base texels. visit() sees every base texel where w may be non-zero and
-// returns d e / d w_t there; where w = 0 (texels not visited), |w - k| = k.
+// e = sum_t |w_t - k_t| over the touched base texels (the lists' pass). visit() sees every base texel
+// where w may be non-zero and returns d e / d w_t there; where w = 0 (texels not visited), |w - k| = k.
 struct L1Measure {
     const OutputTexel& texel;
     double sum = 0.0, kernelVisited = 0.0;
@@ -70,7 +70,7 @@ struct L1Measure {
         kernelVisited += k;
         return d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
     }
-    double value(bool dense) const { return dense ? sum : sum + std::max(0.0, texel.kernelSum - kernelVisited); }
+    double value() const { return sum + std::max(0.0, texel.kernelSum - kernelVisited); }
 };
 
 // Every tap of the output texel (frames with weight > 0), with derivatives in its block's coefficients:
@@ -238,13 +238,11 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     for (int k = 0; k <= top; ++k) reach += 2.0 * std::ldexp(static_cast<double>(ws.touched[k].size()), 2 * k);
     const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
-    const std::vector<double>& w = ws.weights[0];
-    std::vector<double>& slope = ws.adjoint[0];
-    L1Measure measure{texel};
-    if (dense) {
-        pushBackToBase(operators_, ws.weights, top);
-        for (std::size_t t = 0; t < w.size(); ++t) slope[t] = measure.visit(static_cast<std::uint32_t>(t), w[t]);
-    } else {
+    if (dense) result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, gradient ? &ws.adjoint : nullptr);
+    else {
+        const std::vector<double>& w = ws.weights[0];
+        std::vector<double>& slope = ws.adjoint[0];
+        L1Measure measure{texel};
         for (int k = top; k > 0; --k) {
             const DownsampleOperator& op = operators_[k - 1];
             std::vector<double>& fine = ws.weights[k - 1];
@@ -258,13 +256,13 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
             }
         }
         for (const std::uint32_t t : ws.touched[0]) slope[t] = measure.visit(t, w[t]);
+        result.error = measure.value();
     }
-    result.error = measure.value(dense);
     if (gradient) {
-        // d e / d c_p = G_p (the pulled-up slope); c_p = sum_i W_i b_ip / S, so
-        // d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip and Ebar = sum_i W_i A_i / S.
-        if (dense) pullUpFromBase(operators_, ws.adjoint, top);
-        else // every row of a touched texel lies in the touched texels of the level below
+        // d e / d c_p = G_p (the pulled-up slope, which the dense passes leave in ws.adjoint); c_p =
+        // sum_i W_i b_ip / S, so d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip
+        // and Ebar = sum_i W_i A_i / S.
+        if (!dense) // every row of a touched texel lies in the touched texels of the level below
             for (int k = 1; k <= top; ++k) {
                 const DownsampleOperator& op = operators_[k - 1];
                 const std::vector<double>& fine = ws.adjoint[k - 1];
@@ -292,10 +290,9 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
             for (int q = 0; q < B; ++q) gradient[records[n].block * B + q] += g.v[q];
         }
     }
-    // Leave the weights zero for the next call (the adjoint is only read where it was written).
-    for (int k = 0; k <= top; ++k)
-        if (dense) std::fill(ws.weights[k].begin(), ws.weights[k].end(), 0.0);
-        else
+    // Leave the weights zero for the next call (the dense passes do; the adjoint is only read where it was written).
+    if (!dense)
+        for (int k = 0; k <= top; ++k)
             for (const std::uint32_t p : ws.touched[k]) ws.weights[k][p] = 0.0;
     return result;
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dense_passes.h"
 #include "probe/frame.h"
 #include "probe/pyramid.h"
 #include "probe/stratified_texels.h"
@@ -96,6 +97,7 @@ private:
     int taps_;
     probe::TableForm form_;
     std::vector<probe::DownsampleOperator> operators_;
+    DensePasses dense_;
 };
 
 // Block pointers into one level's coefficients of a table.

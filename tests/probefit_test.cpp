@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "dense_passes.h"
 #include "evaluate.h"
 #include "fit.h"
 #include "impulse_model.h"
@@ -80,6 +81,44 @@ TEST(ImpulseModel, GradientMatchesFiniteDifferences) {
         }
     }
     EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked;
+}
+
+// The fused dense passes equal, bit for bit, probecore's push-back to the base, an L1 pass and the
+// pull-up of its slope.
+TEST(DensePasses, EqualTheSeparatePassesBitForBit) {
+    for (PyramidKind kind : {PyramidKind::bspline, PyramidKind::box}) {
+        const int size = 32, top = 3;
+        const std::vector<DownsampleOperator> ops = pyramidOperators(size, {kind, PyramidWeighting::solidAngle});
+        const DensePasses dense(ops);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> value(-0.2, 1.0);
+        std::vector<std::vector<double>> weights, adjoint;
+        for (int k = 0; k < pyramidLevelCount(size); ++k) {
+            weights.emplace_back(texelCount(size >> k), 0.0);
+            adjoint.emplace_back(weights.back().size(), 0.0);
+            if (k > top) continue;
+            for (double& w : weights.back())
+                if (rng() % 7 == 0) w = value(rng) * 1e-3; // sparse, some negative, many zero rows
+        }
+        std::vector<float> kernel(weights[0].size());
+        for (float& k : kernel) k = static_cast<float>(std::max(0.0, value(rng)) * 1e-4);
+
+        std::vector<std::vector<double>> pushed = weights, expectedAdjoint = adjoint;
+        pushBackToBase(ops, pushed, top);
+        double expected = 0.0;
+        for (std::size_t t = 0; t < kernel.size(); ++t) {
+            const double d = pushed[0][t] - static_cast<double>(kernel[t]);
+            expected += std::abs(d);
+            expectedAdjoint[0][t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+        }
+        pullUpFromBase(ops, expectedAdjoint, top);
+
+        EXPECT_EQ(dense.measure(ops, weights, top, kernel, &adjoint), expected);
+        for (int k = 0; k <= top; ++k) {
+            EXPECT_TRUE(adjoint[k] == expectedAdjoint[k]) << "level " << k;
+            EXPECT_TRUE(std::all_of(weights[k].begin(), weights[k].end(), [](double w) { return w == 0.0; })) << "level " << k;
+        }
+    }
 }
 
 TEST(SeamTerm, MomentsEqualTheSharedModelsResponse) {

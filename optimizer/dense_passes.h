@@ -1,0 +1,35 @@
+// The impulse model's dense passes, where the taps reach much of the cube: weights on pyramid
+// texels pushed back to the base, the L1 against the reference kernel with its slope sign(w - k),
+// and the slope pulled back up the pyramid. The last push-back step (level 1 to the base, 3/4 of
+// the work) runs as a gather over each base texel's parents, fused with the L1: the base weights
+// are never stored. Each parent is added in the order the transposed operator adds it, so the
+// sums are bit for bit those of probe::pushBackToBase followed by a separate L1 pass.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "probe/pyramid.h"
+
+namespace probefit {
+
+class DensePasses {
+public:
+    // The passes over the pyramid of these operators (probe::pyramidOperators), which measure() takes again.
+    explicit DensePasses(const std::vector<probe::DownsampleOperator>& operators);
+
+    // weights: per pyramid level (zero above `top`), the taps' weights; left all zero on return.
+    // Returns sum_t |w_t - k_t| over the base texels t of the pushed-back weights w. With `adjoint`
+    // (per level, sized like weights), also d L1 / d(weight on pyramid texel p) into adjoint[k][p]
+    // for k <= top.
+    double measure(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
+                   const std::vector<float>& kernel, std::vector<std::vector<double>>* adjoint) const;
+
+private:
+    // The transpose of operators[0]: base texel t's parents (level-1 rows) and their weights in
+    // [parentStart[t], parentStart[t + 1]), rows ascending and in entry order within a row.
+    std::vector<std::uint32_t> parentStart_, parentRow_;
+    std::vector<double> parentWeight_;
+};
+
+} // namespace probefit
