@@ -6,11 +6,17 @@
 // arithmetic over the bordered buffer.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "images.glsl"
 #include "sampling.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 64) in;
+
+// 0: the level's sample count from the push constants (the runtime); n > 0: n samples, a constant
+// that unrolls the loop, so that tools/shader_stats measures the cost of a sample as the difference
+// between two counts.
+layout(constant_id = 0) const int kFixedSampleCount = 0;
 
 layout(push_constant) uniform Params {
     int baseSize;      // S_0
@@ -41,11 +47,12 @@ void main() {
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
     // Tested at the bottom, as table_filter.comp's loops (the host makes at least one sample a level).
-    uint k = params.firstSample;
-    do {
-        vec4 s = tableEntry(k);
+    uint sampleCount = kFixedSampleCount > 0 ? uint(kFixedSampleCount) : params.sampleCount;
+    uint k = 0u;
+    [[unroll]] do {
+        vec4 s = tableEntry(params.firstSample + k);
         sum += s.z * samplePyramid(tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
-    } while (++k < params.firstSample + params.sampleCount);
+    } while (++k < sampleCount);
     storeOutput(texelCoordinates(index - params.firstTexel, params.baseSize >> params.level), finishTapSum(sum, weightSum));
 }

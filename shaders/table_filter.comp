@@ -20,6 +20,10 @@ layout(local_size_x = 64) in;
 
 // The table's form, fixed per pipeline so that the other form's reads are compiled out.
 layout(constant_id = 0) const int kCoefficientCount = 3; // 3: quadratic, 1: constant
+// 0: each level's tap groups in use, from the table (the runtime); n > 0: n groups of four taps per
+// frame at every level, a constant that unrolls the loops, so that tools/shader_stats measures the
+// cost of a tap as the difference between two counts.
+layout(constant_id = 1) const int kFixedTapGroups = 0;
 
 layout(push_constant) uniform Params {
     int baseSize;      // S_0
@@ -83,7 +87,7 @@ void main() {
     vec3 R = geometry[params.firstTexel + texel].xyz, a = abs(R);
     vec3 d = R / max(max(a.x, a.y), a.z);
     levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
-    int groupsInUse = int(tableEntry(params.usageFirst + uint(params.level)).x);
+    int groupsInUse = kFixedTapGroups > 0 ? kFixedTapGroups : int(tableEntry(params.usageFirst + uint(params.level)).x);
     // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is d's
     // major one); the frame about the face's own axis only near its edges, so it comes last.
     int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);

@@ -20,12 +20,13 @@ vec4 tablePolynomial(int parameter, uint group, FrameSetup f) {
 
 // Adds the taps of frame `axis` at cube vector d (major component 1), the first `groupsInUse`
 // groups of four (at least one: the level's count from probe::tapsInUse). Where the frame does not
-// count, its taps weigh 0 at a direction that can be read.
+// count, its taps weigh 0 at a direction that can be read. The loop unrolls where groupsInUse is a
+// constant (the fixed counts that tools/shader_stats compiles to measure the cost of a tap).
 void addTableFrame(vec3 d, int axis, int groupsInUse, inout vec3 sum, inout float weightSum) {
     FrameSetup f = frameSetup(d, axis);
     bool counts = f.weight > 0.0;
     int g = 0;
-    do {
+    [[unroll]] do {
         uint group = uint(axis * PROBE_TAPS / 4 + g);
         vec4 px = tablePolynomial(0, group, f);
         vec4 py = tablePolynomial(1, group, f);

@@ -102,7 +102,7 @@ void PipelineLayout::bind(VkCommandBuffer commandBuffer) const {
 }
 
 ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
-                                 std::span<const int32_t> specialization)
+                                 std::span<const int32_t> specialization, VkPipelineCreateFlags flags)
     : device_(device), layout_(layout) {
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     moduleInfo.codeSize = spirv.size_bytes();
@@ -110,6 +110,7 @@ ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::
     VkShaderModule module = VK_NULL_HANDLE;
     vkCheck(vkCreateShaderModule(device_, &moduleInfo, nullptr, &module), "vkCreateShaderModule");
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.flags = flags;
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;

@@ -43,11 +43,12 @@ private:
 };
 
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
-// choices fixed per pipeline, whose untaken paths the driver then compiles out.
+// choices fixed per pipeline, whose untaken paths the driver then compiles out. `flags` go to
+// vkCreateComputePipelines (tools/shader_stats asks for the driver's statistics).
 class ComputePipeline {
 public:
-    ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
-                    std::span<const int32_t> specialization = {});
+    ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {},
+                    VkPipelineCreateFlags flags = 0);
     ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
                     std::span<const int32_t> specialization = {})
         : ComputePipeline(device, layout.handle(), spirv, specialization) {}
@@ -58,6 +59,7 @@ public:
     // Binds the pipeline, pushes `constants` and dispatches `groups` workgroups (split over y beyond
     // kMaxGroupsX).
     void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const;
+    VkPipeline handle() const { return pipeline_; }
 
 private:
     VkDevice device_;
