@@ -111,8 +111,10 @@ void runCompare(const CompareOptions& o) {
     fisSettings.method.fis.samples = o.samples;
 
     probe::StagedOutput output(o.out);
+    probe::PixelRepairs repairs;
     const probe::CubeImage source =
-        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
+    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
@@ -157,6 +159,7 @@ void runCompare(const CompareOptions& o) {
     json report = describeLevels(o.size, levelCount, mapping);
     report["command"] = "compare";
     report["input"] = o.input;
+    report["input_pixels"] = pixels;
     report["device"] = describeDevice(device.info(), o.validate);
     report["sheet"] = {{"file", "sheet.png"},
                        {"rows", {"reference", "table", "fis"}},
@@ -200,7 +203,8 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
-    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
+    cmd->add_flag("--repair-pixels", o->repairPixels,
+                  "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--out", o->out, "Output folder: sheet.png and report.json")->required();
     cmd->callback([o] { runCompare(*o); });
 }

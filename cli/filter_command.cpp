@@ -123,8 +123,10 @@ void runFilter(const FilterOptions& o) {
     }
     probe::validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
     probe::StagedOutput output(o.out);
+    probe::PixelRepairs repairs;
     const probe::CubeImage source =
-        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
+    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
 
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
@@ -141,6 +143,7 @@ void runFilter(const FilterOptions& o) {
     nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
     report["command"] = "filter";
     report["input"] = o.input;
+    report["input_pixels"] = pixels;
     report["method"] = std::string(probe::methodKindName(s.method.kind));
     report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
     report["output_format"] = std::string(probe::gpu::formatName(s.outputFormat));
@@ -216,7 +219,8 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_flag("--against-reference", o->againstReference, "Also run the CPU reference and report the image L1 error per level");
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
-    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
+    cmd->add_flag("--repair-pixels", o->repairPixels,
+                  "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
     cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
     cmd->callback([o] { runFilter(*o); });

@@ -34,8 +34,9 @@ void runReference(const ReferenceOptions& o) {
     Stopwatch loadTime;
     probe::Image image = probe::readImage(o.input);
     const probe::ProbeLayout layout = probe::detectLayout(image, o.input);
-    const std::size_t repaired =
+    const probe::PixelRepairs repairs =
         probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
     const probe::CubeImage source = probe::imageToCube(image, layout, o.size);
     const double loadSeconds = loadTime.seconds();
 
@@ -50,8 +51,8 @@ void runReference(const ReferenceOptions& o) {
     report["input"] = {{"path", o.input},
                        {"width", image.width},
                        {"height", image.height},
-                       {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"},
-                       {"repaired_pixels", repaired}};
+                       {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"}};
+    report["input_pixels"] = pixels;
     report["method"] = "reference";
     report["device"] = {{"kind", "cpu"}, {"threads", omp_get_max_threads()}};
     report["passes"] = {{{"name", "load"}, {"seconds", loadSeconds}}, {{"name", "reference"}, {"seconds", filterSeconds}}};
@@ -72,7 +73,8 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--mapping", options->mapping, "Roughness per level: gltf, authors, filament or unity");
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");
-    cmd->add_flag("--repair-pixels", options->repairPixels, "Set NaN, Inf and negative pixels to 0 instead of refusing the file");
+    cmd->add_flag("--repair-pixels", options->repairPixels,
+                  "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->callback([options] { runReference(*options); });
 }
 

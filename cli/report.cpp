@@ -53,6 +53,15 @@ double median(std::vector<double> values) {
 Stopwatch::Stopwatch() : start_(now()) {}
 double Stopwatch::seconds() const { return now() - start_; }
 
+nlohmann::json reportPixelRepairs(const std::filesystem::path& input, const probe::PixelRepairs& repairs) {
+    if (repairs.negative)
+        fmt::print(stderr, "probefilter: warning: {}: {} pixel(s) with negative values clamped to 0\n", input.string(), repairs.negative);
+    if (repairs.nonFinite)
+        fmt::print(stderr, "probefilter: warning: {}: {} NaN or Inf pixel(s) set to 0 (--repair-pixels)\n", input.string(),
+                   repairs.nonFinite);
+    return {{"clamped_negative_pixels", repairs.negative}, {"repaired_pixels", repairs.nonFinite}};
+}
+
 void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
     std::ofstream out(path);
     out << json.dump(2) << "\n";

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "probe/probe_io.h"
 #include "probe/roughness.h"
 #include "probe/runtime.h"
 
@@ -33,6 +34,9 @@ public:
 private:
     double start_;
 };
+
+// Warns on stderr, naming the file, about the pixels loading set to 0; returns the report's counts.
+nlohmann::json reportPixelRepairs(const std::filesystem::path& input, const probe::PixelRepairs& repairs);
 
 void writeJson(const std::filesystem::path& path, const nlohmann::json& json);
 

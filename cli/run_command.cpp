@@ -63,14 +63,16 @@ public:
     // The passes of one probe's plan; appends to the report.
     void runProbe(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
         const probe::BadPixelPolicy policy = options_.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse;
-        ProbeResult result{&p, probe::loadProbe(p.image, p.faceSize, policy), probe::CubeLevels(p.levelCount), {}};
+        probe::PixelRepairs repairs;
+        ProbeResult result{&p, probe::loadProbe(p.image, p.faceSize, policy, repairs), probe::CubeLevels(p.levelCount), {}};
         recordPass(probe::loadPass(p.name), "cpu");
         json entry = {{"name", p.name},
                       {"image", p.image.string()},
                       {"face_size", p.faceSize},
                       {"level_count", p.levelCount},
                       {"mapping", std::string(probe::roughnessMappingName(p.mapping))},
-                      {"method", std::string(probe::methodKindName(p.method.kind))}};
+                      {"method", std::string(probe::methodKindName(p.method.kind))},
+                      {"input_pixels", reportPixelRepairs(p.image, repairs)}};
         if (!plan.levels.empty()) filterLevels(p, plan, result, entry);
         if (plan.irradiance) projectIrradiance(p, result, entry);
         if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.levels.empty())
@@ -237,7 +239,8 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
-    cmd->add_flag("--repair-pixels", o->repairPixels, "Set NaN, Inf and negative probe pixels to 0 instead of refusing the file");
+    cmd->add_flag("--repair-pixels", o->repairPixels,
+                  "Set NaN and Inf probe pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->callback([o] { runScene(*o); });
 }
 

@@ -37,7 +37,6 @@ expect_refused truncated-exr  "$in/truncated.exr" $(ref "$in/truncated.exr")
 expect_refused aspect-ratio   "$in/aspect.exr"    $(ref "$in/aspect.exr")
 expect_refused nan-pixel      "x=17 y=3"          $(ref "$in/nan.exr")
 expect_refused inf-pixel      "$in/inf.exr"       $(ref "$in/inf.exr")
-expect_refused negative-pixel "$in/negative.exr"  $(ref "$in/negative.exr")
 expect_refused unknown-mapping "bogus"            reference "$in/good.exr" --size 8 --mapping bogus --out "$work/out"
 expect_refused size-not-pow2  "face size 12"      reference "$in/good.exr" --size 12 --out "$work/out"
 expect_refused size-zero      "face size 0"       reference "$in/good.exr" --size 0 --out "$work/out"
@@ -71,6 +70,16 @@ if "$PROBEFILTER" reference "$in/nan.exr" --size 8 --repair-pixels --out "$work/
     echo "ok repair-pixels"
 else
     echo "FAIL repair-pixels"; failures=$((failures + 1))
+fi
+
+# Negative pixels (what lossy EXR compression leaves around bright sources) are clamped to 0 with a
+# warning that names the file and counts them, and the count is in the report.
+if "$PROBEFILTER" reference "$in/negative.exr" --size 8 --out "$work/clamped" >/dev/null 2>"$work/stderr" &&
+   grep -qF "$in/negative.exr: 1 pixel(s) with negative values clamped to 0" "$work/stderr" &&
+   grep -q '"clamped_negative_pixels": 1' "$work/clamped/report.json"; then
+    echo "ok negative-pixels-clamped: $(cat "$work/stderr")"
+else
+    echo "FAIL negative-pixels-clamped: $(cat "$work/stderr")"; failures=$((failures + 1))
 fi
 
 echo "cli_bad_input: $failures failure(s)"

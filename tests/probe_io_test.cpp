@@ -168,7 +168,7 @@ TEST(ProbeIo, SmallSunKeepsItsEnergyAtEverySize) {
     }
 }
 
-TEST(ProbeIo, BadPixelsAreRefusedWithCountAndPosition) {
+TEST(ProbeIo, NanAndInfAreRefusedWithCountAndPosition) {
     Image image = rampImage(12, 6);
     image.rgb[(2 * 12 + 5) * 3 + 1] = std::numeric_limits<float>::quiet_NaN();
     image.rgb[(4 * 12 + 1) * 3 + 0] = -1.0f;
@@ -176,15 +176,31 @@ TEST(ProbeIo, BadPixelsAreRefusedWithCountAndPosition) {
     try {
         Image copy = image;
         checkPixels(copy, "probe.exr", BadPixelPolicy::refuse);
-        FAIL() << "bad pixels accepted";
+        FAIL() << "NaN and Inf accepted";
     } catch (const ProbeError& e) {
         const std::string message = e.what();
         EXPECT_NE(message.find("probe.exr"), std::string::npos) << message;
-        EXPECT_NE(message.find("3 pixel"), std::string::npos) << message;
+        EXPECT_NE(message.find("2 pixel"), std::string::npos) << message;
         EXPECT_NE(message.find("x=5 y=2"), std::string::npos) << message;
     }
-    EXPECT_EQ(checkPixels(image, "probe.exr", BadPixelPolicy::repair), 3u);
+    const PixelRepairs repairs = checkPixels(image, "probe.exr", BadPixelPolicy::repair);
+    EXPECT_EQ(repairs.nonFinite, 2u);
+    EXPECT_EQ(repairs.negative, 1u);
     for (float v : image.rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0.0f);
+}
+
+TEST(ProbeIo, NegativePixelsAreClampedAndCounted) {
+    Image image = rampImage(12, 6);
+    image.rgb[(1 * 12 + 3) * 3 + 0] = -1900.0f;
+    image.rgb[(1 * 12 + 3) * 3 + 2] = -0.5f; // the same pixel: counted once
+    image.rgb[(3 * 12 + 7) * 3 + 1] = -1e-3f;
+    const float kept = image.rgb[(1 * 12 + 3) * 3 + 1];
+    const PixelRepairs repairs = checkPixels(image, "probe.exr", BadPixelPolicy::refuse);
+    EXPECT_EQ(repairs.negative, 2u);
+    EXPECT_EQ(repairs.nonFinite, 0u);
+    EXPECT_EQ(image.rgb[(1 * 12 + 3) * 3 + 0], 0.0f);
+    EXPECT_EQ(image.rgb[(1 * 12 + 3) * 3 + 1], kept);
+    EXPECT_EQ(image.rgb[(3 * 12 + 7) * 3 + 1], 0.0f);
 }
 
 TEST(ProbeIo, WrongAspectRatioIsRefused) {

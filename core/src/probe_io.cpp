@@ -145,27 +145,29 @@ Image readImage(const fs::path& path) {
     fail(path, "not an OpenEXR or Radiance HDR file");
 }
 
-std::size_t checkPixels(Image& image, const fs::path& path, BadPixelPolicy policy) {
-    std::size_t bad = 0, first = 0;
+PixelRepairs checkPixels(Image& image, const fs::path& path, BadPixelPolicy policy) {
+    PixelRepairs repairs;
+    std::size_t first = 0;
     for (std::size_t p = 0; p < image.rgb.size() / 3; ++p) {
-        bool isBad = false;
+        bool negative = false, nonFinite = false;
         for (int c = 0; c < 3; ++c) {
-            float& value = image.rgb[3 * p + c];
-            if (!std::isfinite(value) || value < 0.0f) {
-                isBad = true;
-                if (policy == BadPixelPolicy::repair) value = 0.0f;
-            }
+            const float value = image.rgb[3 * p + c];
+            nonFinite = nonFinite || !std::isfinite(value);
+            negative = negative || value < 0.0f;
         }
-        if (isBad && bad++ == 0) first = p;
+        if (nonFinite && repairs.nonFinite++ == 0) first = p;
+        else if (negative) ++repairs.negative;
     }
-    if (bad && policy == BadPixelPolicy::refuse) {
+    if (repairs.nonFinite && policy == BadPixelPolicy::refuse) {
         const int x = static_cast<int>(first % image.width), y = static_cast<int>(first / image.width);
         const glm::vec3 value = image.pixel(x, y);
-        fail(path, fmt::format("{} pixel(s) are NaN, Inf or negative, first at x={} y={} ({}, {}, {}); "
-                               "--repair-pixels sets them to 0",
-                               bad, x, y, value.r, value.g, value.b));
+        fail(path, fmt::format("{} pixel(s) are NaN or Inf, first at x={} y={} ({}, {}, {}); --repair-pixels sets them to 0",
+                               repairs.nonFinite, x, y, value.r, value.g, value.b));
     }
-    return bad;
+    // Each channel on its own: a pixel with one bad channel keeps the others.
+    for (float& value : image.rgb)
+        if (!std::isfinite(value) || value < 0.0f) value = 0.0f;
+    return repairs;
 }
 
 ProbeLayout detectLayout(const Image& image, const fs::path& path) {
@@ -185,10 +187,10 @@ CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize) {
     return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleEquirect(image, d); });
 }
 
-CubeImage loadProbe(const fs::path& path, int faceSize, BadPixelPolicy policy) {
+CubeImage loadProbe(const fs::path& path, int faceSize, BadPixelPolicy policy, PixelRepairs& repairs) {
     Image image = readImage(path);
     const ProbeLayout layout = detectLayout(image, path);
-    checkPixels(image, path, policy);
+    repairs = checkPixels(image, path, policy);
     return imageToCube(image, layout, faceSize);
 }
 

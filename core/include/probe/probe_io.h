@@ -14,12 +14,19 @@ namespace probe {
 // image. Throws ProbeError naming the file and the problem.
 Image readImage(const std::filesystem::path& path);
 
-// What to do with NaN, Inf and negative pixels: refuse the file, or set them to 0.
+// What to do with NaN and Inf pixels: refuse the file, or set them to 0.
 enum class BadPixelPolicy { refuse, repair };
 
-// Checks every channel of every pixel. With `refuse`, throws ProbeError with the count and the
-// first position; with `repair`, zeroes them and returns how many pixels were repaired.
-std::size_t checkPixels(Image& image, const std::filesystem::path& path, BadPixelPolicy policy);
+// The pixels checkPixels set to 0. Negative pixels are clamped under either policy: lossy EXR
+// compression (DWA) leaves small negatives around bright sources in ordinary HDRIs.
+struct PixelRepairs {
+    std::size_t negative = 0;  // pixels with a negative channel, clamped to 0
+    std::size_t nonFinite = 0; // pixels with a NaN or Inf channel, set to 0 (repair only)
+};
+
+// Checks every channel of every pixel and clamps negatives to 0. NaN and Inf: with `refuse`,
+// throws ProbeError with the count and the first position; with `repair`, sets them to 0.
+PixelRepairs checkPixels(Image& image, const std::filesystem::path& path, BadPixelPolicy policy);
 
 // The two layouts a probe image may have.
 enum class ProbeLayout { equirectangular, faceStrip };
@@ -34,8 +41,8 @@ ProbeLayout detectLayout(const Image& image, const std::filesystem::path& path);
 // Equirectangular convention (glTF-IBL-Sampler's): +Y up, row 0 at +Y, column u = 0.5 + atan2(z, x) / (2 pi).
 CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize);
 
-// Reads, validates and resamples in one step.
-CubeImage loadProbe(const std::filesystem::path& path, int faceSize, BadPixelPolicy policy);
+// Reads, validates and resamples in one step; `repairs` receives what checkPixels set to 0.
+CubeImage loadProbe(const std::filesystem::path& path, int faceSize, BadPixelPolicy policy, PixelRepairs& repairs);
 
 // Writes float32 RGB EXR (ZIP compressed). Throws ProbeError on failure.
 void writeExr(const std::filesystem::path& path, const Image& image);
