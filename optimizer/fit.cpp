@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include <ceres/ceres.h>
@@ -86,6 +87,15 @@ public:
         }
         seconds_ += secondsSince(start);
         ++evaluations_;
+    }
+
+    // f itself (the value the solvers minimize).
+    double value(const double* const* blocks) const {
+        std::vector<Term> terms;
+        evaluate(blocks, terms, nullptr, nullptr);
+        double f = 0.0;
+        for (const Term& t : terms) f += t.a * (t.error + t.penalty * t.penalty);
+        return f;
     }
 
     double seconds() const { return seconds_; }
@@ -257,10 +267,12 @@ std::string solverDescription(const FitSettings& s) {
                                                "reference's)",
                                                s.seamWeight, s.seamPairBudget)
                                  : "";
-    return fmt::format("Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels{}, per level; "
-                       "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-                       "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}",
-                       CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s));
+    return fmt::format(
+        "Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels{}, per level; "
+        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
+        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
+        CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
+        s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "");
 }
 
 struct SolveReport {
@@ -382,14 +394,22 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
                 bestCoefficients = coefficients;
             }
         }
-        level.coefficients = bestCoefficients;
+        // The fit runs from the best candidate and, with --starts K > 1, also from K - 1 importance
+        // layouts (turned apart about the axis); the lowest objective is kept.
+        std::vector<std::pair<std::string, std::vector<double>>> starts{{"best start", bestCoefficients}};
+        for (int k = 0; k + 1 < settings.starts; ++k) {
+            const double rotation = 2.0 * std::numbers::pi * k / ((settings.starts - 1) * settings.taps);
+            importanceLayout(table, m, alpha, rotation);
+            const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean;
+            const std::string name = fmt::format("importance layout {}", k + 1);
+            if (progress) progress({m, 0, l1, secondsSince(start), "start " + name});
+            starts.emplace_back(name, level.coefficients);
+        }
 
         const std::vector<const double*> constBlocks = levelBlocks(table, m);
         const std::vector<SeamPair> pairs = settings.seamWeight > 0.0
                                                 ? prepareSeamPairs(settings.baseSize, m, alpha, settings.seamPairBudget, basis)
                                                 : std::vector<SeamPair>{};
-        const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
-                                       settings.seamWeight);
         auto reportSeam = [&](const char* when) {
             if (pairs.empty() || !progress) return;
             std::vector<double> scratch;
@@ -397,22 +417,42 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, nullptr, scratch);
             progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
         };
-        reportSeam("at the start");
         SolveReport report;
-        if (settings.solver != FitSolver::bfgs) {
-            ProgressCallback callback(progress, m, start, 2.0);
-            std::vector<double*> blocks;
-            for (const double* b : constBlocks) blocks.push_back(const_cast<double*>(b));
-            const int iterations = settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
-            report = solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()), callback);
+        double modelSeconds = 0.0, bestObjective = 1e300;
+        int evaluations = 0;
+        std::vector<double> fitted;
+        for (const auto& [name, coefficients] : starts) {
+            level.coefficients = coefficients;
+            const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
+                                           settings.seamWeight);
+            reportSeam("at the start");
+            if (settings.solver != FitSolver::bfgs) {
+                ProgressCallback callback(progress, m, start, 2.0);
+                std::vector<double*> blocks;
+                for (const double* b : constBlocks) blocks.push_back(const_cast<double*>(b));
+                const int iterations = settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
+                const SolveReport lm =
+                    solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()), callback);
+                report.iterations += lm.iterations;
+                report.solverSeconds += lm.solverSeconds;
+            }
+            if (settings.solver != FitSolver::lm) {
+                ProgressCallback callback(progress, m, start, 1.0);
+                const SolveReport bfgs = solveBfgs(model, objective, level.coefficients.data(),
+                                                   levelIterations(settings, settings.maxIterations, texels.size()), callback);
+                report.iterations += bfgs.iterations;
+                report.solverSeconds += bfgs.solverSeconds;
+            }
+            const double value = objective.value(constBlocks.data());
+            modelSeconds += objective.seconds();
+            evaluations += objective.evaluations();
+            if (starts.size() > 1 && progress) progress({m, 0, value, secondsSince(start), "objective after the fit from " + name});
+            if (value < bestObjective) {
+                bestObjective = value;
+                fitted = level.coefficients;
+            }
         }
-        if (settings.solver != FitSolver::lm) {
-            ProgressCallback callback(progress, m, start, 1.0);
-            const SolveReport bfgs = solveBfgs(model, objective, level.coefficients.data(),
-                                               levelIterations(settings, settings.maxIterations, texels.size()), callback);
-            report.iterations += bfgs.iterations;
-            report.solverSeconds += bfgs.solverSeconds;
-        }
+        level.coefficients = fitted;
 
         if (fallback && evaluatePrepared(model, constBlocks.data(), texels).error.mean > fallback->first) {
             level.coefficients = fallback->second;
@@ -427,9 +467,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         if (progress) {
             FitProgress done{m, report.iterations, level.stratified.mean, secondsSince(start), "done"};
             done.kernelSeconds = kernelSeconds;
-            done.evaluationSeconds = objective.seconds();
-            done.solverSeconds = std::max(0.0, report.solverSeconds - objective.seconds());
-            done.evaluations = objective.evaluations();
+            done.evaluationSeconds = modelSeconds;
+            done.solverSeconds = std::max(0.0, report.solverSeconds - modelSeconds);
+            done.evaluations = evaluations;
             progress(done);
         }
         if (settings.measureAll) {

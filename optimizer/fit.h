@@ -34,6 +34,9 @@ struct FitSettings {
     // edge pairs per level.
     double seamWeight = 0.0;
     int seamPairBudget = 128;
+    // Fits per level: from the best start candidate and, where > 1, also from starts - 1 importance
+    // layouts (initial_layout.h) turned apart about the axis; the lowest objective is kept.
+    int starts = 1;
     bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
 };

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "probe/importance_sampling.h"
+
 namespace probefit {
 
 using namespace probe;
@@ -43,6 +45,21 @@ void lobeLayout(TapTable& table, int level, double alpha) {
             setConstant(table, level, frame, t, tapDirZ, 1.0);
             setConstant(table, level, frame, t, tapLevel, std::log2(std::max(spacing, 1e-6) / texelAngle));
             setConstant(table, level, frame, t, tapWeight, weight);
+        }
+}
+
+void importanceLayout(TapTable& table, int level, double alpha, double rotation) {
+    const std::vector<Tap> samples = importanceSamples(alpha, table.baseSize, table.taps, 0.0);
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < table.taps; ++t) {
+            const bool kept = t < static_cast<int>(samples.size());
+            const glm::dvec3 d = kept ? samples[t].direction : glm::dvec3(0.0, 0.0, 1.0);
+            setConstant(table, level, frame, t, tapDirX, c * d.x - s * d.y);
+            setConstant(table, level, frame, t, tapDirY, s * d.x + c * d.y);
+            setConstant(table, level, frame, t, tapDirZ, d.z);
+            setConstant(table, level, frame, t, tapLevel, kept ? samples[t].level : 0.0);
+            setConstant(table, level, frame, t, tapWeight, kept ? samples[t].weight : 0.0);
         }
 }
 

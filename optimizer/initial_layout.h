@@ -13,6 +13,13 @@ double lobeAngle(double alpha);
 // levels whose texels match the spacing of the taps; quadratic terms 0.
 void lobeLayout(probe::TapTable& table, int level, double alpha);
 
+// The taps of filtered importance sampling (probe/importance_sampling.h) as a start that reaches
+// the lobe's tail: tap i at the GGX quantile of Hammersley point i, at the pyramid level of its pdf
+// and weighted by n.l, so the first iterate is an importance sampler. The samples are turned about
+// the lobe axis by `rotation` radians; every frame gets the same taps; quadratic terms 0. Samples
+// below the horizon (dropped by FIS) become taps of weight 0 on the axis.
+void importanceLayout(probe::TapTable& table, int level, double alpha, double rotation);
+
 // Level `level` from the already fitted level `from`: directions widened and levels raised by the
 // ratio of the two lobes.
 void warmStartFromLevel(probe::TapTable& table, int level, int from);

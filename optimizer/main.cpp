@@ -10,11 +10,13 @@
 
 #include "evaluate.h"
 #include "fit.h"
+#include "fit_estimate.h"
 #include "probe/error.h"
 #include "probe/table_io.h"
 #include "seam_select.h"
 #include "table_mix.h"
 #include "table_outputs.h"
+#include "tail_check.h"
 
 namespace {
 
@@ -31,7 +33,8 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
 }
 
 int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping, const std::string& pyramid,
-           const std::string& weighting, const std::string& solver, const std::vector<std::string>& init, const std::string& out) {
+           const std::string& weighting, const std::string& solver, const std::vector<std::string>& init, const std::string& out,
+           bool estimateOnly) {
     settings.form = parseOption("--form", form, parseTableForm);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
@@ -50,6 +53,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
     if (settings.seamWeight < 0.0 || !std::isfinite(settings.seamWeight))
         throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
+    if (settings.starts < 1) throw ProbeError(fmt::format("--starts: {} is not a positive count", settings.starts));
     if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
@@ -61,11 +65,20 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                                          "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
                                          path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount, settings.taps));
     }
-    probefit::checkWritable(out);
+    if (!estimateOnly) probefit::checkWritable(out);
 
     fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
                settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting, settings.stratifiedBudget, solver);
+    const probefit::FitEstimate estimate = probefit::estimateFit(settings);
+    std::string perLevel;
+    for (std::size_t m = 0; m < estimate.levelSeconds.size(); ++m)
+        if (estimate.levelSeconds[m] > 0.0)
+            perLevel += fmt::format("{}level {} {:.0f} s", perLevel.empty() ? "" : ", ", m, estimate.levelSeconds[m]);
+    fmt::print("estimate: about {:.0f} s ({:.1f} min) with nothing else running ({})\n", estimate.seconds, estimate.seconds / 60.0,
+               perLevel);
+    std::fflush(stdout);
+    if (estimateOnly) return 0;
     // Where the time goes, summed over levels: reference kernels, the model inside the solver, the
     // solver's own work, and everything else (start candidates, the measurement over all texels).
     double kernels = 0.0, evaluation = 0.0, solverOwn = 0.0;
@@ -83,8 +96,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
             solverOwn += p.solverSeconds;
             evaluations += p.evaluations;
         } else
-            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, p.stage.starts_with("seam term") ? "mean s" : "L1", p.l1,
-                       p.seconds);
+            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage,
+                       p.stage.starts_with("seam term") ? "mean s" : (p.stage.starts_with("objective") ? "f" : "L1"), p.l1, p.seconds);
         std::fflush(stdout);
     });
     fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
@@ -121,6 +134,28 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
     }
     if (mismatch) fmt::print(stderr, "probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance);
     return mismatch ? 1 : 0;
+}
+
+// Prints per level the share of the reference's tail mass the table puts in the tail; exits 1 where
+// some texel with a tail is out of the bound (tail_check.h).
+int runTail(const std::string& path) {
+    const TapTable table = readTable(path);
+    fmt::print("{}: mass beyond {} texels of the level from the lobe centre, table / reference (bound {} to {}; levels with "
+               "less than {} of the reference's mass there have no tail)\n",
+               path, probefit::kTailTexels, probefit::kTailBound, 1.0 / probefit::kTailBound, probefit::kMinTailMass);
+    bool reached = true;
+    for (const probefit::TailLevel& level : probefit::checkTail(table)) {
+        std::string line;
+        for (const probefit::TailSample& s : level.samples) {
+            line += s.hasTail() ? fmt::format("  {} {:.3f} / {:.3f} = {:.2f}{}", s.where, s.tableMass, s.referenceMass, s.fraction(),
+                                              s.reached() ? "" : " (out of bound)")
+                                : fmt::format("  {} no tail ({:.4f})", s.where, s.referenceMass);
+            reached = reached && s.reached();
+        }
+        fmt::print("level {} radius {:.3f} rad:{}\n", level.level, level.radius, line);
+    }
+    if (!reached) fmt::print(stderr, "probefit tail: {} misses the lobe's tail at some level\n", path);
+    return reached ? 0 : 1;
 }
 
 // Assembles a table level by level from fits of the same shape (seam_select.h) and prints the choice.
@@ -189,6 +224,12 @@ int main(int argc, char** argv) {
                    "the reference's) beside the mean L1; 0: off")
         ->capture_default_str();
     app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
+    app.add_option("--starts", settings.starts,
+                   "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
+                   "turned apart); the lowest objective is kept")
+        ->capture_default_str();
+    bool estimateOnly = false;
+    app.add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
     app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
@@ -198,6 +239,11 @@ int main(int argc, char** argv) {
     eval->add_option("table", table, "table file")->required();
     eval->add_option("--texels", texels, "all or stratified")->capture_default_str();
     eval->add_option("--check", tolerance, "exit 1 where the L1 differs from the recorded one by more than this");
+
+    CLI::App* tail = app.add_subcommand("tail", "per level, the share of the reference's mass far from the lobe centre that a table "
+                                                "reproduces (face centre, edge, corner); exit 1 where out of the bound");
+    std::string tailTable;
+    tail->add_option("table", tailTable, "table file")->required();
 
     CLI::App* exportTable = app.add_subcommand("export", "rewrite PREFIX.json, PREFIX.h, PREFIX.glsl from a table file");
     std::string exportSource, exportOut;
@@ -223,6 +269,7 @@ int main(int argc, char** argv) {
         if (mix->parsed()) return runMix(mixSources, mixOut);
         if (select->parsed()) return runSelect(selectSources, selectOut);
         if (eval->parsed()) return runEval(table, texels, tolerance);
+        if (tail->parsed()) return runTail(tailTable);
         if (exportTable->parsed()) {
             const TapTable t = readTable(exportSource);
             probefit::checkWritable(exportOut);
@@ -232,9 +279,9 @@ int main(int argc, char** argv) {
         for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.baseSize == 0},
                                             {"--taps", settings.taps == 0},
                                             {"--form", form.empty()},
-                                            {"--out", out.empty()}})
+                                            {"--out", out.empty() && !estimateOnly}})
             if (missing) throw ProbeError(fmt::format("{} is required", name));
-        return runFit(settings, form, mapping, pyramid, weighting, solver, init, out);
+        return runFit(settings, form, mapping, pyramid, weighting, solver, init, out, estimateOnly);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {

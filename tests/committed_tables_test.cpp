@@ -36,7 +36,7 @@ TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
         const TapTable table = readTable(entry.path());
         std::smatch m;
         const std::string stem = entry.path().stem().string();
-        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?")));
+        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors|filament|unity)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?")));
         EXPECT_EQ(roughnessMappingName(table.mapping), m[1].str());
         EXPECT_EQ(table.baseSize, std::stoi(m[2].str()));
         EXPECT_EQ(tableFormName(table.form), m[3].str());

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# probefit from the command line: a small fit reaches the L1 it records, and bad input gets exit
-# code 2, a one-line error naming the option or file, and no output files.
+# probefit from the command line: a small fit reaches the L1 it records, more --init taps and more
+# --starts are never worse, --estimate and tail report, and bad input gets exit code 2, a one-line
+# error naming the option or file, and no output files.
 set -u
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -31,6 +32,23 @@ paste -d' ' <(grep '^level [1-3] mean' "$work/eval4.log") <(grep '^level [1-3] m
 [[ $(wc -l <"$work/pairs.log") -eq 3 ]] || fail "--init comparison: missing levels"
 awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(n + 4) " > 4 taps " $4; bad = 1 } } END { exit bad }' \
     "$work/pairs.log" || fail "8 taps worse than the 4-tap --init table: $(cat "$work/pairs.log")"
+
+# --estimate says how long the fit takes and writes nothing.
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --estimate >"$work/estimate.log" || fail "--estimate: exit $?"
+grep -q '^estimate: about [0-9]* s' "$work/estimate.log" || fail "--estimate: no estimate line: $(cat "$work/estimate.log")"
+# --starts 2 fits each level from the best start and from an importance layout, and keeps the lower
+# objective (here the L1: no seam term, no --init).
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --out "$work/two" >"$work/two.log" ||
+    fail "two starts"
+[[ $(grep -c '^level [1-3] objective after the fit from' "$work/two.log") -eq 6 ]] || fail "--starts 2: not two fits per level"
+awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2 in best) || f < best[$2]) best[$2] = f }
+     / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best " best[$2]; bad = 1 } } END { exit bad }' \
+    "$work/two.log" || fail "--starts 2 did not keep the best fit: $(grep -E 'objective|done' "$work/two.log")"
+# tail prints every level with alpha > 0 at the three texels, and exits 0 or 1 (in or out of the bound).
+"$PROBEFIT" tail "$work/small.json" >"$work/tail.log"
+code=$?
+[[ $code -le 1 ]] || fail "tail: exit $code"
+[[ $(grep -c '^level [1-3] radius .*face centre.*edge.*corner' "$work/tail.log") -eq 3 ]] || fail "tail: $(cat "$work/tail.log")"
 
 head -c 300 "$work/small.json" >"$work/truncated.json"
 # A complete table file of the wrong layout: it says 8 taps, its coefficients are for 4.
@@ -67,6 +85,8 @@ expect_refused truncated-init  "$work/truncated.json"   $(fit --size 16 --levels
 expect_refused missing-init    "$work/nope.json"        $(fit --size 16 --levels 4 --init "$work/nope.json")
 expect_refused init-other-size "--init $work/other.json" $(fit --size 16 --levels 4 --init "$work/other.json")
 expect_refused eval-truncated  "$work/truncated.json"   eval "$work/truncated.json"
+expect_refused tail-truncated  "$work/truncated.json"   tail "$work/truncated.json"
+expect_refused starts          "--starts"               $(fit --size 16 --starts 0)
 expect_refused eval-layout     "$work/wrong-layout.json" eval "$work/wrong-layout.json"
 expect_refused init-layout     "$work/wrong-layout.json" $(fit --size 16 --levels 4 --init "$work/wrong-layout.json")
 expect_refused seam-weight     "--seam-weight"          $(fit --size 16 --seam-weight -1)

@@ -1,0 +1,71 @@
+#include "fit_estimate.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <omp.h>
+
+#include "evaluate.h"
+#include "impulse_model.h"
+#include "initial_layout.h"
+
+namespace probefit {
+
+using namespace probe;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Texels timed per level: enough to average the model's cost over the faces, few enough to take a
+// fraction of a second at 128^2.
+constexpr std::size_t kTimedTexels = 12;
+
+} // namespace
+
+FitEstimate estimateFit(const FitSettings& settings) {
+    FitEstimate estimate;
+    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
+    ImpulseModel::Workspace ws = model.workspace();
+    const std::size_t parameters = static_cast<std::size_t>(model.blockCount() * model.blockSize());
+    std::vector<double> gradient(parameters), weightGradient(parameters);
+    const double threads = std::max(1, omp_get_max_threads());
+    int iterations = 0;
+    if (settings.solver != FitSolver::bfgs) iterations += settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
+    if (settings.solver != FitSolver::lm) iterations += settings.maxIterations;
+    for (int m = 0; m < settings.levelCount; ++m) {
+        const double alpha = tableLevelAlpha(table, m);
+        if (alpha <= 0.0) {
+            estimate.levelSeconds.push_back(0.0);
+            continue;
+        }
+        importanceLayout(table, m, alpha, 0.0); // reaches about as far as fitted taps
+        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
+        std::vector<WeightedTexel> timed;
+        const std::size_t step = std::max<std::size_t>(1, stratified.size() / kTimedTexels);
+        for (std::size_t n = 0; n < stratified.size(); n += step) timed.push_back(stratified[n]);
+        const CubeGeometry geometry(settings.baseSize);
+        const auto kernelStart = Clock::now();
+        std::vector<OutputTexel> texels;
+        for (const WeightedTexel& t : timed) texels.push_back(makeOutputTexel(t, geometry, m, alpha));
+        const double kernel = secondsSince(kernelStart) / static_cast<double>(timed.size());
+        const auto modelStart = Clock::now();
+        for (const OutputTexel& t : texels) model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
+        const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
+        const double fitTexels = static_cast<double>(stratified.size());
+        double seconds = kernel * fitTexels + perTexel * fitTexels * kEvaluationsPerIteration * std::max(1, settings.starts) *
+                                                  levelIterations(settings, iterations, stratified.size());
+        if (settings.measureAll) {
+            const double all = static_cast<double>(texelCount(settings.baseSize >> m));
+            seconds += (kernel + perTexel) * all;
+        }
+        estimate.levelSeconds.push_back(seconds / threads);
+        estimate.seconds += seconds / threads;
+    }
+    return estimate;
+}
+
+} // namespace probefit

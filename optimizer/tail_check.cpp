@@ -1,0 +1,43 @@
+#include "tail_check.h"
+
+#include <cmath>
+#include <numbers>
+#include <tuple>
+
+#include "probe/cube.h"
+#include "probe/reference.h"
+#include "probe/table_filter.h"
+
+namespace probefit {
+
+using namespace probe;
+
+std::vector<TailLevel> checkTail(const TapTable& table) {
+    const CubeGeometry geometry(table.baseSize);
+    const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
+    std::vector<TailLevel> levels;
+    for (int m = 0; m < table.levelCount; ++m) {
+        const double alpha = tableLevelAlpha(table, m);
+        if (alpha <= 0.0) continue;
+        const int size = table.baseSize >> m;
+        TailLevel level{m, kTailTexels * 2.0 / size, {}};
+        const double cosRadius = std::cos(std::min(level.radius, std::numbers::pi));
+        for (const auto& [where, i, j] : {std::tuple{"face centre", size / 2, size / 2}, {"edge", 0, size / 2}, {"corner", 0, 0}}) {
+            const Texel texel{0, i, j};
+            const glm::dvec3 R = glm::normalize(faceUvToCubePoint(0, texelCentreUv(i, size), texelCentreUv(j, size)));
+            const std::vector<double> reference = referenceKernel(R, geometry, alpha);
+            const std::vector<double> response = tableImpulseResponse(table, operators, m, texel);
+            TailSample sample{where};
+            for (std::size_t t = 0; t < reference.size(); ++t)
+                if (glm::dot(geometry.directions[t], R) < cosRadius) {
+                    sample.referenceMass += reference[t];
+                    sample.tableMass += response[t];
+                }
+            level.samples.push_back(sample);
+        }
+        levels.push_back(level);
+    }
+    return levels;
+}
+
+} // namespace probefit
