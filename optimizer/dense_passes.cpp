@@ -14,6 +14,11 @@ DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
     parentStart_.assign(baseCount + 1, 0);
     for (const TexelWeight& e : op.entries) ++parentStart_[e.index + 1];
     for (std::size_t t = 0; t < baseCount; ++t) parentStart_[t + 1] += parentStart_[t];
+    rowStart_ = op.rowStart;
+    for (const TexelWeight& e : op.entries) {
+        rowIndex_.push_back(e.index);
+        rowWeight_.push_back(e.weight);
+    }
     parentRow_.resize(op.entries.size());
     parentWeight_.resize(op.entries.size());
     std::vector<std::uint32_t> next(parentStart_.begin(), parentStart_.end() - 1);
@@ -43,7 +48,17 @@ double DensePasses::measure(const std::vector<DownsampleOperator>& operators, st
         sum += std::abs(d);
         if (slope) slope[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
     }
-    if (adjoint) pullUpFromBase(operators, *adjoint, top);
+    if (adjoint && top >= 1) {
+        // The first pull-up step as DownsampleOperator::apply, from the rows' indices and weights held apart.
+        const double* fine = (*adjoint)[0].data();
+        double* coarseAdjoint = (*adjoint)[1].data();
+        for (std::size_t r = 0; r + 1 < rowStart_.size(); ++r) {
+            double rowSum = 0.0;
+            for (std::uint32_t e = rowStart_[r]; e < rowStart_[r + 1]; ++e) rowSum += rowWeight_[e] * fine[rowIndex_[e]];
+            coarseAdjoint[r] = rowSum;
+        }
+        for (int k = 2; k <= top; ++k) operators[k - 1].apply((*adjoint)[k - 1], (*adjoint)[k]);
+    }
     for (int k = 1; k <= top; ++k) std::fill(weights[k].begin(), weights[k].end(), 0.0);
     return sum;
 }

@@ -30,6 +30,9 @@ private:
     // [parentStart[t], parentStart[t + 1]), rows ascending and in entry order within a row.
     std::vector<std::uint32_t> parentStart_, parentRow_;
     std::vector<double> parentWeight_;
+    // operators[0]'s rows with indices and weights in arrays of their own (12 bytes an entry, not 16).
+    std::vector<std::uint32_t> rowStart_, rowIndex_;
+    std::vector<double> rowWeight_;
 };
 
 } // namespace probefit

@@ -443,7 +443,8 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
                 report.iterations += bfgs.iterations;
                 report.solverSeconds += bfgs.solverSeconds;
             }
-            const double value = objective.value(constBlocks.data());
+            // With one start there is nothing to compare (and no evaluation to spend).
+            const double value = starts.size() > 1 ? objective.value(constBlocks.data()) : 0.0;
             modelSeconds += objective.seconds();
             evaluations += objective.evaluations();
             if (starts.size() > 1 && progress) progress({m, 0, value, secondsSince(start), "objective after the fit from " + name});
