@@ -12,6 +12,10 @@ inline constexpr const char* kSamplingHelp =
     "How the GPU reads the pyramid: hardware (a cube image through the seamless sampler), exact "
     "(the CPU model's arithmetic over a buffer) or automatic (hardware on GPUs, exact on CPU devices)";
 
+inline constexpr const char* kForceHelp =
+    "Replace --out even when it is a non-empty folder that probefilter did not write (the root folder and a folder holding an input "
+    "are refused still)";
+
 void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);

@@ -17,6 +17,7 @@
 #include "probe/error_measures.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
+#include "probe/staged_output.h"
 #include "probe/table_io.h"
 #include "report.h"
 #include "spheres.h"
@@ -42,6 +43,7 @@ struct CompareOptions {
     bool validate = false;
     bool repairPixels = false;
     std::string out;
+    bool force = false;
 };
 
 struct MethodRun {
@@ -110,7 +112,9 @@ void runCompare(const CompareOptions& o) {
     fisSettings.method = {probe::MethodKind::fis, nullptr, {}};
     fisSettings.method.fis.samples = o.samples;
 
-    probe::StagedOutput output(o.out);
+    std::vector<std::filesystem::path> inputs{o.input};
+    if (!o.table.empty()) inputs.emplace_back(o.table);
+    probe::StagedOutput output(o.out, inputs, o.force);
     probe::PixelRepairs repairs;
     const probe::CubeImage source =
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
@@ -206,6 +210,7 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_flag("--repair-pixels", o->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--out", o->out, "Output folder: sheet.png and report.json")->required();
+    cmd->add_flag("--force", o->force, kForceHelp);
     cmd->callback([o] { runCompare(*o); });
 }
 

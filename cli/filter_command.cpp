@@ -12,6 +12,7 @@
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
+#include "probe/staged_output.h"
 #include "probe/table_io.h"
 #include "probe_outputs.h"
 #include "report.h"
@@ -42,6 +43,7 @@ struct FilterOptions {
     bool repairPixels = false;
     std::string ktx2 = "none";
     std::string out;
+    bool force = false;
 };
 
 bool looksLikeJson(const std::filesystem::path& path) {
@@ -122,7 +124,9 @@ void runFilter(const FilterOptions& o) {
         s.method.table = &table;
     }
     probe::validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
-    probe::StagedOutput output(o.out);
+    std::vector<std::filesystem::path> inputs{o.input};
+    if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
+    probe::StagedOutput output(o.out, inputs, o.force);
     probe::PixelRepairs repairs;
     const probe::CubeImage source =
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
@@ -223,6 +227,7 @@ void addFilterCommand(CLI::App& app) {
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
     cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
+    cmd->add_flag("--force", o->force, kForceHelp);
     cmd->callback([o] { runFilter(*o); });
 }
 

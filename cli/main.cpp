@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "interrupt.h"
 #include "probe/error.h"
 
 namespace {
@@ -20,6 +21,7 @@ std::string withFlag(const probe::ParameterError& e) {
 } // namespace
 
 int main(int argc, char** argv) {
+    probefilter::removeStagingOnInterrupt();
     CLI::App app{"probefilter: fast GGX filtering of reflection probes (Manson & Sloan 2016)"};
     app.require_subcommand(1);
     probefilter::addReferenceCommand(app);

@@ -10,6 +10,7 @@
 #include "probe/ktx2.h"
 #include "probe/probe_io.h"
 #include "probe/roughness.h"
+#include "probe/staged_output.h"
 
 namespace probefilter {
 

@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
+#include "probe/staged_output.h"
 #include "probe_outputs.h"
 #include "report.h"
 
@@ -20,6 +21,7 @@ struct ReferenceOptions {
     std::optional<int> levels; // default: max(1, log2 S)
     std::string mapping = "gltf";
     std::string out;
+    bool force = false;
     bool repairPixels = false;
     std::string ktx2 = "none";
 };
@@ -29,7 +31,7 @@ void runReference(const ReferenceOptions& o) {
     const int levelCount = o.levels.value_or(probe::defaultLevelCount(o.size));
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     probe::validateSizeAndLevels(o.size, levelCount);
-    probe::StagedOutput output(o.out);
+    probe::StagedOutput output(o.out, {o.input}, o.force);
 
     Stopwatch loadTime;
     probe::Image image = probe::readImage(o.input);
@@ -72,6 +74,7 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--levels", options->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", options->mapping, "Roughness per level: gltf, authors, filament or unity");
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
+    cmd->add_flag("--force", options->force, kForceHelp);
     cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");
     cmd->add_flag("--repair-pixels", options->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");

@@ -12,6 +12,7 @@
 #include "probe/plan.h"
 #include "probe/probe_io.h"
 #include "probe/sh.h"
+#include "probe/staged_output.h"
 #include "probe_outputs.h"
 #include "report.h"
 #include "scene_taps.h"
@@ -26,6 +27,7 @@ using nlohmann::json;
 struct RunOptions {
     std::string scene;
     std::string out;
+    bool force = false;
     std::string sampling = "automatic";
     std::string device;
     bool validate = false;
@@ -208,7 +210,12 @@ private:
 void runScene(const RunOptions& o) {
     const probe::Scene scene = probe::readScene(o.scene);
     const probe::Plan plan = probe::makePlan(scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); });
-    probe::StagedOutput output(o.out);
+    std::vector<std::filesystem::path> inputs{o.scene};
+    for (const probe::SceneProbe& p : scene.probes) {
+        inputs.push_back(p.image);
+        if (p.table) inputs.push_back(*p.table);
+    }
+    probe::StagedOutput output(o.out, inputs, o.force);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
@@ -236,6 +243,7 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
     cmd->add_option("--out", o->out, "Output folder: <probe>/level_<m>.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
         ->required();
+    cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");

@@ -19,6 +19,7 @@
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
+#include "probe/staged_output.h"
 #include "probe/synthetic.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
@@ -43,6 +44,7 @@ struct SweepOptions {
     std::string sampling = "automatic";
     std::string device;
     std::string out;
+    bool force = false;
 };
 
 struct NamedProbe {
@@ -148,7 +150,9 @@ void runSweep(const SweepOptions& o) {
     if (o.repeat < 1) throw probe::ParameterError("repeat", fmt::format("{}: must be at least 1", o.repeat));
     const int levelCount = probe::defaultLevelCount(o.size);
     probe::validateSizeAndLevels(o.size, levelCount);
-    probe::StagedOutput output(o.out);
+    std::vector<std::filesystem::path> inputs{o.tables};
+    if (!o.hdriDir.empty()) inputs.emplace_back(o.hdriDir);
+    probe::StagedOutput output(o.out, inputs, o.force);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     const probe::gpu::Device device(deviceOptions);
@@ -241,6 +245,7 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_option("--out", o->out, "Output folder")->required();
+    cmd->add_flag("--force", o->force, kForceHelp);
     cmd->callback([o] { runSweep(*o); });
 }
 

@@ -23,7 +23,7 @@ expect_refused() { # name, expected text in the message, args...
         echo "FAIL $name: message lacks '$text': $(cat "$work/stderr")"
         failures=$((failures + 1))
     fi
-    if [[ -e $out ]] || compgen -G "$work/.out.partial-*" >/dev/null; then echo "FAIL $name: output written"; failures=$((failures + 1)); fi
+    if [[ -e $out ]] || compgen -G "$work/.probefilter-*" >/dev/null; then echo "FAIL $name: output written"; failures=$((failures + 1)); fi
     rm -rf "$out"
     echo "ok $name: $(cat "$work/stderr")"
 }

@@ -207,22 +207,3 @@ TEST(ProbeIo, WrongAspectRatioIsRefused) {
     const Image image = rampImage(30, 20);
     EXPECT_THROW(detectLayout(image, "x.exr"), ProbeError);
 }
-
-TEST(ProbeIo, StagedOutputAppearsOnlyOnCommit) {
-    TempDir dir;
-    const fs::path out = dir.path / "result";
-    {
-        StagedOutput staged(out);
-        writeExr(staged.file("level_0.exr"), rampImage(6, 1));
-        EXPECT_FALSE(fs::exists(out));
-    }
-    EXPECT_FALSE(fs::exists(out));
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 0);
-    {
-        StagedOutput staged(out);
-        writeExr(staged.file("level_0.exr"), rampImage(6, 1));
-        staged.commit();
-    }
-    EXPECT_TRUE(fs::exists(out / "level_0.exr"));
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1);
-}

@@ -12,7 +12,6 @@
 #include <ImfOutputFile.h>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
-#include <unistd.h>
 
 #include "probe/error.h"
 
@@ -214,40 +213,5 @@ void writeExr(const fs::path& path, const Image& image) {
 }
 
 std::string levelFileName(int level) { return fmt::format("level_{}.exr", level); }
-
-StagedOutput::StagedOutput(fs::path outDir) : outDir_(std::move(outDir)) {
-    std::error_code ec;
-    if (fs::exists(outDir_, ec) && !fs::is_directory(outDir_, ec)) fail(outDir_, "output path exists and is not a folder");
-    const fs::path parent = fs::absolute(outDir_, ec).parent_path();
-    staging_ = parent / fmt::format(".{}.partial-{}", outDir_.filename().string(), ::getpid());
-    fs::create_directories(staging_, ec);
-    if (ec) fail(outDir_, fmt::format("output folder is not writable ({})", ec.message()));
-    if (::access(staging_.c_str(), W_OK) != 0) fail(outDir_, "output folder is not writable");
-}
-
-StagedOutput::~StagedOutput() {
-    std::error_code ec;
-    fs::remove_all(staging_, ec);
-}
-
-fs::path StagedOutput::file(const std::string& name) {
-    names_.push_back(name);
-    const fs::path path = staging_ / name;
-    std::error_code ec;
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) fail(outDir_ / name, fmt::format("cannot create its folder ({})", ec.message()));
-    return path;
-}
-
-void StagedOutput::commit() {
-    std::error_code ec;
-    fs::create_directories(outDir_, ec);
-    if (ec) fail(outDir_, fmt::format("cannot create output folder ({})", ec.message()));
-    for (const std::string& name : names_) {
-        fs::create_directories((outDir_ / name).parent_path(), ec);
-        if (!ec) fs::rename(staging_ / name, outDir_ / name, ec);
-        if (ec) fail(outDir_ / name, fmt::format("cannot move output into place ({})", ec.message()));
-    }
-}
 
 } // namespace probe

@@ -1,5 +1,5 @@
 // Probes in and out: EXR and Radiance HDR reading, pixel validation, conversion to a cube of a
-// chosen face size, EXR writing, and output folders that appear whole or not at all.
+// chosen face size, EXR writing.
 #pragma once
 
 #include <filesystem>
@@ -49,28 +49,5 @@ void writeExr(const std::filesystem::path& path, const Image& image);
 
 // Output file name of level m: level_<m>.exr.
 std::string levelFileName(int level);
-
-// Writes into a hidden staging folder beside `outDir`, and moves the files into place only on
-// commit(), so that a failed run leaves no partial output. Creating it checks that the output
-// folder is writable, before any expensive work starts.
-class StagedOutput {
-public:
-    explicit StagedOutput(std::filesystem::path outDir);
-    ~StagedOutput();
-    StagedOutput(const StagedOutput&) = delete;
-    StagedOutput& operator=(const StagedOutput&) = delete;
-
-    // Where to write a file that will appear as outDir/name (`name` may hold folders, e.g.
-    // "sky/level_0.exr").
-    std::filesystem::path file(const std::string& name);
-    void commit();
-
-    const std::filesystem::path& outDir() const { return outDir_; }
-
-private:
-    std::filesystem::path outDir_;
-    std::filesystem::path staging_;
-    std::vector<std::string> names_;
-};
 
 } // namespace probe

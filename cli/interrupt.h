@@ -1,0 +1,11 @@
+// SIGINT, SIGTERM and SIGHUP end a run without leaving its staging folder behind.
+#pragma once
+
+namespace probefilter {
+
+// Blocks the three signals in the calling thread (so in every thread it starts later: call it first
+// in main) and starts a thread that waits for them, removes every staging folder
+// (probe::StagedOutput::abandonAll) and ends the process by the same signal.
+void removeStagingOnInterrupt();
+
+} // namespace probefilter

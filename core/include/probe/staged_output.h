@@ -1,0 +1,53 @@
+// Output folders that a run replaces whole or leaves as they were.
+//
+// Every file goes into a staging folder beside the output folder (".probefilter-<hash>-<pid>", so
+// on the same file system and short whatever the output's name); commit() swaps the two folders in
+// one renameat2(RENAME_EXCHANGE) (a plain rename when there is no output folder yet) and removes the
+// old one. A run killed at any point leaves the previous output exactly as it was or the new one
+// whole. A killed run's staging folder is removed by the next run into the same folder, an
+// interrupted one's at once (abandonAll(), from the command line's signal thread).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace probe {
+
+class StagedOutput {
+public:
+    // Checks, creating nothing, that `outDir` may be replaced, and throws ProbeError naming it
+    // otherwise: it is not the root folder or a mount point, holds none of `inputs`, is a folder if it
+    // exists, and is empty or probefilter's own (a report.json naming a command) unless `force`; its
+    // nearest existing parent is a writable folder.
+    StagedOutput(std::filesystem::path outDir, const std::vector<std::filesystem::path>& inputs, bool force);
+    ~StagedOutput(); // removes the staging folder unless committed
+    StagedOutput(const StagedOutput&) = delete;
+    StagedOutput& operator=(const StagedOutput&) = delete;
+
+    // Where to write a file that will appear as outDir/name (`name` may hold folders, e.g.
+    // "sky/level_0.exr"). The first call creates the output's missing parents and the staging folder.
+    std::filesystem::path file(const std::string& name);
+
+    // Replaces the output folder with everything written (checking again that it may be replaced).
+    void commit();
+
+    const std::filesystem::path& outDir() const { return outDir_; }
+
+    // Removes the staging folder of every StagedOutput not yet committed; file() and commit() fail
+    // afterwards. Safe to call from another thread; the process is expected to end right after.
+    static void abandonAll();
+
+private:
+    void checkReplaceable() const;
+    void removeStaleStaging() const;
+
+    std::filesystem::path outDir_;  // as given, for messages
+    std::filesystem::path target_;  // absolute, symbolic links resolved
+    std::filesystem::path staging_; // empty until the first file()
+    std::vector<std::filesystem::path> inputs_;
+    bool force_ = false;
+    bool committed_ = false;
+};
+
+} // namespace probe

@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Output folders under faults: `probefilter filter` runs killed (SIGKILL and SIGINT) at points
+# spread over the whole run, the pause before the swap included, leave the output folder exactly as
+# the previous run left it or whole as the new run writes it, never a mix; after SIGINT no staging
+# folder is left, after SIGKILL the next run removes it. Every command that writes a folder refuses
+# `/`, the input's folder and a non-empty folder it did not write (exit 2, nothing changed).
+set -euo pipefail
+: "${PROBEFILTER:?}"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+"$PROBEFILTER" synth sky --size 16 --out sky.exr >/dev/null
+
+python3 - "$PROBEFILTER" <<'PY'
+import hashlib, json, os, shutil, signal, subprocess, sys, time
+
+probefilter = sys.argv[1]
+old_args = [probefilter, "filter", "sky.exr", "--method", "fis", "--samples", "16", "--size", "16", "--ktx2", "rgba16f"]
+new_args = [probefilter, "filter", "sky.exr", "--method", "fis", "--samples", "8", "--size", "16", "--levels", "2"]
+pause_ms = 300
+env = dict(os.environ, PROBEFILTER_TEST_PAUSE_BEFORE_SWAP_MS=str(pause_ms))
+
+def files(folder):
+    found = {}
+    for root, _, names in os.walk(folder):
+        for name in names:
+            path = os.path.join(root, name)
+            found[os.path.relpath(path, folder)] = hashlib.sha256(open(path, "rb").read()).hexdigest()
+    return found
+
+def run(args, out, run_env=None):
+    subprocess.run(args + ["--out", out], check=True, capture_output=True, env=run_env)
+
+run(old_args, "old")
+old = files("old")
+run(new_args, "new")
+new = files("new")
+assert set(old) != set(new) and "level_3.exr" in old and "level_3.exr" not in new, (sorted(old), sorted(new))
+
+def state(folder):
+    if not os.path.isdir(folder):
+        return "missing"
+    now = files(folder)
+    if now == old:
+        return "old"
+    # The new run's files are deterministic but for report.json's timings.
+    same = set(now) == set(new) and all(now[n] == new[n] for n in new if n != "report.json")
+    if same and json.load(open(os.path.join(folder, "report.json")))["level_count"] == 2:
+        return "new"
+    return "mixed"
+
+def staging():
+    return [n for n in os.listdir(".") if n.startswith(".probefilter-")]
+
+start = time.monotonic()
+run(new_args, "timing", env)
+duration = time.monotonic() - start
+
+trials = 24  # per signal
+outcomes = {}
+failures = 0
+for k in range(trials):
+    delay = 1.2 * duration * (k + 0.5) / trials  # the last few finish before the signal
+    for sig in (signal.SIGKILL, signal.SIGINT):
+        shutil.rmtree("out", ignore_errors=True)
+        shutil.copytree("old", "out")
+        proc = subprocess.Popen(new_args + ["--out", "out"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        time.sleep(delay)
+        proc.send_signal(sig)
+        code = proc.wait()
+        result = state("out")
+        left = staging()
+        outcomes[(sig.name, result)] = outcomes.get((sig.name, result), 0) + 1
+        if result not in ("old", "new"):
+            print(f"FAIL: {sig.name} at {delay:.3f} s (exit {code}): the output folder is {result}")
+            failures += 1
+        if sig == signal.SIGINT and left:
+            print(f"FAIL: SIGINT at {delay:.3f} s (exit {code}) left {left}")
+            failures += 1
+
+# A killed run's staging folder is removed by the next run into the same folder.
+run(new_args, "out")
+if staging():
+    print(f"FAIL: staging left after a complete run: {staging()}")
+    failures += 1
+for sig in ("SIGKILL", "SIGINT"):
+    if outcomes.get((sig, "old"), 0) == 0 or outcomes.get((sig, "new"), 0) == 0:
+        print(f"FAIL: {sig}: the kill points did not cover both outcomes: {outcomes}")
+        failures += 1
+print(f"{2 * trials} killed runs over {duration:.2f} s each ({pause_ms} ms pause before the swap): "
+      + ", ".join(f"{s} {r}: {n}" for (s, r), n in sorted(outcomes.items())))
+sys.exit(1 if failures else 0)
+PY
+
+# Refusals: exit 2, one line naming the folder, nothing changed or created.
+mkdir -p notes/sub && echo keep >notes/sub/todo.txt
+failures=0
+refused() { # expected text, arguments
+    local text=$1
+    shift
+    local code=0
+    "$PROBEFILTER" "$@" >/dev/null 2>stderr || code=$?
+    if [[ $code -ne 2 ]] || [[ $(wc -l <stderr) -ne 1 ]] || ! grep -qF -- "$text" stderr; then
+        echo "FAIL: $* -> exit $code: $(cat stderr)"
+        failures=$((failures + 1))
+    fi
+}
+echo '{"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16}], "materials": []}' >scene.json
+refused "refusing to replace the root folder" filter sky.exr --size 16 --out /
+refused "holds the input" filter sky.exr --size 16 --out .
+refused "holds the input" run scene.json --out .
+refused "holds the input" reference sky.exr --size 16 --out "$work"
+commands=("filter sky.exr --size 16" "reference sky.exr --size 16" "run scene.json" "compare sky.exr --size 16" "sweep --size 16")
+for command in "${commands[@]}"; do
+    # shellcheck disable=SC2086
+    refused "notes: is not empty and holds no report.json" $command --out notes
+done
+refused "--method nope" filter sky.exr --size 16 --method nope --out fresh/parents/out
+[[ $(cat notes/sub/todo.txt) == keep && ! -e fresh ]] || { echo "FAIL: a refused run changed the disk"; failures=$((failures + 1)); }
+if ! "$PROBEFILTER" filter sky.exr --size 16 --method fis --force --out notes >/dev/null 2>&1; then
+    echo "FAIL: --force"
+    failures=$((failures + 1))
+fi
+[[ -f notes/level_0.exr && ! -e notes/sub ]] || { echo "FAIL: --force did not replace the folder whole"; failures=$((failures + 1)); }
+echo "cli_output_folder: refusals: $failures failure(s)"
+[[ $failures -eq 0 ]]

@@ -1,0 +1,159 @@
+// Output folders: replaced whole or left as they were; refused, with nothing created, where a
+// replacement would destroy what probefilter did not write.
+#include <fstream>
+#include <set>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "probe/error.h"
+#include "probe/staged_output.h"
+
+using namespace probe;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir()
+        : path(fs::temp_directory_path() /
+               fmt::format("staged_output_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// A run's output: the files, and a report.json that marks the folder as probefilter's.
+void writeRun(StagedOutput& output, const std::vector<std::string>& names) {
+    for (const std::string& name : names) writeText(output.file(name), name);
+    writeText(output.file("report.json"), R"({"command": "filter"})");
+}
+
+std::set<std::string> entries(const fs::path& folder) {
+    std::set<std::string> names;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder)) names.insert(e.path().filename().string());
+    return names;
+}
+
+} // namespace
+
+TEST(StagedOutput, AppearsOnlyOnCommit) {
+    TempDir dir;
+    const fs::path out = dir.path / "result";
+    {
+        StagedOutput staged(out, {}, false);
+        writeRun(staged, {"level_0.exr"});
+        EXPECT_FALSE(fs::exists(out));
+    }
+    EXPECT_TRUE(entries(dir.path).empty());
+    {
+        StagedOutput staged(out, {}, false);
+        writeRun(staged, {"level_0.exr"});
+        staged.commit();
+    }
+    EXPECT_EQ(entries(out), (std::set<std::string>{"level_0.exr", "report.json"}));
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"result"});
+}
+
+TEST(StagedOutput, ReplacesTheFolderWhole) {
+    TempDir dir;
+    const fs::path out = dir.path / "result";
+    StagedOutput first(out, {}, false);
+    writeRun(first, {"level_0.exr", "level_1.exr", "level_2.exr", "sky/probe.ktx2"});
+    first.commit();
+    StagedOutput second(out, {}, false);
+    writeRun(second, {"level_0.exr"});
+    second.commit();
+    EXPECT_EQ(entries(out), (std::set<std::string>{"level_0.exr", "report.json"}));
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"result"});
+}
+
+TEST(StagedOutput, RefusesWhatItMustNotReplaceAndCreatesNothing) {
+    TempDir dir;
+    fs::create_directories(dir.path / "inputs");
+    writeText(dir.path / "inputs/probe.exr", "x");
+    fs::create_directories(dir.path / "notes");
+    writeText(dir.path / "notes/todo.txt", "keep");
+    writeText(dir.path / "a-file", "x");
+    EXPECT_THROW(StagedOutput("/", {}, true), ProbeError);
+    EXPECT_THROW(StagedOutput(dir.path / "inputs", {dir.path / "inputs/probe.exr"}, true), ProbeError);
+    EXPECT_THROW(StagedOutput(dir.path, {dir.path / "inputs/probe.exr"}, true), ProbeError);
+    EXPECT_THROW(StagedOutput(dir.path / "notes", {}, false), ProbeError);
+    EXPECT_THROW(StagedOutput(dir.path / "a-file", {}, true), ProbeError);
+    EXPECT_THROW(StagedOutput(dir.path / "a-file/deeper/out", {}, true), ProbeError);
+    EXPECT_EQ(entries(dir.path), (std::set<std::string>{"a-file", "inputs", "notes"}));
+    EXPECT_EQ(entries(dir.path / "notes"), std::set<std::string>{"todo.txt"});
+
+    // Refused after the checks (bad input found later): the missing parents are not created either.
+    { StagedOutput unused(dir.path / "new/parents/out", {}, false); }
+    EXPECT_FALSE(fs::exists(dir.path / "new"));
+
+    // --force replaces a folder that probefilter did not write.
+    StagedOutput forced(dir.path / "notes", {}, true);
+    writeRun(forced, {"level_0.exr"});
+    forced.commit();
+    EXPECT_EQ(entries(dir.path / "notes"), (std::set<std::string>{"level_0.exr", "report.json"}));
+}
+
+TEST(StagedOutput, LongNamesAndEmptyFolders) {
+    TempDir dir;
+    const fs::path out = dir.path / std::string(250, 'n');
+    StagedOutput staged(out, {}, false);
+    writeRun(staged, {"level_0.exr"});
+    staged.commit();
+    EXPECT_TRUE(fs::exists(out / "level_0.exr"));
+
+    fs::create_directories(dir.path / "empty");
+    StagedOutput intoEmpty(dir.path / "empty", {}, false);
+    writeRun(intoEmpty, {"level_0.exr"});
+    intoEmpty.commit();
+    EXPECT_EQ(entries(dir.path / "empty"), (std::set<std::string>{"level_0.exr", "report.json"}));
+}
+
+TEST(StagedOutput, AKilledRunsStagingIsRemovedByTheNextRun) {
+    TempDir dir;
+    const fs::path out = dir.path / "result";
+    const pid_t child = ::fork();
+    if (child == 0) {
+        StagedOutput staged(out, {}, false);
+        writeRun(staged, {"level_0.exr"});
+        ::raise(SIGKILL);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    EXPECT_EQ(entries(dir.path).size(), 1u); // the killed run's staging folder
+    StagedOutput next(out, {}, false);
+    writeRun(next, {"level_1.exr"});
+    next.commit();
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"result"});
+    EXPECT_EQ(entries(out), (std::set<std::string>{"level_1.exr", "report.json"}));
+}
+
+TEST(StagedOutput, AbandonAllRemovesStaging) {
+    TempDir dir;
+    const pid_t child = ::fork();
+    if (child == 0) {
+        StagedOutput staged(dir.path / "result", {}, false);
+        writeRun(staged, {"level_0.exr"});
+        StagedOutput::abandonAll();
+        bool refused = false;
+        try {
+            staged.file("level_1.exr");
+        } catch (const ProbeError&) {
+            refused = true;
+        }
+        ::_exit(refused ? 0 : 1); // no destructors: only abandonAll() may have cleaned up
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+    EXPECT_TRUE(entries(dir.path).empty());
+}
