@@ -2,6 +2,7 @@
 // random probes and random tables, every level and face, in both sampling modes (exact: to float
 // rounding; hardware: within the sampler's precision, gpu_test_support.h); constants stay
 // constant; FIS-1024 is close to the reference on a smooth sky.
+#include <limits>
 #include <random>
 
 #include <fmt/format.h>
@@ -249,4 +250,51 @@ TEST_F(GpuTest, TableMethodNeedsSubgroupVote) {
     s.sampling = gpu::Sampling::exact;
     s.method.kind = MethodKind::fis;
     EXPECT_NO_THROW(gpu::Filter(device, s));
+}
+
+// Finite input gives finite output (probe/range_scale.h), on the GPU and in the CPU model alike: a
+// probe all at FLT_MAX stays FLT_MAX at every level, one texel at FLT_MAX among ordinary ones gives
+// the model's levels, and a 16-bit output saturates at 65504.
+TEST_F(GpuTest, LargestFiniteValuesEveryMethod) {
+    constexpr float largest = std::numeric_limits<float>::max();
+    const CubeImage allLargest(16, glm::vec3(largest));
+    CubeImage oneLargest = probetest::randomProbe(16, 50);
+    oneLargest.rgb[3 * 700 + 1] = largest;
+    const TapTable table = randomTable(16, 4, 8, TableForm::quadratic, RoughnessMapping::authors, kAllPyramids[0], 51);
+    auto expectFinite = [](const CubeLevels& levels, float limit, const std::string& what) {
+        for (std::size_t m = 0; m < levels.size(); ++m)
+            for (float v : levels[m].rgb) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= limit) << what << ", level " << m << ": " << v;
+    };
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases)
+        for (MethodKind method : {MethodKind::table, MethodKind::fis, MethodKind::reference}) {
+            gpu::FilterSettings s = settingsFor(method, 16, 4, RoughnessMapping::authors, kAllPyramids[0], c.sampling);
+            s.method.table = &table;
+            const std::string what = fmt::format("{} {}", describe(c.sampling), methodKindName(method));
+            gpu::Filter filter(probetest::testDevice(), s);
+            const CubeLevels gpuAll = filter.run(allLargest), cpuAll = filterOnCpu(allLargest, 4, s.mapping, s.method);
+            expectFinite(gpuAll, largest, what + " all FLT_MAX");
+            expectFinite(cpuAll, largest, what + " all FLT_MAX, CPU model");
+            if (filter.pyramidFormat() == VK_FORMAT_R32G32B32A32_SFLOAT || method == MethodKind::reference)
+                for (int m = 0; m < 4; ++m) {
+                    EXPECT_LT(probetest::maxRelativeError(gpuAll[m], CubeImage(16 >> m, glm::vec3(largest))), 1e-5)
+                        << what << ", level " << m;
+                    EXPECT_LT(probetest::maxRelativeError(cpuAll[m], CubeImage(16 >> m, glm::vec3(largest))), 1e-5)
+                        << what << ", level " << m;
+                }
+            const CubeLevels gpuOne = filter.run(oneLargest);
+            expectFinite(gpuOne, largest, what + " one FLT_MAX");
+            if (filter.pyramidFormat() == VK_FORMAT_R32G32B32A32_SFLOAT || method == MethodKind::reference) {
+                // Relative to the brightest texel a read blends, as the other comparisons: here the spike.
+                const CubeLevels cpuOne = filterOnCpu(oneLargest, 4, s.mapping, s.method);
+                for (int m = 0; m < 4; ++m) {
+                    const float brightest = *std::max_element(cpuOne[m].rgb.begin(), cpuOne[m].rgb.end());
+                    EXPECT_LT(probetest::maxRelativeError(gpuOne[m], cpuOne[m], brightest), c.tolerance) << what << ", level " << m;
+                }
+            }
+
+            s.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+            gpu::Filter half(probetest::testDevice(), s);
+            expectFinite(half.run(allLargest), 65504.0f, what + " all FLT_MAX, rgba16f");
+            expectFinite(half.run(oneLargest), 65504.0f, what + " one FLT_MAX, rgba16f");
+        }
 }

@@ -3,6 +3,7 @@
 // the same bits on every run.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -98,4 +99,12 @@ TEST_F(GpuSh, SameBitsEveryRunAndAFixedSummation) {
     ASSERT_EQ(projector.dispatches().size(), 2u);
     EXPECT_EQ(projector.dispatches()[0].groups, 24u);
     EXPECT_EQ(projector.dispatches()[1].groups, 1u);
+}
+
+// A probe all at FLT_MAX projects to finite coefficients whose irradiance is FLT_MAX everywhere.
+TEST_F(GpuTest, ShOfLargestFiniteValues) {
+    constexpr float largest = std::numeric_limits<float>::max();
+    gpu::ShProjector projector(probetest::testDevice(), 8);
+    const CubeImage irradiance = shToCube(radianceToIrradiance(projector.project(CubeImage(8, glm::vec3(largest)))), 8);
+    for (float e : irradiance.rgb) ASSERT_TRUE(std::isfinite(e) && e > 0.999f * largest) << e;
 }

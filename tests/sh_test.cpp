@@ -1,7 +1,9 @@
 // Order-2 SH irradiance: the basis, the white furnace, and agreement with the exact cosine
 // convolution on band-limited radiance.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -43,4 +45,23 @@ TEST(Sh, MatchesTheExactCosineConvolutionForBandLimitedRadiance) {
     const CubeImage sh = shToCube(radianceToIrradiance(projectRadiance(radiance)), 8);
     const CubeImage exact = exactIrradiance(radiance, 8);
     for (std::size_t k = 0; k < sh.rgb.size(); ++k) EXPECT_NEAR(sh.rgb[k], exact.rgb[k], 2e-4);
+}
+
+// One bright texel: the order-2 truncation rings below zero on the far side (1560 of the 4608
+// values of a 16^2 strip), and shToCube clamps it to 0 there and keeps it elsewhere.
+TEST(Sh, IrradianceIsClampedToZeroWhereTheTruncationRings) {
+    const ShCoefficients e = radianceToIrradiance(projectRadiance(impulseProbe(16, {0, 7, 7}, 100.0f)));
+    const CubeImage clamped = shToCube(e, 16);
+    const CubeGeometry geometry(16);
+    std::size_t negative = 0;
+    for (std::size_t t = 0; t < texelCount(16); ++t) {
+        const glm::dvec3 value = evaluateSh(e, geometry.directions[t]);
+        for (int c = 0; c < 3; ++c) {
+            const float expected = static_cast<float>(std::max(value[c], 0.0));
+            negative += value[c] < 0.0;
+            EXPECT_EQ(clamped.rgb[3 * t + c], expected);
+        }
+    }
+    RecordProperty("negative values", std::to_string(negative));
+    EXPECT_GT(negative, texelCount(16)); // a third of the values: the clamp matters
 }

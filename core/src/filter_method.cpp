@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/range_scale.h"
 #include "probe/reference.h"
 #include "probe/table_filter.h"
 
@@ -56,7 +57,11 @@ TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int le
 CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method) {
     validateMethod(method, source.size, levelCount, mapping);
     if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
-    return filterWithTaps(buildPyramid(source, method.pyramid()), levelCount, methodTapGenerator(method, source.size, levelCount, mapping));
+    const int shift = rangeShift(source);
+    CubeLevels levels = filterWithTaps(buildPyramid(shifted(source, -shift), method.pyramid()), levelCount,
+                                       methodTapGenerator(method, source.size, levelCount, mapping));
+    shiftLevels(levels, shift);
+    return levels;
 }
 
 } // namespace probe

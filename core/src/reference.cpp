@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "probe/ggx.h"
+#include "probe/range_scale.h"
 
 namespace probe {
 
@@ -115,14 +116,17 @@ CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
 
 CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ProgressCallback& progress) {
     validateSizeAndLevels(source.size, levelCount);
+    const int shift = rangeShift(source); // rows are summed in float
+    const CubeImage scaled = shifted(source, -shift);
     CubeLevels levels;
     std::size_t total = 0, done = 0;
     for (int m = 0; m < levelCount; ++m) total += texelCount(source.size >> m);
     for (int m = 0; m < levelCount; ++m) {
-        levels.push_back(referenceLevel(source, source.size >> m, levelAlpha(mapping, m, levelCount)));
+        levels.push_back(referenceLevel(scaled, source.size >> m, levelAlpha(mapping, m, levelCount)));
         done += texelCount(source.size >> m);
         if (progress) progress(done, total);
     }
+    shiftLevels(levels, shift);
     return levels;
 }
 

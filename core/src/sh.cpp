@@ -1,6 +1,9 @@
 #include "probe/sh.h"
 
+#include <limits>
 #include <numbers>
+
+#include <glm/common.hpp>
 
 #include "probe/shared_constants.h"
 
@@ -49,7 +52,11 @@ glm::dvec3 evaluateSh(const ShCoefficients& c, const glm::dvec3& n) {
 CubeImage shToCube(const ShCoefficients& irradiance, int size) {
     CubeImage out(size);
     const CubeGeometry geometry(size);
-    for (std::size_t t = 0; t < texelCount(size); ++t) out.set(t, glm::vec3(evaluateSh(irradiance, geometry.directions[t])));
+    // Order-2 SH rings below zero opposite a bright light; irradiance is not negative. Clamped to
+    // FLT_MAX too, as the double sum may exceed it.
+    constexpr double largest = std::numeric_limits<float>::max();
+    for (std::size_t t = 0; t < texelCount(size); ++t)
+        out.set(t, glm::vec3(glm::clamp(evaluateSh(irradiance, geometry.directions[t]), 0.0, largest)));
     return out;
 }
 

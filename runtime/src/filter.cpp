@@ -8,6 +8,7 @@
 #include "device.h"
 #include "filter_impl.h"
 #include "probe/error.h"
+#include "probe/range_scale.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
@@ -345,8 +346,11 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     }
     const auto allMips = uint32_t(s.levelCount);
 
-    // The source: uploaded, then read by the passes.
-    const std::vector<float> texels = rgbaTexels(source);
+    // The source: uploaded, then read by the passes; above 2^64 scaled down into range for a float32
+    // output, which is scaled back up once read, or clamped there for a 16-bit one (probe/range_scale.h).
+    const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
+    const int shift = float32 ? rangeShift(source) : 0;
+    const std::vector<float> texels = rgbaTexels(float32 ? shifted(source, -shift) : rangeLimited(source));
     Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
     std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
     VkCommandBuffer upload = f.submission->begin();
@@ -407,6 +411,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
         unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
                      level.rgb);
     }
+    shiftLevels(result, shift);
     return result;
 }
 

@@ -1,6 +1,7 @@
 // SH projection on the GPU (shaders/sh_projection.comp): the source and its geometry in, one
 // dispatch that sums the texels into blocks of 1024, then dispatches that sum blocks of 1024
 // blocks, until one block (9 RGB coefficients) is left.
+#include <cmath>
 #include <cstdint>
 
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 #include "compute_pipeline.h"
 #include "gpu_timer.h"
 #include "probe/error.h"
+#include "probe/range_scale.h"
 #include "submission.h"
 
 namespace probe::gpu {
@@ -76,7 +78,8 @@ ShCoefficients ShProjector::project(const CubeImage& source) {
     Impl& p = *impl_;
     if (source.size != p.faceSize)
         throw ProbeError(fmt::format("SH projection: the probe has face size {}, the projector was built for {}", source.size, p.faceSize));
-    const std::vector<float> texels = rgbaTexels(source);
+    const int shift = rangeShift(source); // probe/range_scale.h: the float sums stay finite
+    const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
     p.submission->upload(p.source, texels.data(), p.source.bytes());
 
     VkCommandBuffer commandBuffer = p.submission->begin();
@@ -103,7 +106,8 @@ ShCoefficients ShProjector::project(const CubeImage& source) {
     p.submission->download(p.blocks, all.data(), p.blocks.bytes());
     ShCoefficients coefficients{};
     const float* block = all.data() + 4 * std::size_t(p.stages.back().outFirst);
-    for (int c = 0; c < kShCount; ++c) coefficients[c] = glm::dvec3(block[4 * c], block[4 * c + 1], block[4 * c + 2]);
+    for (int c = 0; c < kShCount; ++c)
+        coefficients[c] = std::ldexp(1.0, shift) * glm::dvec3(block[4 * c], block[4 * c + 1], block[4 * c + 2]);
     return coefficients;
 }
 

@@ -40,7 +40,8 @@ ShCoefficients radianceToIrradiance(const ShCoefficients& radiance);
 
 glm::dvec3 evaluateSh(const ShCoefficients& coefficients, const glm::dvec3& unitDirection);
 
-// The irradiance of SH coefficients at every texel centre of a level of `size`.
+// The irradiance of SH coefficients at every texel centre of a level of `size`, clamped to
+// [0, FLT_MAX] (order 2 rings below zero opposite a bright light).
 CubeImage shToCube(const ShCoefficients& irradiance, int size);
 
 } // namespace probe

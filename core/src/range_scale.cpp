@@ -1,0 +1,36 @@
+#include "probe/range_scale.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace probe {
+
+int rangeShift(const CubeImage& image) {
+    float largest = 0.0f;
+    for (float v : image.rgb) largest = std::max(largest, std::abs(v));
+    if (!(largest > kFilterRangeLimit)) return 0;
+    int exponent = 0; // largest = f * 2^exponent, 0.5 <= f < 1, so largest * 2^(64 - exponent) < 2^64
+    std::frexp(largest, &exponent);
+    return exponent - 64;
+}
+
+CubeImage shifted(const CubeImage& image, int shift) {
+    CubeImage out = image;
+    if (shift == 0) return out;
+    constexpr float largest = std::numeric_limits<float>::max();
+    for (float& v : out.rgb) v = std::clamp(std::ldexp(v, shift), -largest, largest);
+    return out;
+}
+
+void shiftLevels(CubeLevels& levels, int shift) {
+    for (CubeImage& level : levels) level = shifted(level, shift);
+}
+
+CubeImage rangeLimited(const CubeImage& image) {
+    CubeImage out = image;
+    for (float& v : out.rgb) v = std::min(v, kFilterRangeLimit);
+    return out;
+}
+
+} // namespace probe
