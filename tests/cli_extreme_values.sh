@@ -40,7 +40,10 @@ for input in in/one_max.exr in/all_max.exr in/rgbe_max.hdr; do
  "outputs": {"exr": true, "ktx2": "$ktx2", "spheres": true}}
 JSON
         "$PROBEFILTER" run "$name.json" --out "$name" >/dev/null 2>&1 || { echo "FAIL: run $input"; failures=$((failures + 1)); continue; }
-        [[ -f $name/p/irradiance.exr && -f $name/p/probe.ktx2 ]] || { echo "FAIL: run $input: outputs missing"; failures=$((failures + 1)); }
+        if [[ ! -f $name/p/irradiance.exr || ! -f $name/p/probe.ktx2 ]]; then
+            echo "FAIL: run $input: outputs missing"
+            failures=$((failures + 1))
+        fi
         check "$name" "run $input with $ktx2"
     done
 done
