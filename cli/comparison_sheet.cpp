@@ -20,7 +20,7 @@ constexpr std::array<std::uint8_t, 3> kWhite{255, 255, 255};
 // Black -> purple -> red -> orange -> white, for t in [0, 1].
 std::array<std::uint8_t, 3> heatColour(double t) {
     static constexpr double stops[5][3] = {{0, 0, 0}, {0.35, 0.0, 0.5}, {0.85, 0.1, 0.1}, {1.0, 0.6, 0.0}, {1.0, 1.0, 1.0}};
-    t = std::clamp(t, 0.0, 1.0) * 4.0;
+    t = std::isnan(t) ? 4.0 : std::clamp(t, 0.0, 1.0) * 4.0; // an undefined error shows as the largest
     const int k = std::min(static_cast<int>(t), 3);
     const double f = t - k;
     std::array<std::uint8_t, 3> c{};

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The largest finite inputs give finite outputs: a texel at FLT_MAX, every texel at FLT_MAX and a
 # Radiance HDR at its largest value (about 1.7e38), through filter's three methods with either
-# mapping, reference, and run (levels, SH irradiance, KTX2 in both formats): no NaN or Inf in any
-# EXR or KTX2 written.
+# mapping, reference, run (levels, SH irradiance, KTX2 in both formats, spheres) and compare: no NaN
+# or Inf in any EXR or KTX2 written, none in compare's numbers.
 set -euo pipefail
 : "${PROBEFILTER:?}" "${EXTREME_PROBES:?}"
 work=$(mktemp -d)
@@ -32,6 +32,12 @@ for input in in/one_max.exr in/all_max.exr in/rgbe_max.hdr; do
     "$PROBEFILTER" reference "$input" --size 16 --ktx2 rgba16f --out "reference-$(basename "$input")" >/dev/null 2>&1 ||
         { echo "FAIL: reference $input"; failures=$((failures + 1)); }
     check "reference-$(basename "$input")" "reference $input"
+    # compare: the spheres rendered from those levels, their errors and the sheet (no NaN: JSON null).
+    name=compare-$(basename "$input")
+    if ! "$PROBEFILTER" compare "$input" --size 16 --out "$name" >/dev/null 2>&1 || grep -q null "$name/report.json"; then
+        echo "FAIL: compare $input"
+        failures=$((failures + 1))
+    fi
     for ktx2 in rgba16f rgba32f; do
         name=run-$ktx2-$(basename "$input")
         cat >"$name.json" <<JSON

@@ -6,14 +6,20 @@
 
 namespace probe {
 
-int rangeShift(const CubeImage& image) {
-    float largest = 0.0f;
-    for (float v : image.rgb) largest = std::max(largest, std::abs(v));
+int rangeShift(double largest) {
     if (!(largest > kFilterRangeLimit)) return 0;
     int exponent = 0; // largest = f * 2^exponent, 0.5 <= f < 1, so largest * 2^(64 - exponent) < 2^64
     std::frexp(largest, &exponent);
     return exponent - 64;
 }
+
+float largestMagnitude(const CubeImage& image) {
+    float largest = 0.0f;
+    for (float v : image.rgb) largest = std::max(largest, std::abs(v));
+    return largest;
+}
+
+int rangeShift(const CubeImage& image) { return rangeShift(largestMagnitude(image)); }
 
 CubeImage shifted(const CubeImage& image, int shift) {
     CubeImage out = image;

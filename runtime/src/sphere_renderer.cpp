@@ -1,13 +1,17 @@
 // The sphere renderer (shaders/spheres.comp): packs the filtered levels and the background (both
 // bordered, for seamless bilinear reads), the DFG table, the irradiance and the materials into the
 // four storage buffers and runs one dispatch.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <fmt/format.h>
 #include <spheres.spv.h>
 
 #include "compute_pipeline.h"
 #include "probe/error.h"
+#include "probe/range_scale.h"
 #include "submission.h"
 
 namespace probe::gpu {
@@ -58,9 +62,17 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     int baseSize = 1 << (levels.size() - 1);
     for (std::size_t m = levels.size(); m-- > 0;)
         if (levels[m].size) baseSize = levels[m].size << m;
+    // Radiance above 2^64 is rendered scaled down and scaled back (probe/range_scale.h), so that the
+    // shading sums stay finite.
+    double largest = largestMagnitude(*scene.background);
+    for (const CubeImage& level : levels) largest = std::max<double>(largest, largestMagnitude(level));
+    for (const glm::dvec3& c : scene.irradiance) largest = std::max({largest, std::abs(c.r), std::abs(c.g), std::abs(c.b)});
+    const int shift = rangeShift(largest);
+    CubeLevels scaledLevels = levels;
+    shiftLevels(scaledLevels, -shift);
     // The background after the levels, where spheres.comp reads it.
-    std::vector<float> cubes = packedLevels(levels, baseSize);
-    const std::vector<float> background = borderedRgbaTexels(*scene.background);
+    std::vector<float> cubes = packedLevels(scaledLevels, baseSize);
+    const std::vector<float> background = borderedRgbaTexels(shifted(*scene.background, -shift));
     cubes.insert(cubes.end(), background.begin(), background.end());
 
     std::vector<float> lookup;
@@ -74,8 +86,10 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     }
 
     std::vector<float> parameters;
-    for (const glm::dvec3& c : scene.irradiance)
+    for (const glm::dvec3& irradiance : scene.irradiance) {
+        const glm::dvec3 c = std::ldexp(1.0, -shift) * irradiance;
         parameters.insert(parameters.end(), {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b), 0.0f});
+    }
     for (const SphereMaterial& m : scene.materials) {
         if (m.hasSpecular && !scene.dfg) throw ProbeError("sphere renderer: a specular material needs the DFG table");
         parameters.insert(parameters.end(), {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.specular, m.roughness, m.level,
@@ -114,8 +128,9 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     std::vector<float> rgba(pixels * 4);
     submission.download(image, rgba.data(), image.bytes());
     Image out{width, height, std::vector<float>(pixels * 3)};
+    constexpr float largestFloat = std::numeric_limits<float>::max();
     for (std::size_t p = 0; p < pixels; ++p)
-        for (int k = 0; k < 3; ++k) out.rgb[3 * p + k] = rgba[4 * p + k];
+        for (int k = 0; k < 3; ++k) out.rgb[3 * p + k] = std::min(std::ldexp(rgba[4 * p + k], shift), largestFloat);
     return out;
 }
 

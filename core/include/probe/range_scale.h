@@ -12,7 +12,11 @@ namespace probe {
 // The largest value a probe is filtered at: 2^64.
 inline constexpr float kFilterRangeLimit = 18446744073709551616.0f;
 
-// The smallest e >= 0 with (largest value) * 2^-e <= kFilterRangeLimit.
+// The largest |value| of the image.
+float largestMagnitude(const CubeImage& image);
+
+// The smallest e >= 0 with largest * 2^-e <= kFilterRangeLimit: for an image, its largest magnitude.
+int rangeShift(double largest);
 int rangeShift(const CubeImage& image);
 
 // Every value times 2^shift (shift may be negative), saturating at +-FLT_MAX.
