@@ -75,7 +75,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     for (std::size_t m = 0; m < estimate.levelSeconds.size(); ++m)
         if (estimate.levelSeconds[m] > 0.0)
             perLevel += fmt::format("{}level {} {:.0f} s", perLevel.empty() ? "" : ", ", m, estimate.levelSeconds[m]);
-    fmt::print("estimate: about {:.0f} s ({:.1f} min) with nothing else running ({})\n", estimate.seconds, estimate.seconds / 60.0,
+    fmt::print("estimate: about {:.0f} s ({:.1f} min) at the machine's present speed ({})\n", estimate.seconds, estimate.seconds / 60.0,
                perLevel);
     std::fflush(stdout);
     if (estimateOnly) return 0;
