@@ -15,6 +15,7 @@
 #include "probe/dfg.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
+#include "probe/limits.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/staged_output.h"
@@ -89,8 +90,9 @@ void runCompare(const CompareOptions& o) {
     for (double r : o.roughness)
         if (!(r >= 0.0 && r <= 1.0)) throw probe::ProbeError(fmt::format("--roughness {}: outside [0, 1]", r));
     if (o.cell < 8) throw probe::ProbeError(fmt::format("--cell {}: at least 8 pixels", o.cell));
-    if (o.repeat < 1) throw probe::ProbeError(fmt::format("--repeat {}: must be at least 1", o.repeat));
-    if (o.samples < 1) throw probe::ProbeError(fmt::format("--samples {}: must be at least 1", o.samples));
+    probe::checkRepeat(o.repeat);
+    if (o.samples < 1 || o.samples > probe::kMaxSamples)
+        throw probe::ProbeError(fmt::format("--samples {}: must be 1 to {}", o.samples, probe::kMaxSamples));
 
     probe::gpu::FilterSettings tableSettings;
     tableSettings.method.kind = probe::MethodKind::table;
@@ -195,14 +197,16 @@ void addCompareCommand(CLI::App& app) {
     auto o = std::make_shared<CompareOptions>();
     CLI::App* cmd = app.add_subcommand("compare", "Comparison sheet: reference, tap table and FIS spheres with error heat maps");
     cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
-    cmd->add_option("--size", o->size, "Face size S_0 (a power of two)")->required();
+    cmd->add_option("--size", o->size, fmt::format("Face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--table", o->table, "Tap table file (default: the compiled-in table for the size)");
-    cmd->add_option("--samples", o->samples, "FIS samples per texel")->capture_default_str();
+    cmd->add_option("--samples", o->samples, fmt::format("FIS samples per texel (1 to {})", probe::kMaxSamples))->capture_default_str();
     cmd->add_option("--roughness", o->roughness, "Perceptual roughness of each sphere")->capture_default_str()->delimiter(',');
     cmd->add_option("--cell", o->cell, "Pixels per sphere")->capture_default_str();
     cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
-    cmd->add_option("--repeat", o->repeat, "Timed GPU runs per method, in turns after an untimed one; times are the median")
+    cmd->add_option(
+           "--repeat", o->repeat,
+           fmt::format("Timed GPU runs per method (1 to {}), in turns after an untimed one; times are the median", probe::kMaxRepeat))
         ->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);

@@ -9,6 +9,8 @@
 #include "commands.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
+#include "probe/input_file.h"
+#include "probe/limits.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
@@ -68,8 +70,10 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
         for (const probe::gpu::CompiledTable& c : compiled)
             if (c.name == o.table) return c.table;
         const std::filesystem::path path(o.table);
-        if (!std::filesystem::exists(path))
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec))
             throw probe::ProbeError(fmt::format("--table {}: no such file and no compiled-in table of that name", o.table));
+        probe::checkInputFile(path, probe::kMaxTextFileBytes);
         if (looksLikeJson(path)) return probe::readTable(path);
         if (o.tableTaps <= 0 || o.tableForm.empty())
             throw probe::ProbeError(
@@ -111,7 +115,7 @@ void runFilter(const FilterOptions& o) {
     s.method.fis.bias = o.fisBias;
     s.method.fis.pyramid = pyramid;
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
-    if (o.repeat < 1) throw probe::ParameterError("repeat", fmt::format("{}: must be at least 1", o.repeat));
+    probe::checkRepeat(o.repeat);
 
     probe::TapTable table;
     if (s.method.kind == probe::MethodKind::table) {
@@ -205,21 +209,26 @@ void addFilterCommand(CLI::App& app) {
                     "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
     cmd->add_option("--table-taps", o->tableTaps, "Published text layout: taps per frame");
     cmd->add_option("--table-form", o->tableForm, "Published text layout: const or quad");
-    cmd->add_option("--samples", o->samples, "fis: samples per output texel: one count, or one per output level (level 0 first)")
+    cmd->add_option(
+           "--samples", o->samples,
+           fmt::format("fis: samples per output texel (1 to {}): one count, or one per output level (level 0 first)", probe::kMaxSamples))
         ->capture_default_str();
-    cmd->add_option("--fis-bias", o->fisBias, "fis: added to each sample's pyramid level (0 is the accurate setting, Filament uses 1)")
+    cmd->add_option("--fis-bias", o->fisBias,
+                    fmt::format("fis: added to each sample's pyramid level (-{0} to {0}; 0 is the accurate setting, Filament uses 1)",
+                                probe::kMaxFisBias))
         ->capture_default_str();
     cmd->add_option("--pyramid", o->pyramid, "Pass 1 pyramid: bspline or box")->capture_default_str();
     cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")
         ->capture_default_str();
-    cmd->add_option("--size", o->size, "Output face size S_0 (a power of two)")->required();
+    cmd->add_option("--size", o->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--format", o->format,
                     "The GPU's output cube format, which the written levels keep: rgba32f, rgba16f (what engines use) or b10g11r11")
         ->capture_default_str();
-    cmd->add_option("--repeat", o->repeat, "Run the passes K times; GPU times are the median")->capture_default_str();
+    cmd->add_option("--repeat", o->repeat, fmt::format("Run the passes K times (1 to {}); GPU times are the median", probe::kMaxRepeat))
+        ->capture_default_str();
     cmd->add_flag("--against-reference", o->againstReference, "Also run the CPU reference and report the image L1 error per level");
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");

@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include "commands.h"
+#include "probe/limits.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/staged_output.h"
@@ -70,7 +71,8 @@ void addReferenceCommand(CLI::App& app) {
     auto options = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Filter a probe with the exact (brute-force) GGX reference on the CPU");
     cmd->add_option("input", options->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
-    cmd->add_option("--size", options->size, "Output face size S_0 (a power of two)")->required();
+    cmd->add_option("--size", options->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))
+        ->required();
     cmd->add_option("--levels", options->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", options->mapping, "Roughness per level: gltf, authors, filament or unity");
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();

@@ -16,6 +16,7 @@
 #include "probe/error.h"
 #include "probe/importance_sampling.h"
 #include "probe/impulse_error.h"
+#include "probe/limits.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
@@ -147,7 +148,11 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
 }
 
 void runSweep(const SweepOptions& o) {
-    if (o.repeat < 1) throw probe::ParameterError("repeat", fmt::format("{}: must be at least 1", o.repeat));
+    probe::checkRepeat(o.repeat);
+    for (const auto& [flag, counts] : {std::pair{"--samples", &o.samples}, std::pair{"--fis-mix", &o.fisMix}})
+        for (int samples : *counts)
+            if (samples < 1 || samples > probe::kMaxSamples)
+                throw probe::ProbeError(fmt::format("{} {}: must be 1 to {}", flag, samples, probe::kMaxSamples));
     const int levelCount = probe::defaultLevelCount(o.size);
     probe::validateSizeAndLevels(o.size, levelCount);
     std::vector<std::filesystem::path> inputs{o.tables};
@@ -231,15 +236,17 @@ void runSweep(const SweepOptions& o) {
 void addSweepCommand(CLI::App& app) {
     auto o = std::make_shared<SweepOptions>();
     CLI::App* cmd = app.add_subcommand("sweep", "Error against time for every table and FIS setting on a probe set (one device, one run)");
-    cmd->add_option("--size", o->size, "Face size S_0");
+    cmd->add_option("--size", o->size, fmt::format("Face size S_0 (a power of two, at most {})", probe::kMaxFaceSize));
     cmd->add_option("--synthetic", o->synthetic,
                     "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
     cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");
-    cmd->add_option("--samples", o->samples, "FIS sample counts");
+    cmd->add_option("--samples", o->samples, fmt::format("FIS sample counts (each 1 to {})", probe::kMaxSamples));
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
     cmd->add_option("--bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
-    cmd->add_option("--repeat", o->repeat, "Timed runs per method, on the first probe, in rounds over the methods (median)");
+    cmd->add_option(
+        "--repeat", o->repeat,
+        fmt::format("Timed runs per method (1 to {}), on the first probe, in rounds over the methods (median)", probe::kMaxRepeat));
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();

@@ -12,6 +12,7 @@
 #include "fit.h"
 #include "fit_estimate.h"
 #include "probe/error.h"
+#include "probe/limits.h"
 #include "probe/table_io.h"
 #include "seam_select.h"
 #include "table_mix.h"
@@ -39,14 +40,14 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
-    if (log2Exact(settings.baseSize) < 1)
-        throw ProbeError(fmt::format("--size: face size {} is not a power of two >= 2", settings.baseSize));
+    if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
+        throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
     if (settings.levelCount == 0) settings.levelCount = defaultLevelCount(settings.baseSize);
     if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
         throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount, settings.baseSize,
                                      maxLevelCount(settings.baseSize)));
-    if (settings.taps < 4 || settings.taps % 4 != 0)
-        throw ProbeError(fmt::format("--taps: {} is not a positive multiple of 4", settings.taps));
+    if (settings.taps < 4 || settings.taps % 4 != 0 || settings.taps > kMaxTaps)
+        throw ProbeError(fmt::format("--taps: {} is not a multiple of 4 from 4 to {}", settings.taps, kMaxTaps));
     if (settings.maxIterations < 1) throw ProbeError(fmt::format("--iterations: {} is not a positive count", settings.maxIterations));
     if (settings.lmIterations < 0) throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
     if (settings.roughIterationFactor < 1)
@@ -201,9 +202,9 @@ int main(int argc, char** argv) {
     probefit::FitSettings settings;
     std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", out;
     std::vector<std::string> init;
-    app.add_option("--size", settings.baseSize, "base face size S_0 (power of two)");
+    app.add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
     app.add_option("--levels", settings.levelCount, "output levels M (default max(1, log2 S_0))");
-    app.add_option("--taps", settings.taps, "taps per frame N (multiple of 4)");
+    app.add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
     app.add_option("--form", form, "const or quad");
     app.add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
     app.add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 
 #include "probe/error.h"
 #include "probe/probe_io.h"
+#include "probe/radiance_hdr.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -101,6 +103,27 @@ TEST(ProbeIo, RadianceHdr) {
         const std::size_t p = k / 3 * 3;
         const float brightest = std::max({image.rgb[p], image.rgb[p + 1], image.rgb[p + 2]});
         EXPECT_NEAR(back.rgb[k], image.rgb[k], brightest / 128.0f);
+    }
+}
+
+// Widths under 8 cannot be run-length encoded: the scanlines are flat RGBE. Mantissa times 2^(e - 136).
+TEST(ProbeIo, RadianceHdrFlatScanlines) {
+    std::string file = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+    for (int p = 0; p < 8; ++p) file += std::string{char(128), char(64), char(32 * (p % 2)), char(129 + p / 4)};
+    std::istringstream in(file);
+    const Image image = readRadianceHdr(in, file.size(), "flat.hdr");
+    ASSERT_EQ(image.width, 4);
+    ASSERT_EQ(image.height, 2);
+    EXPECT_EQ(image.pixel(1, 0), glm::vec3(1.0f, 0.5f, 0.25f));
+    EXPECT_EQ(image.pixel(2, 1), glm::vec3(2.0f, 1.0f, 0.0f));
+
+    // The same file one byte short is refused, not padded.
+    std::istringstream shorter(file);
+    try {
+        readRadianceHdr(shorter, file.size() - 1, "flat.hdr");
+        ADD_FAILURE() << "a truncated file was accepted";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("flat.hdr: Radiance HDR: file ends early"), std::string::npos) << e.what();
     }
 }
 

@@ -320,7 +320,7 @@ TEST(TableIo, TruncatedOrWrongLayoutIsRefused) {
             EXPECT_NE(message.find(needle), std::string::npos) << message;
         }
     };
-    expectRefused(text.substr(0, text.size() / 2), "not a complete table file");
+    expectRefused(text.substr(0, text.size() / 2), "not valid JSON, or incomplete");
     std::string wrongTaps = text;
     wrongTaps.replace(wrongTaps.find("\"taps\": 4"), 9, "\"taps\": 8");
     expectRefused(wrongTaps, "coefficients");

@@ -9,6 +9,7 @@
 
 #include "probe/error.h"
 #include "probe/ggx.h"
+#include "probe/limits.h"
 
 namespace probe {
 
@@ -49,9 +50,10 @@ void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelC
         throw ParameterError("samples",
                              fmt::format("({} counts): one count, or one per output level ({})", settings.levelSamples.size(), levelCount));
     for (int m = 0; m < levelCount; ++m)
-        if (settings.samplesAt(m) < 1)
-            throw ParameterError("samples", fmt::format("{} at level {}: must be at least 1", settings.samplesAt(m), m));
-    if (!std::isfinite(settings.bias)) throw ParameterError("fis-bias", fmt::format("{}: must be a finite number", settings.bias));
+        if (settings.samplesAt(m) < 1 || settings.samplesAt(m) > kMaxSamples)
+            throw ParameterError("samples", fmt::format("{} at level {}: must be 1 to {}", settings.samplesAt(m), m, kMaxSamples));
+    if (!(std::abs(settings.bias) <= kMaxFisBias))
+        throw ParameterError("fis-bias", fmt::format("{}: must be a number from -{} to {}", settings.bias, kMaxFisBias, kMaxFisBias));
 }
 
 std::vector<int> mixedLevelSamples(int samples, int levelCount) {

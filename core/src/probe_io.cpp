@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <numbers>
 
 #include <ImfChannelList.h>
@@ -10,15 +12,15 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+#include <ImfTileDescription.h>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "probe/error.h"
-
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_HDR
-#define STBI_NO_STDIO_WARNINGS
-#include <stb/stb_image.h>
+#include "probe/input_file.h"
+#include "probe/limits.h"
+#include "probe/radiance_hdr.h"
 
 namespace fs = std::filesystem;
 
@@ -30,6 +32,9 @@ namespace {
     throw ProbeError(fmt::format("{}: {}", path.string(), problem));
 }
 
+// A library's message on one line (OpenEXR's may hold several).
+std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+
 std::string readMagic(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, "cannot open file");
@@ -38,12 +43,42 @@ std::string readMagic(const fs::path& path) {
     return std::string(magic, static_cast<std::size_t>(in.gcount()));
 }
 
+void checkImageSize(const fs::path& path, std::int64_t width, std::int64_t height) {
+    if (width <= 0 || height <= 0) fail(path, "image has zero size");
+    if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)
+        fail(path,
+             fmt::format("{} x {} pixels is over the limit of {} pixels ({} per side)", width, height, kMaxImagePixels, kMaxImageSide));
+}
+
+// The header alone, read before OpenEXR opens the file: opening allocates by the data window and the
+// tile count, so both are checked first.
+void checkExrHeader(const fs::path& path) {
+    Imf::StdIFStream stream(path.c_str());
+    char start[8] = {}; // the magic number and the version field; readFrom reads what follows
+    stream.read(start, 8);
+    int version = 0;
+    std::memcpy(&version, start + 4, sizeof(version)); // little-endian on disk, as on the hosts we build for
+    Imf::Header header;
+    header.readFrom(stream, version);
+    const Imath::Box2i window = header.dataWindow();
+    const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1, height = std::int64_t{window.max.y} - window.min.y + 1;
+    checkImageSize(path, width, height);
+    if (header.hasTileDescription()) {
+        const Imf::TileDescription& tiles = header.tileDescription();
+        if (tiles.xSize < 1 || tiles.ySize < 1) fail(path, "EXR tiles have zero size");
+        const std::int64_t tileCount = (width + tiles.xSize - 1) / tiles.xSize * ((height + tiles.ySize - 1) / tiles.ySize);
+        if (tileCount > kMaxImagePixels / 256)
+            fail(path, fmt::format("EXR has {} tiles of {} x {}, too many", tileCount, tiles.xSize, tiles.ySize));
+    }
+}
+
 Image readExr(const fs::path& path) {
     try {
+        checkExrHeader(path);
         Imf::InputFile file(path.c_str());
+        if (!file.isComplete()) fail(path, "EXR is truncated: part of its pixel data is missing");
         const Imath::Box2i window = file.header().dataWindow();
         const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
-        if (width <= 0 || height <= 0) fail(path, "image has zero size");
         const Imf::ChannelList& channels = file.header().channels();
         for (const char* name : {"R", "G", "B"})
             if (!channels.findChannel(name)) fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
@@ -62,18 +97,14 @@ Image readExr(const fs::path& path) {
     } catch (const ProbeError&) {
         throw;
     } catch (const std::exception& e) {
-        fail(path, fmt::format("unreadable or corrupt EXR ({})", e.what()));
+        fail(path, fmt::format("unreadable or corrupt EXR ({})", firstLine(e.what())));
     }
 }
 
-Image readHdr(const fs::path& path) {
-    int width = 0, height = 0, components = 0;
-    float* pixels = stbi_loadf(path.c_str(), &width, &height, &components, 3);
-    if (!pixels) fail(path, fmt::format("unreadable or corrupt Radiance HDR ({})", stbi_failure_reason()));
-    Image image{width, height, std::vector<float>(pixels, pixels + static_cast<std::size_t>(width) * height * 3)};
-    stbi_image_free(pixels);
-    if (width <= 0 || height <= 0) fail(path, "image has zero size");
-    return image;
+Image readHdr(const fs::path& path, std::uintmax_t size) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, "cannot open file");
+    return readRadianceHdr(in, size, path);
 }
 
 // Bilinear read of an equirectangular image at a unit direction, wrapping in longitude and
@@ -135,12 +166,12 @@ CubeImage resample(int faceSize, int subsamples, Sampler sample) {
 } // namespace
 
 Image readImage(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) fail(path, "no such file");
-    if (fs::file_size(path, ec) == 0) fail(path, "file is empty (zero-size image)");
+    // Images are read as they stream in; the pixel limits bound the memory, not the file size.
+    const std::uintmax_t size = checkInputFile(path, std::numeric_limits<std::uintmax_t>::max());
+    if (size == 0) fail(path, "file is empty (zero-size image)");
     const std::string magic = readMagic(path);
     if (magic == std::string("\x76\x2f\x31\x01", 4)) return readExr(path);
-    if (magic.rfind("#?", 0) == 0) return readHdr(path);
+    if (magic.rfind("#?", 0) == 0) return readHdr(path, size);
     fail(path, "not an OpenEXR or Radiance HDR file");
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/limits.h"
 
 namespace probe {
 
@@ -71,6 +72,7 @@ int maxLevelCount(int faceSize) { return log2Exact(faceSize) + 1; }
 
 void validateSizeAndLevels(int faceSize, int levelCount) {
     if (log2Exact(faceSize) < 0) throw ProbeError(fmt::format("face size {} is not a power of two >= 1", faceSize));
+    if (faceSize > kMaxFaceSize) throw ProbeError(fmt::format("face size {} is over the limit of {}", faceSize, kMaxFaceSize));
     if (levelCount < 1 || levelCount > maxLevelCount(faceSize))
         throw ProbeError(
             fmt::format("level count {} is impossible for face size {} (1..{})", levelCount, faceSize, maxLevelCount(faceSize)));

@@ -1,12 +1,15 @@
 #include "probe/scene.h"
 
-#include <fstream>
+#include <limits>
 #include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "json_input.h"
 #include "probe/error.h"
+#include "probe/input_file.h"
+#include "probe/limits.h"
 
 namespace probe {
 
@@ -33,10 +36,19 @@ public:
         seen_.insert(key);
         const auto it = object_.find(key);
         if (it == object_.end()) return std::nullopt;
-        try {
-            return it->template get<T>();
-        } catch (const json::exception&) {
-            fail(field(key), fmt::format("wrong type ({})", it->dump()));
+        if constexpr (std::is_same_v<T, int>) {
+            const std::optional<int> value = jsonInt(*it);
+            if (!value) fail(field(key), fmt::format("{} is not an integer within int's range", describeJson(*it)));
+            return value;
+        } else if constexpr (std::is_same_v<T, double>) {
+            if (!it->is_number()) fail(field(key), fmt::format("wrong type ({}, a number expected)", describeJson(*it)));
+            return it->template get<double>();
+        } else {
+            try {
+                return it->template get<T>();
+            } catch (const json::exception&) {
+                fail(field(key), fmt::format("wrong type ({})", describeJson(*it)));
+            }
         }
     }
     template <typename T>
@@ -62,7 +74,7 @@ public:
     // Call last: every key must have been read.
     void refuseUnknown() const {
         for (const auto& [key, value] : object_.items())
-            if (!seen_.count(key)) fail(field(key), "unknown field");
+            if (!seen_.count(key)) fail(field(key.substr(0, 64)), "unknown field");
     }
 
 private:
@@ -89,10 +101,14 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos)
         r.fail(r.field("name"), fmt::format("'{}' cannot name a folder", p.name));
     p.image = scene.parent_path() / r.required<std::string>("image");
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(p.image, ec)) r.fail(r.field("image"), fmt::format("no such file {}", p.image.string()));
+    try {
+        checkInputFile(p.image, std::numeric_limits<std::uintmax_t>::max());
+    } catch (const ProbeError& e) {
+        r.fail(r.field("image"), e.what());
+    }
     p.faceSize = r.optional<int>("face_size").value_or(128);
-    if (log2Exact(p.faceSize) < 0) r.fail(r.field("face_size"), fmt::format("{} is not a power of two >= 1", p.faceSize));
+    if (log2Exact(p.faceSize) < 0 || p.faceSize > kMaxFaceSize)
+        r.fail(r.field("face_size"), fmt::format("{} is not a power of two from 1 to {}", p.faceSize, kMaxFaceSize));
     p.levelCount = r.optional<int>("levels").value_or(defaultLevelCount(p.faceSize));
     if (p.levelCount < 1 || p.levelCount > maxLevelCount(p.faceSize))
         r.fail(r.field("levels"),
@@ -100,7 +116,8 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     p.mapping = parseNamed(r, "mapping", r.optional<std::string>("mapping").value_or("gltf"), parseRoughnessMapping);
     p.method.kind = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseMethodKind);
     p.method.fis.samples = r.optional<int>("samples").value_or(32);
-    if (p.method.fis.samples < 1) r.fail(r.field("samples"), fmt::format("{} is not a positive sample count", p.method.fis.samples));
+    if (p.method.fis.samples < 1 || p.method.fis.samples > kMaxSamples)
+        r.fail(r.field("samples"), fmt::format("{} is not a sample count from 1 to {}", p.method.fis.samples, kMaxSamples));
     if (auto table = r.optional<std::string>("table")) p.table = scene.parent_path() / *table;
     r.refuseUnknown();
     return p;
@@ -134,7 +151,7 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
     else if (ktx2 == "rgba16f") o.ktx2 = Ktx2Format::rgba16f;
     else if (ktx2 == "rgba32f") o.ktx2 = Ktx2Format::rgba32f;
     else if (!(ktx2.is_object() && ktx2.empty()))
-        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", ktx2.dump()));
+        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", describeJson(ktx2)));
     r.refuseUnknown();
     return o;
 }
@@ -142,14 +159,7 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
 } // namespace
 
 Scene readScene(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw ProbeError(fmt::format("{}: cannot open scene file", path.string()));
-    json root;
-    try {
-        root = json::parse(in);
-    } catch (const json::parse_error& e) {
-        throw ProbeError(fmt::format("{}: not valid JSON ({})", path.string(), e.what()));
-    }
+    const json root = parseJsonFile(readTextFile(path), path, "scene file");
     Scene scene;
     scene.path = path;
     FieldReader r(path, "", root);

@@ -1,15 +1,18 @@
 #include "probe/table_io.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <fstream>
-#include <sstream>
+#include <optional>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "json_input.h"
 #include "probe/error.h"
+#include "probe/input_file.h"
 
 namespace probe {
 
@@ -19,14 +22,6 @@ using nlohmann::json;
 
 constexpr std::string_view kFormatName = "probefilter-tap-table";
 constexpr int kFormatVersion = 1;
-
-std::string readText(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ProbeError(fmt::format("{}: cannot open", path.string()));
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return buffer.str();
-}
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
     std::ofstream out(path, std::ios::binary);
@@ -41,19 +36,47 @@ json errorToJson(const ImpulseError& e) { return {{"mean", e.mean}, {"max", e.ma
 struct Reader {
     const std::filesystem::path& path;
 
+    [[noreturn]] void fail(std::string_view key, const std::string& problem) const {
+        throw ProbeError(fmt::format("{}: field '{}' {}", path.string(), key, problem));
+    }
     const json& field(const json& object, std::string_view key) const {
         if (!object.is_object()) throw ProbeError(fmt::format("{}: expected an object where '{}' should be", path.string(), key));
         const auto it = object.find(key);
         if (it == object.end()) throw ProbeError(fmt::format("{}: missing field '{}'", path.string(), key));
         return *it;
     }
+    // Every key of `object` must be one of `known`.
+    void refuseUnknown(const json& object, std::initializer_list<std::string_view> known, std::string_view where) const {
+        for (const auto& [key, value] : object.items())
+            if (std::find(known.begin(), known.end(), key) == known.end())
+                throw ProbeError(fmt::format("{}: unknown field '{}{}'", path.string(), where, key.substr(0, 64)));
+    }
+    // Numbers are checked, not converted blindly: ints must be integers within int's range.
     template <typename T>
     T get(const json& object, std::string_view key) const {
         const json& value = field(object, key);
-        try {
-            return value.get<T>();
-        } catch (const json::exception&) {
-            throw ProbeError(fmt::format("{}: field '{}' has the wrong type", path.string(), key));
+        if constexpr (std::is_same_v<T, int>) {
+            const std::optional<int> v = jsonInt(value);
+            if (!v) fail(key, fmt::format("is {}, not an integer within int's range", describeJson(value)));
+            return *v;
+        } else if constexpr (std::is_same_v<T, double>) {
+            if (!value.is_number()) fail(key, fmt::format("is {}, not a number", describeJson(value)));
+            return value.get<double>();
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+            if (!value.is_array()) fail(key, fmt::format("is {}, not an array of numbers", describeJson(value)));
+            std::vector<double> out;
+            out.reserve(value.size());
+            for (const json& v : value) {
+                if (!v.is_number()) fail(key, fmt::format("holds {}, not a number", describeJson(v)));
+                out.push_back(v.get<double>());
+            }
+            return out;
+        } else {
+            try {
+                return value.get<T>();
+            } catch (const json::exception&) {
+                fail(key, fmt::format("is {}, the wrong type", describeJson(value)));
+            }
         }
     }
     // Parsers of names throw ProbeError without the file; add it.
@@ -71,9 +94,12 @@ struct Reader {
         ImpulseError out;
         out.mean = get<double>(e, "mean");
         out.max = get<double>(e, "max");
-        const auto worst = get<std::vector<int>>(e, "worst");
-        if (worst.size() != 3) throw ProbeError(fmt::format("{}: field '{}.worst' is not [face, i, j]", path.string(), key));
-        out.worst = {worst[0], worst[1], worst[2]};
+        const json& worst = field(e, "worst");
+        std::optional<int> face, i, j;
+        if (worst.is_array() && worst.size() == 3) face = jsonInt(worst[0]), i = jsonInt(worst[1]), j = jsonInt(worst[2]);
+        if (!face || !i || !j) throw ProbeError(fmt::format("{}: field '{}.worst' is not [face, i, j]", path.string(), key));
+        out.worst = {*face, *i, *j};
+        refuseUnknown(e, {"mean", "max", "worst"}, fmt::format("{}.", key));
         return out;
     }
 };
@@ -149,17 +175,17 @@ std::string tableToJson(const TapTable& table) {
 }
 
 TapTable tableFromJson(std::string_view text, const std::filesystem::path& path) {
-    json j;
-    try {
-        j = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw ProbeError(fmt::format("{}: not a complete table file (JSON error at byte {})", path.string(), e.byte));
-    }
+    const json j = parseJsonFile(text, path, "table file");
     const Reader r{path};
+    r.refuseUnknown(j,
+                    {"format", "version", "layout", "baseSize", "levelCount", "taps", "form", "mapping", "pyramid", "solver",
+                     "stratifiedBudget", "fitSeconds", "seamWeight", "levels"},
+                    "");
     if (r.get<std::string>(j, "format") != kFormatName) throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
     if (r.get<int>(j, "version") != kFormatVersion)
         throw ProbeError(fmt::format("{}: table format version {} (expected {})", path.string(), r.get<int>(j, "version"), kFormatVersion));
     const json& pyramid = r.field(j, "pyramid");
+    r.refuseUnknown(pyramid, {"kind", "weighting"}, "pyramid.");
     TapTable table;
     try {
         table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"), r.name(j, "form", parseTableForm),
@@ -180,17 +206,18 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     for (int m = 0; m < table.levelCount; ++m) {
         const json& level = levels[static_cast<std::size_t>(m)];
         if (r.get<int>(level, "level") != m) throw ProbeError(fmt::format("{}: levels out of order at entry {}", path.string(), m));
+        r.refuseUnknown(level, {"level", "alpha", "stratified", "all", "minWeightSum", "coefficients"}, fmt::format("levels[{}].", m));
         TableLevel& out = table.levels[m];
         out.coefficients = r.get<std::vector<double>>(level, "coefficients");
         out.stratified = r.error(level, "stratified");
         out.all = r.error(level, "all");
         out.minWeightSum = r.get<double>(level, "minWeightSum");
     }
-    validateTable(table, path.string());
+    validateTableValues(table, path.string());
     return table;
 }
 
-TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readText(path), path); }
+TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readTextFile(path), path); }
 
 void writeTable(const std::filesystem::path& path, const TapTable& table) { writeText(path, tableToJson(table)); }
 
@@ -223,7 +250,7 @@ void setPublishedLayout(TapTable& table, std::span<const double> values) {
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
                               RoughnessMapping mapping, PyramidSettings pyramid) {
     TapTable table = emptyTable(baseSize, levelCount, taps, form, mapping, pyramid);
-    const std::string text = readText(path);
+    const std::string text = readTextFile(path);
     std::vector<double> numbers;
     std::size_t pos = 0;
     while (pos < text.size()) {
@@ -244,6 +271,7 @@ TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, i
         throw ProbeError(fmt::format("{}: {} numbers, expected {} ({} levels x {} taps x 3 frames x 5 x {})", path.string(), numbers.size(),
                                      perLevel * levelCount, levelCount, taps, coefficientCount(form)));
     setPublishedLayout(table, numbers);
+    validateTableValues(table, path.string());
     table.solver = fmt::format("imported from {}", path.filename().string());
     return table;
 }

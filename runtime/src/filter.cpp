@@ -8,6 +8,7 @@
 #include "device.h"
 #include "filter_impl.h"
 #include "probe/error.h"
+#include "probe/limits.h"
 #include "probe/range_scale.h"
 #include "vulkan_check.h"
 
@@ -335,7 +336,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     const FilterSettings& s = f.settings;
     if (source.size != s.faceSize)
         throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
-    if (repeat < 1) throw ParameterError("repeat", fmt::format("{}: must be at least 1", repeat));
+    checkRepeat(repeat);
     const Device& d = f.device;
     if (!f.runSource.handle()) {
         f.runSource = CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT,

@@ -54,6 +54,12 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
 // Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
 void validateTable(const TapTable& table, std::string_view what);
 
+// Throws ProbeError("<what>: <problem>") unless the values make a filter: every coefficient finite and
+// at most kMaxTableCoefficient (limits.h) in magnitude, and at each stratified output texel of every
+// filtered level a positive tap weight sum that is not the near-cancellation of large weights (the
+// filter divides by it). For tables from files; validateTable checks only the shape.
+void validateTableValues(const TapTable& table, std::string_view what);
+
 // The taps per frame that output level `level` uses: one past the last tap with a weight that is not
 // zero for every (theta, phi) in any frame. A level that uses fewer taps than the table holds is
 // padded with taps of zero weight (probefit mix); they add nothing, so the filters stop before them.

@@ -1,0 +1,35 @@
+// The largest inputs probefilter and probefit accept, in one place. Each is checked before the work
+// or the memory it bounds is taken, and the command lines' --help states the ones they expose.
+#pragma once
+
+#include <cstdint>
+
+namespace probe {
+
+// Output face size S_0: a 2048^2 cube of float RGB is 288 MiB per level.
+inline constexpr int kMaxFaceSize = 2048;
+// probefit's base face size: the fit keeps per-texel kernels of every level in memory.
+inline constexpr int kMaxFitFaceSize = 512;
+// Taps per frame in a tap table (committed tables use 4 to 32).
+inline constexpr int kMaxTaps = 64;
+// Tap table coefficients, in magnitude (fitted tables stay under 20): far from float32 overflow in the
+// polynomials and weight sums the shaders evaluate.
+inline constexpr double kMaxTableCoefficient = 1e4;
+// Filtered importance sampling: samples per output texel.
+inline constexpr int kMaxSamples = 65536;
+// Filtered importance sampling: the level bias (a pyramid has at most 12 levels).
+inline constexpr double kMaxFisBias = 16.0;
+// Timed repetitions of a run.
+inline constexpr int kMaxRepeat = 1000;
+// Input images: width x height (16384 x 8192, 1.5 GiB as float RGB) and either side.
+inline constexpr std::int64_t kMaxImagePixels = std::int64_t{16384} * 8192;
+inline constexpr int kMaxImageSide = 65536;
+// Table, scene and published-text files are read whole; none needs more.
+inline constexpr std::uintmax_t kMaxTextFileBytes = 64u << 20;
+// JSON nesting: tables and scenes need 4 levels.
+inline constexpr int kMaxJsonDepth = 32;
+
+// Throws ParameterError("repeat", ...) unless 1 <= repeat <= kMaxRepeat.
+void checkRepeat(int repeat);
+
+} // namespace probe

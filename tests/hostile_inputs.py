@@ -1,0 +1,287 @@
+#!/usr/bin/env python3
+"""Hostile inputs to probefilter and probefit: every one is refused with exit code 2 and one line on
+stderr naming the file (or option) and the problem, within a few seconds and 1 GiB of resident
+memory (the child's own getrusage), and nothing on disk is created or changed.
+
+The hostile files are made here. Usage: hostile_inputs.py PROBEFILTER PROBEFIT
+"""
+import json
+import os
+import resource
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+PROBEFILTER, PROBEFIT = (os.path.abspath(tool) for tool in sys.argv[1:3])
+MAX_SECONDS = 10.0
+MAX_RSS_MIB = 1024
+work = tempfile.mkdtemp(prefix="hostile-")
+tried = refused = 0
+
+
+def path(name):
+    return os.path.join(work, name)
+
+
+def write(name, data):
+    with open(path(name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+    return path(name)
+
+
+def snapshot():
+    state = {}
+    for root, dirs, files in os.walk(work):
+        for name in dirs + files:
+            full = os.path.join(root, name)
+            st = os.lstat(full)
+            state[full] = (st.st_mode, st.st_size, st.st_mtime_ns)
+    return state
+
+
+def limit_memory():
+    # A safety net for the machine; the measure is the resident peak below.
+    resource.setrlimit(resource.RLIMIT_AS, (8 << 30, 8 << 30))
+
+
+def wait_with_usage(child, timeout):
+    """Waits with wait4, so that the usage is the child's alone (Popen.wait would reap it first)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        pid, status, usage = os.wait4(child.pid, os.WNOHANG)
+        if pid == child.pid:
+            child.returncode = os.waitstatus_to_exitcode(status)
+            return usage
+        if time.monotonic() > deadline:
+            child.kill()
+            pid, status, usage = os.wait4(child.pid, 0)
+            child.returncode = os.waitstatus_to_exitcode(status)
+            return None
+        time.sleep(0.01)
+
+
+def expect_refused(name, needles, tool, *args):
+    """Runs tool with args in the work folder; needles: texts the one-line message must hold."""
+    global tried, refused
+    tried += 1
+    before = snapshot()
+    start = time.monotonic()
+    err_path = os.path.join(tempfile.gettempdir(), f"hostile-stderr-{os.getpid()}")
+    with open(err_path, "wb") as err:
+        child = subprocess.Popen([tool, *args], stdout=subprocess.DEVNULL, stderr=err, cwd=work, preexec_fn=limit_memory)
+        usage = wait_with_usage(child, 60)
+    seconds = time.monotonic() - start
+    with open(err_path, "rb") as err:
+        text = err.read().decode(errors="replace")
+    os.remove(err_path)
+    problems = []
+    if usage is None: problems.append("still running after 60 s")
+    rss_mib = usage.ru_maxrss / 1024 if usage else 0
+    lines = text.splitlines()
+    if child.returncode != 2: problems.append(f"exit code {child.returncode}, expected 2")
+    if len(lines) != 1: problems.append(f"{len(lines)} lines on stderr, expected 1")
+    for needle in needles:
+        if needle not in text: problems.append(f"message lacks '{needle}'")
+    if seconds > MAX_SECONDS: problems.append(f"took {seconds:.1f} s (limit {MAX_SECONDS:.0f})")
+    if rss_mib > MAX_RSS_MIB: problems.append(f"peak resident memory {rss_mib:.0f} MiB (limit {MAX_RSS_MIB})")
+    if snapshot() != before: problems.append("files created or changed on disk")
+    if problems:
+        print(f"FAIL {name}: {'; '.join(problems)}: {text.strip()[:300]}")
+    else:
+        refused += 1
+        print(f"ok {name} ({seconds:.2f} s, {rss_mib:.0f} MiB): {text.strip()}")
+
+
+# --- File makers ---------------------------------------------------------------------------------
+
+def hdr(width_height_line, body=b"", header=b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n"):
+    return header + width_height_line + b"\n" + body
+
+
+def rle_scanline(width, runs):
+    """A new-style run-length scanline: marker, then `runs` (raw count bytes and values) as given."""
+    return bytes([2, 2, width >> 8, width & 255]) + runs
+
+
+def exr_header(width, height, tiles=None, extra=b""):
+    def attribute(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+
+    channels = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
+    window = struct.pack("<iiii", 0, 0, width - 1, height - 1)
+    version = 2 | (0x200 if tiles else 0)
+    out = struct.pack("<ii", 20000630, version)
+    out += attribute("channels", "chlist", channels)
+    out += attribute("compression", "compression", b"\0")
+    out += attribute("dataWindow", "box2i", window)
+    out += attribute("displayWindow", "box2i", window)
+    out += attribute("lineOrder", "lineOrder", b"\0")
+    out += attribute("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+    out += attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
+    out += attribute("screenWindowWidth", "float", struct.pack("<f", 1.0))
+    if tiles: out += attribute("tiles", "tiledesc", struct.pack("<IIB", tiles[0], tiles[1], 0))
+    return out + extra + b"\0"
+
+
+def good_table_text():
+    with open(path("gltf16_quad8.json")) as f:
+        return f.read()
+
+
+# --- The cases -----------------------------------------------------------------------------------
+
+def main():
+    tables = os.environ["PROBE_TABLES"]
+    subprocess.run([PROBEFILTER, "synth", "sky", "--size", "16", "--out", path("good.exr")], check=True, stdout=subprocess.DEVNULL)
+    with open(os.path.join(tables, "gltf16_quad8.json")) as src:
+        table = src.read()
+    write("gltf16_quad8.json", table)
+    pf = PROBEFILTER
+
+    def filter_args(image, *extra):
+        return ["filter", image, "--size", "16", *extra, "--out", path("out")]
+
+    def reference(name, needles, data):
+        f = write(name, data)
+        expect_refused(name, [f, *needles], pf, "reference", f, "--size", "8", "--out", path("out"))
+
+    # Radiance .hdr
+    # A literal of 0 bytes: stb_image's loader loops on it forever.
+    reference("zero-literal.hdr", ["literal of 0"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([0x82, 7, 0]) + bytes(64))))
+    reference("literal-past-width.hdr", ["literal of 128"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([128]) + bytes(200))))
+    reference("run-past-width.hdr", ["run of 100"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([0x80 + 100, 1]) + bytes(64))))
+    reference("huge-no-data.hdr", ["ends early"], hdr(b"-Y 8192 +X 16384"))
+    reference("over-limit.hdr", ["over the limit"], hdr(b"-Y 20000 +X 40000"))
+    reference("int-overflow.hdr", ["over the limit"], hdr(b"-Y 99999999999 +X 2"))
+    reference("zero-size.hdr", ["zero size"], hdr(b"-Y 0 +X 0"))
+    reference("negative-size.hdr", ["zero size"], hdr(b"-Y -4 +X 8"))
+    reference("orientation.hdr", ["resolution line"], hdr(b"+Y 4 +X 8", bytes(4 * 32)))
+    reference("no-format.hdr", ["FORMAT"], hdr(b"-Y 4 +X 8", bytes(4 * 32), header=b"#?RADIANCE\n\n"))
+    reference("xyze.hdr", ["xyze"], hdr(b"-Y 4 +X 8", bytes(4 * 32), header=b"#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n"))
+    reference("endless-header-line.hdr", ["header line"], b"#?RADIANCE\n" + b"x" * 100000)
+    reference("endless-header.hdr", ["more than"], b"#?RADIANCE\n" + b"x\n" * 5000)
+    flat_row = bytes([128, 128, 128, 128]) * 64
+    reference("ten-of-32-rows.hdr", ["ends early"], hdr(b"-Y 32 +X 64", flat_row * 10))
+    rle_row = rle_scanline(64, b"".join(bytes([0x80 + 64, v]) for v in (128, 128, 128, 128)))
+    reference("rle-rows-missing.hdr", ["ends early"], hdr(b"-Y 32 +X 64", rle_row * 31))
+    reference("rle-width-mismatch.hdr", ["says width 65"], hdr(b"-Y 32 +X 64", rle_scanline(65, bytes(200)) * 32))
+    reference("bad-magic.hdr", ["#?RADIANCE"], b"#?SOMETHING\n" + bytes(64))
+
+    # OpenEXR
+    reference("huge-window.exr", ["over the limit"], exr_header(40000, 20000) + bytes(29000))
+    reference("tiny-tiles.exr", ["tiles"], exr_header(16384, 8192, tiles=(1, 1)) + bytes(1000))
+    reference("no-pixel-data.exr", ["EXR"], exr_header(2048, 1024))
+    reference("header-only.exr", ["EXR"], exr_header(64, 32)[:60])
+
+    # What a path names
+    os.mkfifo(path("fifo.exr"))
+    expect_refused("fifo-input", [path("fifo.exr"), "FIFO"], pf, "reference", path("fifo.exr"), "--size", "8", "--out", path("out"))
+    os.mkdir(path("folder.exr"))
+    expect_refused("folder-input", [path("folder.exr"), "folder"], pf, "reference", path("folder.exr"), "--size", "8", "--out",
+                   path("out"))
+    expect_refused("device-input", ["/dev/zero", "device"], pf, "reference", "/dev/zero", "--size", "8", "--out", path("out"))
+    expect_refused("device-table", ["/dev/zero", "device"], pf, *filter_args(path("good.exr"), "--table", "/dev/zero"))
+    expect_refused("fifo-table", [path("fifo.exr"), "FIFO"], pf, *filter_args(path("good.exr"), "--table", path("fifo.exr")))
+    expect_refused("folder-table", [path("folder.exr"), "folder"], pf, *filter_args(path("good.exr"), "--table", path("folder.exr")))
+    with open(path("huge-table.json"), "wb") as f:
+        f.truncate(100 << 20)  # sparse: no disk used
+    expect_refused("huge-table", [path("huge-table.json"), "over the limit"], pf,
+                   *filter_args(path("good.exr"), "--table", path("huge-table.json")))
+    expect_refused("device-scene", ["/dev/zero", "device"], pf, "run", "/dev/zero", "--out", path("out"))
+
+    # Limits, checked before the work
+    good = path("good.exr")
+    expect_refused("samples-huge", ["--samples 1000000000", "65536"], pf, *filter_args(good, "--method", "fis", "--samples", "1000000000"))
+    expect_refused("samples-zero", ["--samples 0"], pf, *filter_args(good, "--method", "fis", "--samples", "0"))
+    expect_refused("fis-bias-nan", ["--fis-bias nan"], pf, *filter_args(good, "--method", "fis", "--fis-bias", "nan"))
+    expect_refused("fis-bias-inf", ["--fis-bias inf"], pf, *filter_args(good, "--method", "fis", "--fis-bias", "inf"))
+    expect_refused("fis-bias-huge", ["--fis-bias 1e+300"], pf, *filter_args(good, "--method", "fis", "--fis-bias", "1e300"))
+    expect_refused("repeat-huge", ["--repeat 1000000", "1000"], pf, *filter_args(good, "--repeat", "1000000"))
+    expect_refused("filter-size-65536", ["face size 65536", "2048"], pf, "filter", good, "--size", "65536", "--out", path("out"))
+    expect_refused("reference-size-4096", ["face size 4096", "2048"], pf, "reference", good, "--size", "4096", "--out", path("out"))
+    expect_refused("sweep-repeat", ["--repeat 1000000"], pf, "sweep", "--size", "16", "--repeat", "1000000", "--out", path("out"))
+    expect_refused("sweep-samples", ["--samples 1000000000"], pf, "sweep", "--size", "16", "--samples", "1000000000", "--out",
+                   path("out"))
+    expect_refused("compare-samples", ["--samples 1000000000"], pf, "compare", good, "--size", "16", "--samples", "1000000000",
+                   "--out", path("out"))
+    fit = [PROBEFIT, "--form", "quad", "--out", path("out")]
+    expect_refused("probefit-size-4096", ["--size", "4096", "512"], *fit, "--size", "4096", "--taps", "8")
+    expect_refused("probefit-size-65536", ["--size", "65536"], *fit, "--size", "65536", "--taps", "8")
+    expect_refused("probefit-taps-huge", ["--taps", "2147483644", "64"], *fit, "--size", "16", "--taps", "2147483644")
+
+    # synth writes only what filter reads
+    for width in ("3", "0", "-2", "1000000"):
+        expect_refused(f"synth-equirect-{width}", [f"--equirect {width}"], pf, "synth", "sky", "--equirect", width, "--out",
+                       path("out.exr"))
+    expect_refused("synth-size", ["face size 3"], pf, "synth", "sky", "--size", "3", "--out", path("out.exr"))
+
+    # JSON: tables
+    def bad_table(name, needles, text):
+        f = write(name, text)
+        expect_refused(name + " (filter)", [f, *needles], pf, *filter_args(good, "--table", f))
+        expect_refused(name + " (probefit eval)", [f, *needles], PROBEFIT, "eval", f)
+
+    bad_table("deep.json", ["nested deeper"], '{"a": ' + "[" * 100000 + "]" * 100000 + "}")
+    bad_table("deep-objects.json", ["nested deeper"], '{"a": ' + '{"b": ' * 100000 + "1" + "}" * 100000 + "}")
+    bad_table("overflow-number.json", ["not valid JSON"], table.replace('"fitSeconds": ', '"fitSeconds": 1e999, "x": ', 1))
+    bad_table("taps-overflow.json", ["tap count 2147483644"], table.replace('"taps": 8', '"taps": 2147483644', 1))
+    bad_table("size-beyond-int.json", ["baseSize"], table.replace('"baseSize": 16', '"baseSize": 4294967312', 1))
+    bad_table("size-fraction.json", ["baseSize"], table.replace('"baseSize": 16', '"baseSize": 16.5', 1))
+    bad_table("duplicate-key.json", ["appears twice"], table.replace('"taps": 8', '"taps": 8, "taps": 8', 1))
+    bad_table("unknown-field.json", ["unknown field 'shininess'"], table.replace('"taps": 8', '"taps": 8, "shininess": 3', 1))
+    bad_table("truncated.json", ["not valid JSON"], table[: len(table) // 2])
+    t = json.loads(table)
+    t["levels"][2]["coefficients"][7] = 1e38
+    bad_table("huge-coefficient.json", ["coefficient 7", "not a finite number"], json.dumps(t))
+    t = json.loads(table)
+    for level in t["levels"]:
+        level["coefficients"] = [0.0] * len(level["coefficients"])
+    bad_table("zero-weights.json", ["weights sum to"], json.dumps(t))
+    t = json.loads(table)
+    for level in t["levels"]:
+        c = level["coefficients"]
+        # Tap 1 of every frame cancels tap 0: weights (parameter 4, three coefficients) negated.
+        for frame in range(3):
+            for k in range(3):
+                c[((frame * 8 + 1) * 5 + 4) * 3 + k] = -c[((frame * 8 + 0) * 5 + 4) * 3 + k]
+                for tap in range(2, 8):
+                    c[((frame * 8 + tap) * 5 + 4) * 3 + k] = 0.0
+    bad_table("cancelling-weights.json", ["weights sum to"], json.dumps(t))
+
+    # Published text layout
+    def bad_text(name, needles, text):
+        f = write(name, text)
+        expect_refused(name, [f, *needles], pf, *filter_args(good, "--table", f, "--table-taps", "4", "--table-form", "quad"))
+
+    count = 4 * 5 * 3 * 3 * 4  # levels x parameters x coefficients x frames x taps
+    bad_text("nan.txt", ["not a finite number"], " ".join(["nan"] * count))
+    bad_text("inf.txt", ["not a finite number"], " ".join(["inf"] * count))
+    bad_text("zeros.txt", ["weights sum to"], " ".join(["0"] * count))
+    bad_text("short.txt", ["numbers, expected"], " ".join(["1"] * (count - 1)))
+
+    # JSON: scenes
+    def bad_scene(name, needles, probe_fields, materials=""):
+        text = '{"probes": [{"name": "sky", "image": "good.exr", %s}], "materials": [%s]}' % (probe_fields, materials)
+        f = write(name, text)
+        expect_refused(name, [f, *needles], pf, "run", f, "--out", path("out"))
+
+    bad_scene("scene-face-fraction.json", ["face_size", "16.5"], '"face_size": 16.5')
+    bad_scene("scene-face-overflow.json", ["number overflow"], '"face_size": 1e999')
+    bad_scene("scene-face-beyond-int.json", ["face_size"], '"face_size": 4294967312')
+    bad_scene("scene-face-huge.json", ["face_size", "2048"], '"face_size": 65536')
+    bad_scene("scene-samples-huge.json", ["samples"], '"samples": 1000000000, "method": "fis"')
+    bad_scene("scene-duplicate-key.json", ["appears twice"], '"face_size": 16, "face_size": 32')
+    bad_scene("scene-deep.json", ["nested deeper"], '"x": ' + "[" * 100000 + "]" * 100000)
+    bad_scene("scene-deep-wrong-type.json", ["nested deeper"], '"face_size": ' + "[" * 100000 + "]" * 100000)
+    bad_scene("scene-wrong-type.json", ["face_size", "array"], '"face_size": [[[[1]]]]')
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    finally:
+        subprocess.run(["rm", "-rf", work])
+    print(f"hostile_inputs: {refused} of {tried} bad inputs refused as required")
+    sys.exit(0 if refused == tried else 1)
