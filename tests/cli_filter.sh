@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # probefilter filter on lavapipe with the validation layer: the three methods write every level
 # and a report naming the device, the dispatches, GPU times and errors; a table file and the same
-# table in the published text layout give the same output; a table that does not fit, a missing
-# table and an unknown device are refused (exit 2, reason on stderr, nothing written).
+# table in the published text layout give the same output; the mappings' compiled-in tables at
+# 128^2 filter; a table that does not fit, a missing table and an unknown device are refused (exit
+# 2, reason on stderr, nothing written).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -41,6 +42,17 @@ if [[ -f "$fixtures/../../tables/gltf16_quad8.json" ]]; then
 sys.exit(not (t['taps_per_frame'] == 8 and t['form'] == 'quad'))" \
         || fail "compiled-in table: not the quad 8 table"
 fi
+
+# The compiled-in table of each mapping at 128^2 (tables/*_quad8.h) filters.
+"$PROBEFILTER" synth sky --size 128 --out sky128.exr >/dev/null
+for mapping in gltf authors filament; do
+    "$PROBEFILTER" filter sky128.exr --method table --size 128 --mapping $mapping --out table128_$mapping >/dev/null 2>&1 ||
+        fail "compiled-in table for the $mapping mapping at 128^2"
+    python3 -c "import json,sys; t=json.load(open('table128_$mapping/report.json'))['table']
+sys.exit(not (t['mapping'] == '$mapping' and t['base_size'] == 128 and t['taps_per_frame'] == 8 and t['form'] == 'quad'))" ||
+        fail "compiled-in table for the $mapping mapping: not the quad 8 table at 128^2"
+    [[ -f table128_$mapping/level_6.exr ]] || fail "$mapping: level_6.exr missing"
+done
 
 for method in fis reference; do
     "$PROBEFILTER" filter sky.exr --method $method --samples 64 --size 16 --validate --out $method >/dev/null 2>&1 || fail "$method"
