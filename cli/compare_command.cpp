@@ -86,10 +86,12 @@ void runCompare(const CompareOptions& o) {
     const probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
     const int levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
     probe::validateSizeAndLevels(o.size, levelCount);
-    if (o.roughness.empty()) throw probe::ProbeError("--roughness: give at least one value");
+    if (o.roughness.empty() || o.roughness.size() > probe::kMaxSheetSpheres)
+        throw probe::ProbeError(fmt::format("--roughness: give 1 to {} values", probe::kMaxSheetSpheres));
     for (double r : o.roughness)
         if (!(r >= 0.0 && r <= 1.0)) throw probe::ProbeError(fmt::format("--roughness {}: outside [0, 1]", r));
-    if (o.cell < 8) throw probe::ProbeError(fmt::format("--cell {}: at least 8 pixels", o.cell));
+    if (o.cell < 8 || o.cell > probe::kMaxSheetCell)
+        throw probe::ProbeError(fmt::format("--cell {}: must be 8 to {} pixels", o.cell, probe::kMaxSheetCell));
     probe::checkRepeat(o.repeat);
     if (o.samples < 1 || o.samples > probe::kMaxSamples)
         throw probe::ProbeError(fmt::format("--samples {}: must be 1 to {}", o.samples, probe::kMaxSamples));
@@ -201,8 +203,11 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--table", o->table, "Tap table file (default: the compiled-in table for the size)");
     cmd->add_option("--samples", o->samples, fmt::format("FIS samples per texel (1 to {})", probe::kMaxSamples))->capture_default_str();
-    cmd->add_option("--roughness", o->roughness, "Perceptual roughness of each sphere")->capture_default_str()->delimiter(',');
-    cmd->add_option("--cell", o->cell, "Pixels per sphere")->capture_default_str();
+    cmd->add_option("--roughness", o->roughness,
+                    fmt::format("Perceptual roughness of each sphere (1 to {} values)", probe::kMaxSheetSpheres))
+        ->capture_default_str()
+        ->delimiter(',');
+    cmd->add_option("--cell", o->cell, fmt::format("Pixels per sphere (8 to {})", probe::kMaxSheetCell))->capture_default_str();
     cmd->add_option("--max-error", o->maxError, "Relative error shown white in the heat maps")->capture_default_str();
     cmd->add_option(
            "--repeat", o->repeat,

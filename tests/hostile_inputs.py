@@ -206,6 +206,9 @@ def main():
                    path("out"))
     expect_refused("compare-samples", ["--samples 1000000000"], pf, "compare", good, "--size", "16", "--samples", "1000000000",
                    "--out", path("out"))
+    expect_refused("compare-cell", ["--cell 100000"], pf, "compare", good, "--size", "16", "--cell", "100000", "--out", path("out"))
+    expect_refused("compare-spheres", ["--roughness"], pf, "compare", good, "--size", "16", "--roughness", ",".join(["0.5"] * 1000),
+                   "--out", path("out"))
     fit = [PROBEFIT, "--form", "quad", "--out", path("out")]
     expect_refused("probefit-size-4096", ["--size", "4096", "512"], *fit, "--size", "4096", "--taps", "8")
     expect_refused("probefit-size-65536", ["--size", "65536"], *fit, "--size", "65536", "--taps", "8")
@@ -267,6 +270,8 @@ def main():
         f = write(name, text)
         expect_refused(name, [f, *needles], pf, "run", f, "--out", path("out"))
 
+    many = ", ".join('{"name": "m%d", "roughness": 0.5}' % k for k in range(2000))
+    bad_scene("scene-many-materials.json", ["materials", "over the limit"], '"face_size": 16', many)
     bad_scene("scene-face-fraction.json", ["face_size", "16.5"], '"face_size": 16.5')
     bad_scene("scene-face-overflow.json", ["number overflow"], '"face_size": 1e999')
     bad_scene("scene-face-beyond-int.json", ["face_size"], '"face_size": 4294967312')

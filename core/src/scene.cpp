@@ -166,7 +166,10 @@ Scene readScene(const std::filesystem::path& path) {
     const json& probes = r.child("probes");
     const json& materials = r.child("materials");
     if (!probes.is_array() || probes.empty()) r.fail("probes", "must be a non-empty array");
+    if (probes.size() > kMaxSceneProbes) r.fail("probes", fmt::format("{} probes, over the limit of {}", probes.size(), kMaxSceneProbes));
     if (!materials.is_array()) r.fail("materials", "must be an array");
+    if (materials.size() > kMaxSceneMaterials)
+        r.fail("materials", fmt::format("{} materials, over the limit of {}", materials.size(), kMaxSceneMaterials));
     scene.outputs = readOutputs(path, r.child("outputs"));
     r.refuseUnknown();
 

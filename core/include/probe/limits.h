@@ -19,6 +19,12 @@ inline constexpr double kMaxTableCoefficient = 1e4;
 inline constexpr int kMaxSamples = 65536;
 // Filtered importance sampling: the level bias (a pyramid has at most 12 levels).
 inline constexpr double kMaxFisBias = 16.0;
+// A scene's probes and materials (each material may become a rendered sphere).
+inline constexpr int kMaxSceneProbes = 64;
+inline constexpr int kMaxSceneMaterials = 1024;
+// The comparison sheet: spheres per row and pixels per sphere.
+inline constexpr int kMaxSheetSpheres = 32;
+inline constexpr int kMaxSheetCell = 1024;
 // Timed repetitions of a run.
 inline constexpr int kMaxRepeat = 1000;
 // Input images: width x height (16384 x 8192, 1.5 GiB as float RGB) and either side.
