@@ -102,8 +102,7 @@ void StagedOutput::checkReplaceable() const {
     const fs::file_status status = fs::status(target_, ec);
     if (!fs::exists(status)) return;
     if (!fs::is_directory(status)) fail(outDir_, "exists and is not a folder");
-    struct stat folder {
-    }, parent{};
+    struct stat folder = {}, parent = {};
     if (::stat(target_.c_str(), &folder) == 0 && ::stat(target_.parent_path().c_str(), &parent) == 0 && folder.st_dev != parent.st_dev)
         fail(outDir_, "is a mount point, which cannot be replaced whole; name a folder inside it");
     if (!force_ && !fs::is_empty(target_, ec) && !writtenByProbefilter(target_))
