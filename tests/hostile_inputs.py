@@ -174,6 +174,12 @@ def main():
     reference("tiny-tiles.exr", ["tiles"], exr_header(16384, 8192, tiles=(1, 1)) + bytes(1000))
     reference("no-pixel-data.exr", ["EXR"], exr_header(2048, 1024))
     reference("header-only.exr", ["EXR"], exr_header(64, 32)[:60])
+    # A complete offset table whose chunks are not there: refused before the image's memory is taken.
+    offsets = b"".join(struct.pack("<Q", 10**9 + k) for k in range(8192))
+    reference("offsets-past-end.exr", ["EXR"], exr_header(16384, 8192) + offsets)
+    header = exr_header(16384, 8192)
+    offsets = struct.pack("<Q", len(header) + 8192 * 8) * 8192
+    reference("offsets-one-chunk.exr", ["EXR"], header + offsets + bytes(64))
 
     # What a path names
     os.mkfifo(path("fifo.exr"))

@@ -82,7 +82,11 @@ Image readExr(const fs::path& path) {
         const Imf::ChannelList& channels = file.header().channels();
         for (const char* name : {"R", "G", "B"})
             if (!channels.findChannel(name)) fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
-        Image image{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
+        // Memory is taken as rows decode (reserved, then resized block by block), so that a file whose
+        // header promises more than its data holds fails before it costs the whole image.
+        const std::size_t rowFloats = static_cast<std::size_t>(width) * 3;
+        Image image{width, height, {}};
+        image.rgb.reserve(rowFloats * height);
         // OpenEXR addresses the buffer with absolute data-window coordinates.
         char* base = reinterpret_cast<char*>(image.rgb.data()) -
                      (static_cast<std::ptrdiff_t>(window.min.y) * width + window.min.x) * 3 * sizeof(float);
@@ -92,7 +96,12 @@ Image readExr(const fs::path& path) {
         frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xStride, yStride));
         frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xStride, yStride));
         file.setFrameBuffer(frame);
-        file.readPixels(window.min.y, window.max.y);
+        constexpr int kBlockRows = 64;
+        for (int row = 0; row < height; row += kBlockRows) {
+            const int rows = std::min(kBlockRows, height - row);
+            image.rgb.resize(rowFloats * static_cast<std::size_t>(row + rows));
+            file.readPixels(window.min.y + row, window.min.y + row + rows - 1);
+        }
         return image;
     } catch (const ProbeError&) {
         throw;

@@ -131,7 +131,9 @@ Image readRadianceHdr(std::istream& in, std::uintmax_t byteCount, const std::fil
     if (d.left() / lineMinimum < static_cast<std::uintmax_t>(height))
         d.fail(fmt::format("file ends early: {} bytes cannot hold {} scanlines of {} pixels", d.left(), height, width));
 
-    Image image{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
+    // Reserved, then resized row by row: memory follows the rows that decode.
+    Image image{width, height, {}};
+    image.rgb.reserve(static_cast<std::size_t>(width) * height * 3);
     std::vector<std::uint8_t> rgbe(4 * static_cast<std::size_t>(width));
     for (int y = 0; y < height; ++y) {
         std::array<std::uint8_t, 4> start{};
@@ -144,6 +146,7 @@ Image readRadianceHdr(std::istream& in, std::uintmax_t byteCount, const std::fil
             std::copy(start.begin(), start.end(), rgbe.begin());
             d.bytes(rgbe.data() + 4, rgbe.size() - 4, fmt::format("scanline {} of {}", y, height).c_str());
         }
+        image.rgb.resize(image.rgb.size() + 3 * static_cast<std::size_t>(width));
         convert(rgbe, image.rgb.data() + 3 * static_cast<std::size_t>(y) * width, width);
     }
     return image;
