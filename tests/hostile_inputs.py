@@ -7,6 +7,7 @@ The hostile files are made here. Usage: hostile_inputs.py PROBEFILTER PROBEFIT
 """
 import json
 import os
+import re
 import resource
 import struct
 import subprocess
@@ -238,6 +239,7 @@ def main():
     bad_table("taps-overflow.json", ["tap count 2147483644"], table.replace('"taps": 8', '"taps": 2147483644', 1))
     bad_table("size-beyond-int.json", ["baseSize"], table.replace('"baseSize": 16', '"baseSize": 4294967312', 1))
     bad_table("size-fraction.json", ["baseSize"], table.replace('"baseSize": 16', '"baseSize": 16.5', 1))
+    bad_table("budget-negative.json", ["stratifiedBudget", "-1"], re.sub(r'"stratifiedBudget": \d+', '"stratifiedBudget": -1', table))
     bad_table("duplicate-key.json", ["appears twice"], table.replace('"taps": 8', '"taps": 8, "taps": 8', 1))
     bad_table("unknown-field.json", ["unknown field 'shininess'"], table.replace('"taps": 8', '"taps": 8, "shininess": 3', 1))
     bad_table("truncated.json", ["not valid JSON"], table[: len(table) // 2])

@@ -198,6 +198,8 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     }
     table.solver = r.get<std::string>(j, "solver");
     table.stratifiedBudget = r.get<int>(j, "stratifiedBudget");
+    if (table.stratifiedBudget < 24)
+        r.fail("stratifiedBudget", fmt::format("is {}, fewer than the 24 corner texels", table.stratifiedBudget));
     table.fitSeconds = r.get<double>(j, "fitSeconds");
     if (j.contains("seamWeight")) table.seamWeight = r.get<double>(j, "seamWeight");
     const json& levels = r.field(j, "levels");
