@@ -2,10 +2,12 @@
 // every method (each table of the size in --tables, FIS over samples x bias x pyramid), the image
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
 // all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
-// methods). Writes sweep.csv, sweep.md and
-// report.json; scripts/plot-sweep draws it.
+// methods), and the trilinear pyramid reads per output texel, the cost that does not depend on the
+// device. Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it. With --summarize,
+// summarizes a sweep.csv again without running anything.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 
@@ -44,6 +46,7 @@ struct SweepOptions {
     std::string tables = "tables";
     std::string sampling = "automatic";
     std::string device;
+    std::string summarize;
     std::string out;
     bool force = false;
 };
@@ -106,6 +109,22 @@ std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
     return tables;
 }
 
+// The trilinear reads per output texel over every texel of levels >= 1: a table's taps in each frame
+// the texel blends (frames of weight 0 are skipped, a mix's padding is not read), FIS's samples
+// with n.l > 0.
+double readsPerTexel(const probe::TapGenerator& taps, int size, int levelCount) {
+    std::vector<probe::Tap> list;
+    double reads = 0.0, texels = 0.0;
+    for (int m = 1; m < levelCount; ++m)
+        for (int face = 0; face < 6; ++face)
+            for (int j = 0; j < size >> m; ++j)
+                for (int i = 0; i < size >> m; ++i) {
+                    reads += taps(m, {face, i, j}, list) ? static_cast<double>(list.size()) : 1.0;
+                    texels += 1.0;
+                }
+    return texels > 0.0 ? reads / texels : 0.0;
+}
+
 std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables) {
     std::vector<Method> methods;
     const probe::gpu::Sampling sampling = probe::gpu::parseSampling(o.sampling);
@@ -120,6 +139,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
         m.settings.method = {probe::MethodKind::table, &t.table, {}};
         m.settings.sampling = sampling;
         m.taps = probe::tableTapGenerator(t.table);
+        m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
         methods.push_back(std::move(m));
     }
     // FIS at one count for every level ("fis"), and the per-level mix with N at level 1 ("fis-mix").
@@ -142,12 +162,45 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                     m.settings.method = {probe::MethodKind::fis, nullptr, fis};
                     m.settings.sampling = sampling;
                     m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                    m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
                     methods.push_back(std::move(m));
                 }
     return methods;
 }
 
+// Rewrites the summary of a finished sweep (DIR/sweep.csv, and DIR/report.json for the device)
+// into --out.
+void summarizeAgain(const SweepOptions& o) {
+    const std::filesystem::path dir = o.summarize;
+    const std::vector<SweepRow> rows = readSweepCsv(dir / "sweep.csv");
+    std::string name, driver, sampling;
+    int size = 0, levelCount = 0;
+    try {
+        std::ifstream in(dir / "report.json");
+        const nlohmann::json previous = nlohmann::json::parse(in);
+        name = previous.at("device").at("name").get<std::string>();
+        driver = previous.at("device").at("driver").get<std::string>();
+        sampling = previous.at("sampling").get<std::string>();
+        size = previous.at("face_size").get<int>();
+        levelCount = previous.at("level_count").get<int>();
+    } catch (const nlohmann::json::exception&) {
+        throw probe::ProbeError(
+            fmt::format("{}: not a sweep report (device, sampling, face_size or level_count missing)", (dir / "report.json").string()));
+    }
+    probe::StagedOutput output(o.out);
+    if (std::filesystem::absolute(o.out) != std::filesystem::absolute(dir)) writeSweepCsv(output.file("sweep.csv"), rows);
+    const SweepSummary summary = summarizeSweep(rows);
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {} sampling", name, driver, sampling), size,
+                       levelCount);
+    nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
+    report["sampling"] = sampling;
+    writeJson(output.file("report.json"), report);
+    output.commit();
+    fmt::print("{}", formatSummary(summary));
+}
+
 void runSweep(const SweepOptions& o) {
+    if (!o.summarize.empty()) return summarizeAgain(o);
     probe::checkRepeat(o.repeat);
     for (const auto& [flag, counts] : {std::pair{"--samples", &o.samples}, std::pair{"--fis-mix", &o.fisMix}})
         for (int samples : *counts)
@@ -251,6 +304,7 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
+    cmd->add_option("--summarize", o->summarize, "Run nothing: summarize the sweep in this folder (its sweep.csv) again into --out");
     cmd->add_option("--out", o->out, "Output folder")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->callback([o] { runSweep(*o); });

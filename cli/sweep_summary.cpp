@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -54,138 +55,112 @@ std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses)
 
 double errorOf(const MethodScore& s, bool impulse) { return impulse ? s.impulseL1 : s.imageL1; }
 
-// FIS of one family ("fis" or "fis-mix") at one setting, ascending in samples (at level 1).
-std::vector<MethodScore> fisCurve(const std::vector<MethodScore>& scores, const std::string& family, const std::string& setting) {
-    std::vector<MethodScore> curve;
-    for (const MethodScore& s : scores)
-        if (s.method.family == family && fisSetting(s.method) == setting) curve.push_back(s);
-    std::sort(curve.begin(), curve.end(), [](const MethodScore& a, const MethodScore& b) { return a.method.count < b.method.count; });
-    return curve;
+// log(y) interpolated in log(x) between (x0, y0) and (x1, y1) at x.
+double logLogInterpolate(double x0, double y0, double x1, double y1, double x) {
+    const double t = x1 == x0 ? 1.0 : (std::log(x) - std::log(x0)) / (std::log(x1) - std::log(x0));
+    return std::exp(std::log(y0) + t * (std::log(y1) - std::log(y0)));
 }
 
-// The most accurate of `family` within `budget` ms; null where none is.
-const MethodScore* mostAccurateWithin(const std::vector<MethodScore>& scores, const std::string& family, double budget, bool impulse) {
+// The most accurate table within `budget` ms; null where none is.
+const MethodScore* mostAccurateTableWithin(const std::vector<MethodScore>& scores, double budget, bool impulse) {
     const MethodScore* best = nullptr;
     for (const MethodScore& s : scores)
-        if (s.method.family == family && s.gpuMs <= budget && (!best || errorOf(s, impulse) < errorOf(*best, impulse))) best = &s;
+        if (s.method.family == "table" && s.gpuMs <= budget && (!best || errorOf(s, impulse) < errorOf(*best, impulse))) best = &s;
     return best;
 }
 
-double fastestTime(const std::vector<MethodScore>& scores, const std::string& family) {
-    double fastest = 0.0;
+const MethodScore* fastestTable(const std::vector<MethodScore>& scores) {
+    const MethodScore* fastest = nullptr;
     for (const MethodScore& s : scores)
-        if (s.method.family == family && (fastest == 0.0 || s.gpuMs < fastest)) fastest = s.gpuMs;
+        if (s.method.family == "table" && (!fastest || s.gpuMs < fastest->gpuMs)) fastest = &s;
     return fastest;
 }
 
-// The error of a FIS curve (ascending in samples) at `ms`, interpolated in log error against log
-// time between the two counts around it; the error at the nearer end outside the curve's times.
-double fisErrorAtTime(const std::vector<MethodScore>& curve, double ms, bool impulse) {
-    if (ms <= curve.front().gpuMs) return errorOf(curve.front(), impulse);
-    for (std::size_t k = 1; k < curve.size(); ++k) {
-        if (curve[k].gpuMs < ms) continue;
-        const double t0 = std::log(curve[k - 1].gpuMs), t1 = std::log(curve[k].gpuMs);
-        const double t = t1 == t0 ? 1.0 : (std::log(ms) - t0) / (t1 - t0);
-        return std::exp(std::log(errorOf(curve[k - 1], impulse)) +
-                        t * (std::log(errorOf(curve[k], impulse)) - std::log(errorOf(curve[k - 1], impulse))));
-    }
-    return errorOf(curve.back(), impulse);
-}
-
-// The time at which a FIS curve (ascending in samples) reaches `error`, interpolated in log error
-// against log time between the two counts around it; empty where even the last count does not.
-std::optional<double> fisTimeAtError(const std::vector<MethodScore>& curve, double error, bool impulse) {
-    for (std::size_t k = 0; k < curve.size(); ++k) {
-        if (errorOf(curve[k], impulse) > error) continue;
-        if (k == 0) return curve[0].gpuMs;
-        const double e0 = std::log(errorOf(curve[k - 1], impulse)), e1 = std::log(errorOf(curve[k], impulse));
-        const double t = e0 == e1 ? 1.0 : (e0 - std::log(error)) / (e0 - e1);
-        return std::exp(std::log(curve[k - 1].gpuMs) + t * (std::log(curve[k].gpuMs) - std::log(curve[k - 1].gpuMs)));
-    }
-    return std::nullopt;
-}
-
-// The two ratios against one FIS family at one setting. The time budget is uniform FIS-32's at
-// that setting; the table compared is the most accurate one within it (else the fastest), and so is
-// the FIS point: FIS-32 itself for "fis", the most accurate per-level mix for "fis-mix".
-std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::string& family, const std::string& setting, bool impulse) {
-    const std::vector<MethodScore> uniform = fisCurve(scores, "fis", setting);
-    const auto fis32 = std::find_if(uniform.begin(), uniform.end(), [](const MethodScore& s) { return s.method.count == 32; });
-    const std::vector<MethodScore> curve = fisCurve(scores, family, setting);
-    if (fis32 == uniform.end() || curve.empty()) return std::nullopt;
-    const MethodScore* fis = family == "fis" ? &*fis32 : mostAccurateWithin(curve, family, fis32->gpuMs, impulse);
-    if (!fis) fis = &curve.front();
-    const MethodScore* table = mostAccurateWithin(scores, "table", fis32->gpuMs, impulse);
+// The most accurate table within the time of uniform FIS-32 at `setting` (else the fastest table)
+// against the front.
+std::optional<Ratios> ratios(const std::vector<MethodScore>& scores, const std::vector<MethodScore>& front, const std::string& setting,
+                             bool impulse) {
+    const auto fis32 = std::find_if(scores.begin(), scores.end(), [&](const MethodScore& s) {
+        return s.method.family == "fis" && s.method.count == 32 && fisSetting(s.method) == setting;
+    });
+    if (fis32 == scores.end() || front.empty()) return std::nullopt;
+    const MethodScore* table = mostAccurateTableWithin(scores, fis32->gpuMs, impulse);
     Ratios r;
     r.tableWithinFis32Time = table != nullptr;
-    if (!table) table = mostAccurateWithin(scores, "table", fastestTime(scores, "table"), impulse);
+    if (!table) table = fastestTable(scores);
     if (!table) return std::nullopt;
-    r.fisSetting = setting;
-    r.fisFamily = family;
-    r.fisCompared = fis->method.name;
+    r.fis32 = fis32->method.name;
     r.tableName = table->method.name;
     r.tableMs = table->gpuMs;
     r.fis32Ms = fis32->gpuMs;
-    r.errorAtFis32Time = errorOf(*table, impulse) / errorOf(*fis, impulse);
-    r.errorAtTableTime = errorOf(*table, impulse) / fisErrorAtTime(curve, table->gpuMs, impulse);
-    r.fisMaxSamples = curve.back().method.count;
-    if (const std::optional<double> ms = fisTimeAtError(curve, errorOf(*table, impulse), impulse)) r.timeAtTableError = *ms / table->gpuMs;
+    r.tableError = errorOf(*table, impulse);
+    r.fis32Error = errorOf(*fis32, impulse);
+    r.frontErrorAtFis32Time = frontErrorAtTime(front, fis32->gpuMs, impulse);
+    r.errorAtFis32Time = r.tableError / r.frontErrorAtFis32Time;
+    r.errorAtTableTime = r.tableError / frontErrorAtTime(front, table->gpuMs, impulse);
+    if (const std::optional<double> ms = frontTimeAtError(front, r.tableError, impulse)) r.timeAtTableError = *ms / table->gpuMs;
+    r.frontMostAccurate = front.back().method.name;
     return r;
 }
 
 std::string formatRatios(const std::optional<Ratios>& r, const std::string& label) {
-    if (!r) return fmt::format("{}: not measured (no table, no FIS-32 or no FIS of that family in the sweep)\n", label);
-    const std::string last = fmt::format("{}-{}", r->fisFamily == "fis" ? "FIS" : "FIS-mix", r->fisMaxSamples);
-    const std::string time =
-        r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError) : fmt::format("> {} (never reaches it)", last);
-    const std::string fis = r->fisFamily == "fis" ? "FIS-32" : "the best FIS mix within it";
-    const std::string compared = r->fisFamily == "fis" ? "" : fmt::format("; FIS {}", r->fisCompared);
-    const std::string atBudget =
-        r->tableWithinFis32Time
-            ? fmt::format("at FIS-32's time, table error / {} error = {:.3f}", fis, r->errorAtFis32Time)
-            : fmt::format("no table is as fast as FIS-32 ({:.2f} ms), the fastest takes {:.2f} ms: its error / {} error = {:.3f}",
-                          r->fis32Ms, r->tableMs, fis, r->errorAtFis32Time);
-    return fmt::format("{} (FIS {}; table {}{}): {}; at the table's time, table error / {} error = {:.3f}; "
-                       "at the table's error, {} time / table time = {}\n",
-                       label, r->fisSetting, r->tableName, compared, atBudget, r->fisFamily == "fis" ? "FIS" : "FIS-mix",
-                       r->errorAtTableTime, r->fisFamily == "fis" ? "FIS" : "FIS-mix", time);
+    if (!r) return fmt::format("{}: not measured (no table, no FIS-32 at the best setting or no FIS in the sweep)\n", label);
+    const std::string time = r->timeAtTableError ? fmt::format("{:.2f}x", *r->timeAtTableError)
+                                                 : fmt::format("never ({} is the front's end)", r->frontMostAccurate);
+    const std::string table = r->tableWithinFis32Time
+                                  ? fmt::format("table {} ({:.2f} ms, the most accurate within it)", r->tableName, r->tableMs)
+                                  : fmt::format("no table is as fast; the fastest, {} ({:.2f} ms)", r->tableName, r->tableMs);
+    return fmt::format(
+        "{}: at FIS-32's time ({}, {:.2f} ms), {}: table error {:.4f} / FIS front's {:.4f} = {:.3f} (FIS-32 itself: {:.4f}); "
+        "at the table's time, table error / front's = {:.3f}; at the table's error, front's time / table's = {}\n",
+        label, r->fis32, r->fis32Ms, table, r->tableError, r->frontErrorAtFis32Time, r->errorAtFis32Time, r->fis32Error,
+        r->errorAtTableTime, time);
 }
+
+nlohmann::json optionalJson(const std::optional<double>& x) { return x ? nlohmann::json(*x) : nlohmann::json(nullptr); }
 
 nlohmann::json tablesJson(const std::vector<TableVersusFis>& tables) {
     nlohmann::json list = nlohmann::json::array();
     for (const TableVersusFis& t : tables)
-        list.push_back(
-            {{"table", t.table},
-             {"error", t.error},
-             {"gpu_ms", t.gpuMs},
-             {"error_at_table_time", t.errorAtTableTime},
-             {"fis_time_at_table_error", t.fisTimeAtTableError ? nlohmann::json(*t.fisTimeAtTableError) : nlohmann::json(nullptr)}});
+        list.push_back({{"table", t.table},
+                        {"error", t.error},
+                        {"gpu_ms", t.gpuMs},
+                        {"reads_per_texel", t.readsPerTexel},
+                        {"error_at_table_time", t.errorAtTableTime},
+                        {"fis_time_at_table_error", optionalJson(t.fisTimeAtTableError)}});
     return list;
 }
 
 nlohmann::json ratiosJson(const std::optional<Ratios>& r) {
     if (!r) return nullptr;
-    return {{"fis_setting", r->fisSetting},
-            {"fis_family", r->fisFamily},
-            {"fis_compared", r->fisCompared},
+    return {{"fis32", r->fis32},
+            {"fis32_ms", r->fis32Ms},
+            {"fis32_error", r->fis32Error},
             {"table", r->tableName},
             {"table_within_fis32_time", r->tableWithinFis32Time},
             {"table_ms", r->tableMs},
-            {"fis32_ms", r->fis32Ms},
+            {"table_error", r->tableError},
+            {"front_error_at_fis32_time", r->frontErrorAtFis32Time},
             {"error_at_fis32_time", r->errorAtFis32Time},
             {"error_at_table_time", r->errorAtTableTime},
-            {"fis_time_at_table_error", r->timeAtTableError ? nlohmann::json(*r->timeAtTableError) : nlohmann::json(nullptr)},
-            {"fis_max_samples", r->fisMaxSamples}};
+            {"fis_time_at_table_error", optionalJson(r->timeAtTableError)},
+            {"front_most_accurate", r->frontMostAccurate}};
 }
 
-std::vector<TableVersusFis> tablesVersusFis(const std::vector<MethodScore>& scores, const std::string& setting, bool impulse) {
+nlohmann::json frontJson(const std::vector<MethodScore>& front, bool impulse) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const MethodScore& s : front) list.push_back({{"method", s.method.name}, {"gpu_ms", s.gpuMs}, {"error", errorOf(s, impulse)}});
+    return list;
+}
+
+std::vector<TableVersusFis> tablesVersusFront(const std::vector<MethodScore>& scores, const std::vector<MethodScore>& front, bool impulse) {
     std::vector<TableVersusFis> result;
-    const std::vector<MethodScore> curve = fisCurve(scores, "fis", setting);
-    if (curve.empty()) return result;
+    if (front.empty()) return result;
     for (const MethodScore& s : scores) {
         if (s.method.family != "table") continue;
-        TableVersusFis t{s.method.name, errorOf(s, impulse), s.gpuMs, errorOf(s, impulse) / fisErrorAtTime(curve, s.gpuMs, impulse), {}};
-        if (const std::optional<double> ms = fisTimeAtError(curve, t.error, impulse)) t.fisTimeAtTableError = *ms / s.gpuMs;
+        TableVersusFis t{s.method.name, errorOf(s, impulse), s.gpuMs, s.method.readsPerTexel, 0.0, {}};
+        t.errorAtTableTime = t.error / frontErrorAtTime(front, s.gpuMs, impulse);
+        if (const std::optional<double> ms = frontTimeAtError(front, t.error, impulse)) t.fisTimeAtTableError = *ms / s.gpuMs;
         result.push_back(t);
     }
     std::sort(result.begin(), result.end(), [](const TableVersusFis& a, const TableVersusFis& b) { return a.gpuMs < b.gpuMs; });
@@ -194,11 +169,46 @@ std::vector<TableVersusFis> tablesVersusFis(const std::vector<MethodScore>& scor
 
 } // namespace
 
+bool isFisFamily(const std::string& family) { return family != "table"; }
+
+std::vector<MethodScore> fisFront(const std::vector<MethodScore>& scores, bool impulse) {
+    std::vector<MethodScore> fis;
+    for (const MethodScore& s : scores)
+        if (isFisFamily(s.method.family)) fis.push_back(s);
+    // By time, the more accurate first among equal times: a point joins the front when it beats
+    // every faster one.
+    std::sort(fis.begin(), fis.end(), [&](const MethodScore& a, const MethodScore& b) {
+        return a.gpuMs != b.gpuMs ? a.gpuMs < b.gpuMs : errorOf(a, impulse) < errorOf(b, impulse);
+    });
+    std::vector<MethodScore> front;
+    for (const MethodScore& s : fis)
+        if (front.empty() || errorOf(s, impulse) < errorOf(front.back(), impulse)) front.push_back(s);
+    return front;
+}
+
+double frontErrorAtTime(const std::vector<MethodScore>& front, double ms, bool impulse) {
+    if (ms <= front.front().gpuMs) return errorOf(front.front(), impulse);
+    for (std::size_t k = 1; k < front.size(); ++k)
+        if (front[k].gpuMs >= ms)
+            return logLogInterpolate(front[k - 1].gpuMs, errorOf(front[k - 1], impulse), front[k].gpuMs, errorOf(front[k], impulse), ms);
+    return errorOf(front.back(), impulse);
+}
+
+std::optional<double> frontTimeAtError(const std::vector<MethodScore>& front, double error, bool impulse) {
+    for (std::size_t k = 0; k < front.size(); ++k) {
+        if (errorOf(front[k], impulse) > error) continue;
+        if (k == 0) return front[0].gpuMs;
+        return logLogInterpolate(errorOf(front[k - 1], impulse), front[k - 1].gpuMs, errorOf(front[k], impulse), front[k].gpuMs, error);
+    }
+    return std::nullopt;
+}
+
 SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
     SweepSummary summary;
     summary.images = score(rows, false);
     summary.impulses = score(rows, true);
-    // The best single FIS setting over the image probes: lowest geometric mean error over N.
+    // The best single uniform FIS setting over the image probes (lowest geometric mean error over
+    // N): its FIS-32 sets the time budget.
     std::map<std::string, std::pair<double, int>> logSums;
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         if (s.method.family == "fis") {
@@ -212,37 +222,77 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
             best = sum.first / sum.second;
             summary.bestFisSetting = setting;
         }
-    if (!summary.images.empty()) {
-        summary.best = ratios(summary.images, "fis", summary.bestFisSetting, false);
-        summary.paper = ratios(summary.images, "fis", "bias 1, box", false);
-        summary.bestMix = ratios(summary.images, "fis-mix", summary.bestFisSetting, false);
-    }
-    summary.tableImages = tablesVersusFis(summary.images, summary.bestFisSetting, false);
-    summary.tableImpulses = tablesVersusFis(summary.impulses, summary.bestFisSetting, true);
-    if (!summary.impulses.empty()) {
-        summary.impulseBest = ratios(summary.impulses, "fis", summary.bestFisSetting, true);
-        summary.impulseBestMix = ratios(summary.impulses, "fis-mix", summary.bestFisSetting, true);
-    }
+    summary.imageFront = fisFront(summary.images, false);
+    summary.impulseFront = fisFront(summary.impulses, true);
+    summary.imageRatios = ratios(summary.images, summary.imageFront, summary.bestFisSetting, false);
+    summary.impulseRatios = ratios(summary.impulses, summary.impulseFront, summary.bestFisSetting, true);
+    summary.tableImages = tablesVersusFront(summary.images, summary.imageFront, false);
+    summary.tableImpulses = tablesVersusFront(summary.impulses, summary.impulseFront, true);
     return summary;
+}
+
+namespace {
+constexpr const char* kCsvHeader =
+    "method,family,count,bias,pyramid,form,reads_per_texel,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms";
 }
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows) {
     std::ofstream out(path);
-    out << "method,family,count,bias,pyramid,form,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms\n";
+    out << kCsvHeader << "\n";
     for (const SweepRow& r : rows)
-        out << fmt::format("{},{},{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family, r.method.count,
-                           r.method.bias, r.method.pyramid, r.method.form, r.probe, r.level, r.imageL1, r.impulseL1Mean, r.impulseL1Max,
-                           r.gpuMs, r.levelGpuMs);
+        out << fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family,
+                           r.method.count, r.method.bias, r.method.pyramid, r.method.form, r.method.readsPerTexel, r.probe, r.level,
+                           r.imageL1, r.impulseL1Mean, r.impulseL1Max, r.gpuMs, r.levelGpuMs);
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 
+std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw probe::ProbeError(fmt::format("{}: cannot read", path.string()));
+    std::string line;
+    if (!std::getline(in, line) || line != kCsvHeader)
+        throw probe::ProbeError(fmt::format("{}: not a sweep.csv of this version (header differs)", path.string()));
+    std::vector<SweepRow> rows;
+    for (int number = 2; std::getline(in, line); ++number) {
+        std::vector<std::string> f;
+        std::stringstream fields(line);
+        for (std::string field; std::getline(fields, field, ',');) f.push_back(field);
+        const auto bad = [&](const std::string& problem) {
+            return probe::ProbeError(fmt::format("{}: line {}: {}", path.string(), number, problem));
+        };
+        if (f.size() != 14) throw bad(fmt::format("{} fields, expected 14", f.size()));
+        try {
+            std::size_t used = 0;
+            const auto toNumber = [&](const std::string& text) {
+                const double x = std::stod(text, &used);
+                if (used != text.size() || !std::isfinite(x)) throw std::invalid_argument(text);
+                return x;
+            };
+            SweepRow r;
+            r.method = {f[0], f[1], static_cast<int>(toNumber(f[2])), toNumber(f[3]), f[4], f[5], toNumber(f[6])};
+            r.probe = f[7];
+            r.level = static_cast<int>(toNumber(f[8]));
+            r.imageL1 = toNumber(f[9]);
+            r.impulseL1Mean = toNumber(f[10]);
+            r.impulseL1Max = toNumber(f[11]);
+            r.gpuMs = toNumber(f[12]);
+            r.levelGpuMs = toNumber(f[13]);
+            if (r.gpuMs <= 0.0 || r.level < 0) throw std::invalid_argument("range");
+            rows.push_back(r);
+        } catch (const std::logic_error&) {
+            throw bad("a number field is not a finite number (or a time is not positive)");
+        }
+    }
+    if (rows.empty()) throw probe::ProbeError(fmt::format("{}: no rows", path.string()));
+    return rows;
+}
+
 std::string formatSummary(const SweepSummary& summary) {
-    std::string s = fmt::format("best FIS setting over the image probes: {}\n", summary.bestFisSetting);
-    s += formatRatios(summary.best, "images, best FIS");
-    s += formatRatios(summary.paper, "images, paper's FIS");
-    s += formatRatios(summary.impulseBest, "impulses, best FIS");
-    s += formatRatios(summary.bestMix, "images, best FIS per-level mix");
-    s += formatRatios(summary.impulseBestMix, "impulses, best FIS per-level mix");
+    std::string s = fmt::format("FIS: the Pareto front of every FIS method in the sweep, per error measure; FIS-32 at the best "
+                                "setting over the image probes ({}) sets the time budget\n",
+                                summary.bestFisSetting);
+    s += formatRatios(summary.imageRatios, "images");
+    s += formatRatios(summary.impulseRatios, "impulses");
     return s;
 }
 
@@ -252,30 +302,39 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
     out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
     out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
            "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
-           "on one probe (it does not depend on the content).\n\n";
+           "on one probe (it does not depend on the content); reads are trilinear pyramid reads per output texel of levels >= 1 "
+           "(a table's taps in every frame the texel blends; FIS's samples).\n\n"
+           "FIS is the Pareto front of every FIS method below, per error measure: at each time the lowest error any FIS "
+           "variant reaches, interpolated between its points in log error against log time (outside them, the nearer end).\n\n";
     out << "```\n" << formatSummary(summary) << "```\n\n";
-    out << fmt::format("Each table against uniform FIS at the best setting ({}), interpolated in log error against log time: "
-                       "its error over FIS's at the table's time, and FIS's time over the table's at the table's error.\n\n",
-                       summary.bestFisSetting);
-    out << "| table | GPU ms | image L1 | / FIS's at that time | FIS time at that error | impulse L1 | / FIS's at that time | FIS time at "
-           "that error |\n"
-           "|---|---|---|---|---|---|---|---|\n";
+    out << "Each table against the FIS front: its error over the front's at the table's time, and the front's time over the "
+           "table's at the table's error.\n\n";
+    out << "| table | GPU ms | reads/texel | image L1 | / front's at that time | front's time at that error | impulse L1 | / front's at "
+           "that time | front's time at that error |\n"
+           "|---|---|---|---|---|---|---|---|---|\n";
     const auto timeText = [](const std::optional<double>& x) { return x ? fmt::format("{:.2f}x", *x) : std::string("never"); };
-    for (std::size_t k = 0; k < summary.tableImages.size(); ++k) {
-        const TableVersusFis& image = summary.tableImages[k];
+    for (const TableVersusFis& image : summary.tableImages) {
         const auto impulse = std::find_if(summary.tableImpulses.begin(), summary.tableImpulses.end(),
                                           [&](const TableVersusFis& t) { return t.table == image.table; });
-        out << fmt::format("| {} | {:.2f} | {:.4f} | {:.3f} | {} |", image.table, image.gpuMs, image.error, image.errorAtTableTime,
-                           timeText(image.fisTimeAtTableError));
+        out << fmt::format("| {} | {:.2f} | {:.1f} | {:.4f} | {:.3f} | {} |", image.table, image.gpuMs, image.readsPerTexel, image.error,
+                           image.errorAtTableTime, timeText(image.fisTimeAtTableError));
         out << (impulse == summary.tableImpulses.end() ? std::string(" - | - | - |\n")
                                                        : fmt::format(" {:.4f} | {:.3f} | {} |\n", impulse->error, impulse->errorAtTableTime,
                                                                      timeText(impulse->fisTimeAtTableError)));
     }
-    out << "\n| method | family | taps/samples | bias | pyramid | image L1 | impulse L1 | GPU ms |\n|---|---|---|---|---|---|---|---|\n";
+    for (const bool impulse : {false, true}) {
+        const std::vector<MethodScore>& front = impulse ? summary.impulseFront : summary.imageFront;
+        out << fmt::format("\nThe FIS front, {}: ", impulse ? "impulse L1" : "image L1");
+        for (std::size_t k = 0; k < front.size(); ++k)
+            out << fmt::format("{}{} ({:.2f} ms, {:.4f})", k ? ", " : "", front[k].method.name, front[k].gpuMs, errorOf(front[k], impulse));
+        out << ".\n";
+    }
+    out << "\n| method | family | taps/samples | bias | pyramid | reads/texel | image L1 | impulse L1 | GPU ms |\n"
+           "|---|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
-        out << fmt::format("| {} | {} | {} | {} | {} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family, s.method.count,
-                           s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid, s.imageL1, s.impulseL1,
-                           s.gpuMs);
+        out << fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family,
+                           s.method.count, s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid,
+                           s.method.readsPerTexel, s.imageL1, s.impulseL1, s.gpuMs);
     out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
@@ -284,17 +343,24 @@ nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& 
                                 int levelCount) {
     nlohmann::json methods = nlohmann::json::array();
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
-        methods.push_back({{"method", s.method.name}, {"image_l1", s.imageL1}, {"impulse_l1", s.impulseL1}, {"gpu_ms", s.gpuMs}});
+        methods.push_back({{"method", s.method.name},
+                           {"family", s.method.family},
+                           {"count", s.method.count},
+                           {"bias", s.method.bias},
+                           {"pyramid", s.method.pyramid},
+                           {"reads_per_texel", s.method.readsPerTexel},
+                           {"image_l1", s.imageL1},
+                           {"impulse_l1", s.impulseL1},
+                           {"gpu_ms", s.gpuMs}});
     return {{"command", "sweep"},
             {"device", {{"name", device}, {"driver", driver}}},
             {"face_size", size},
             {"level_count", levelCount},
             {"best_fis_setting", summary.bestFisSetting},
-            {"images_best_fis", ratiosJson(summary.best)},
-            {"images_paper_fis", ratiosJson(summary.paper)},
-            {"impulses_best_fis", ratiosJson(summary.impulseBest)},
-            {"images_best_fis_mix", ratiosJson(summary.bestMix)},
-            {"impulses_best_fis_mix", ratiosJson(summary.impulseBestMix)},
+            {"images", ratiosJson(summary.imageRatios)},
+            {"impulses", ratiosJson(summary.impulseRatios)},
+            {"fis_front_images", frontJson(summary.imageFront, false)},
+            {"fis_front_impulses", frontJson(summary.impulseFront, true)},
             {"tables_images", tablesJson(summary.tableImages)},
             {"tables_impulses", tablesJson(summary.tableImpulses)},
             {"methods", methods}};

@@ -1,7 +1,8 @@
 // The sweep's numbers: rows per (method, probe, level), and the summary that answers "what does
-// accuracy cost in time": per method the mean errors and the median time, FIS at its best single
-// setting and at the paper's (bias 1, box), and the ratios at equal time and at equal error; the same ratios against
-// per-level FIS mixes, the fair match for tables whose levels use different tap counts.
+// accuracy cost in time": per method the mean errors, the median time and the texture reads per
+// texel; FIS as the Pareto front of every FIS variant in the sweep (lowest error at each time, per
+// error measure), and each table against that front at FIS-32's time, at the table's time and at
+// the table's error.
 #pragma once
 
 #include <filesystem>
@@ -19,7 +20,8 @@ struct SweepMethod {
     int count = 0;      // taps per frame, or samples (at level 1 for a mix)
     double bias = 0.0;
     std::string pyramid;
-    std::string form; // tables: "quad" or "const"
+    std::string form;           // tables: "quad" or "const"
+    double readsPerTexel = 0.0; // trilinear pyramid reads per output texel of levels >= 1, averaged over those texels
 };
 
 struct SweepRow {
@@ -42,43 +44,58 @@ struct MethodScore {
     double gpuMs = 0.0;
 };
 
-// The two ratios against one FIS family at one setting, on one error measure, and the same
-// comparison at the table's own time.
+bool isFisFamily(const std::string& family); // every family but "table"
+
+// The Pareto front of the FIS methods on one error measure: ascending in time, strictly descending
+// in error; every FIS method has a point of the front no slower and no less accurate.
+std::vector<MethodScore> fisFront(const std::vector<MethodScore>& scores, bool impulse);
+
+// The front's error at `ms`, interpolated between the two points around it in log error against
+// log time; outside the front's times, the error of its nearer end.
+double frontErrorAtTime(const std::vector<MethodScore>& front, double ms, bool impulse);
+
+// The time at which the front reaches `error`, interpolated the same way; empty where even its most
+// accurate point does not.
+std::optional<double> frontTimeAtError(const std::vector<MethodScore>& front, double error, bool impulse);
+
+// The most accurate table within FIS-32's time (else the fastest table) against the FIS front, on
+// one error measure.
 struct Ratios {
-    std::string fisSetting;            // e.g. "bias 0, bspline"
-    std::string fisFamily;             // "fis" or "fis-mix"
-    std::string fisCompared;           // FIS-32, or the most accurate mix no slower than FIS-32
-    std::string tableName;             // the table compared: the most accurate one no slower than FIS-32, else the fastest
+    std::string fis32;                 // the FIS-32 whose time is the budget (uniform, at the best setting)
+    std::string tableName;             // the most accurate table no slower than FIS-32, else the fastest
     bool tableWithinFis32Time = false; // false: no table is as fast as FIS-32, and the fastest is compared
     double tableMs = 0.0, fis32Ms = 0.0;
-    double errorAtFis32Time = 0.0;          // table error / the compared FIS's error
-    std::optional<double> timeAtTableError; // FIS time / table time at the table's error; empty: FIS never gets there
-    // Table error / FIS error at the table's time, FIS interpolated between the counts around that
-    // time (log error against log time); the nearest end of the curve outside it.
-    double errorAtTableTime = 0.0;
-    int fisMaxSamples = 0;
+    double tableError = 0.0;
+    double fis32Error = 0.0;                // FIS-32's own error
+    double frontErrorAtFis32Time = 0.0;     // the front's error at FIS-32's time
+    double errorAtFis32Time = 0.0;          // table error / frontErrorAtFis32Time
+    double errorAtTableTime = 0.0;          // table error / the front's error at the table's time
+    std::optional<double> timeAtTableError; // the front's time / table time at the table's error; empty: never
+    std::string frontMostAccurate;          // the front's last point
 };
 
-// One table against uniform FIS at one setting, at the table's own time and its own error.
+// One table against the FIS front at the table's own time and its own error.
 struct TableVersusFis {
     std::string table;
-    double error = 0.0, gpuMs = 0.0;
-    double errorAtTableTime = 0.0;             // table error / FIS error at the table's time
-    std::optional<double> fisTimeAtTableError; // FIS time / table time at the table's error; empty: never
+    double error = 0.0, gpuMs = 0.0, readsPerTexel = 0.0;
+    double errorAtTableTime = 0.0;             // table error / the front's error at the table's time
+    std::optional<double> fisTimeAtTableError; // the front's time / table time at the table's error; empty: never
 };
 
 struct SweepSummary {
-    std::vector<MethodScore> images;   // over the non-impulse probes
-    std::vector<MethodScore> impulses; // over the impulse probes
-    std::string bestFisSetting;        // the best single (bias, pyramid) over the image probes
-    std::optional<Ratios> best, paper, impulseBest;
-    std::optional<Ratios> bestMix, impulseBestMix;          // against the per-level FIS mixes at the best setting
-    std::vector<TableVersusFis> tableImages, tableImpulses; // every table against FIS at the best setting, by time
+    std::vector<MethodScore> images;                        // over the non-impulse probes
+    std::vector<MethodScore> impulses;                      // over the impulse probes
+    std::string bestFisSetting;                             // the best single (bias, pyramid) over the image probes
+    std::vector<MethodScore> imageFront, impulseFront;      // fisFront of each measure
+    std::optional<Ratios> imageRatios, impulseRatios;       // against the fronts
+    std::vector<TableVersusFis> tableImages, tableImpulses; // every table against the fronts, by time
 };
 
 SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows);
+// The rows of a sweep.csv that writeSweepCsv wrote; ProbeError naming the file and line otherwise.
+std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path);
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
                         const std::string& device, int size, int levelCount);
 nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,

@@ -53,22 +53,21 @@ def setting(meta):
     return f"bias {float(meta['bias']):g}, {meta['pyramid']}"
 
 
-def ratio_text(ratios):
-    fis = ratios["fis_family"] == "fis"
-    compared = "FIS-32's" if fis else f"{ratios['fis_compared']}'s"
-    budget = (f"at FIS-32's time: table error = {ratios['error_at_fis32_time']:.2f} x {compared}" if ratios["table_within_fis32_time"]
-              else f"no table as fast as FIS-32 ({ratios['fis32_ms']:.1f} ms); the fastest ({ratios['table_ms']:.1f} ms): "
-                   f"error = {ratios['error_at_fis32_time']:.2f} x {compared}")
-    family = "FIS" if fis else "FIS-mix"
-    return (("" if fis else "against per-level FIS mixes: ") + budget
-            + f"\nat the table's time: table error = {ratios['error_at_table_time']:.2f} x {family}'s"
-            + f"\nat the table's error: {family} time = "
-            + (f"{ratios['fis_time_at_table_error']:.1f} x table's" if ratios["fis_time_at_table_error"]
-               else f"> {family}-{ratios['fis_max_samples']} (never reaches it)")
-            + (f"\n(table {ratios['table']}, FIS {ratios['fis_setting']})" if fis else ""))
+def ratio_text(r):
+    budget = (f"at FIS-32's time ({r['fis32_ms']:.1f} ms): table error = {r['error_at_fis32_time']:.2f} x the FIS front's"
+              if r["table_within_fis32_time"]
+              else f"no table as fast as FIS-32 ({r['fis32_ms']:.1f} ms); the fastest ({r['table_ms']:.1f} ms): "
+                   f"error = {r['error_at_fis32_time']:.2f} x the FIS front's at FIS-32's time")
+    return (budget
+            + f"\nat the table's time: table error = {r['error_at_table_time']:.2f} x the FIS front's"
+            + "\nat the table's error: FIS front's time = "
+            + (f"{r['fis_time_at_table_error']:.1f} x table's" if r["fis_time_at_table_error"]
+               else f"never (front ends at {r['front_most_accurate']})")
+            + f"\n(table {r['table']}; FIS front: every FIS method of the sweep)")
 
 
 def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all levels (ms)"):
+    """Error against time: every method, the FIS front and the Pareto front of all methods."""
     groups = defaultdict(list)
     for name, (err, ms, meta) in points.items():
         key = {"table": f"table ({meta['form']}{', per-level mix' if 'mix' in name else ''})", "fis": f"FIS {setting(meta)}",
@@ -90,6 +89,9 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
             ax.annotate(count, (ms, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
     front = pareto(points)
     ax.plot([p[0] for p in front], [p[1] for p in front], "k--", linewidth=1, label="Pareto front")
+    fis_front = pareto({m: p for m, p in points.items() if p[2]["family"] != "table"})
+    ax.plot([p[0] for p in fis_front], [p[1] for p in fis_front], color="tab:red", linestyle=":", linewidth=1.6,
+            label="FIS front (every FIS method)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(xlabel)
@@ -102,6 +104,38 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
                 bbox=dict(facecolor="white", alpha=0.85, edgecolor="grey"))
 
 
+def plot_reads(report, path):
+    """Error against trilinear reads per output texel, the cost that does not depend on the device:
+    image L1 and impulse L1 side by side, the FIS front of each marked."""
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    for ax, key, label in zip(axes, ("image_l1", "impulse_l1"), ("image L1 vs exact reference", "impulse L1")):
+        groups = defaultdict(list)
+        for m in report["methods"]:
+            family = m["family"]
+            group = "table" if family == "table" else f"{family}, {setting(m)}"
+            groups[group].append((m["reads_per_texel"], m[key], m))
+        for group, pts in sorted(groups.items()):
+            pts.sort(key=lambda p: p[0])
+            table = group == "table"
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="*" if table else "o", markersize=10 if table else 4,
+                    linestyle="none" if table else "-", linewidth=0.8, alpha=1.0 if table else 0.5, label=group)
+            if table:
+                for reads, err, m in pts:
+                    ax.annotate(m["method"].split("_", 1)[-1], (reads, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        front = pareto({m["method"]: (m[key], m["reads_per_texel"], m) for m in report["methods"] if m["family"] != "table"})
+        ax.plot([p[0] for p in front], [p[1] for p in front], color="tab:red", linestyle=":", linewidth=1.6,
+                label="FIS front over reads")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("trilinear reads per output texel (levels >= 1)")
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.25)
+    axes[0].legend(fontsize=6, loc="upper right")
+    fig.suptitle(f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}: error against reads per texel", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
 def main(folder):
     folder = Path(folder)
     rows, report = load(folder)
@@ -109,7 +143,7 @@ def main(folder):
     device = report["device"]["name"]
     fig, ax = plt.subplots(figsize=(8, 6))
     plot(ax, scores(rows), f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}, {device}", best,
-         [r for r in (report.get("images_best_fis"), report.get("images_best_fis_mix")) if r])
+         [r for r in (report.get("images"),) if r])
     ax.legend(fontsize=6, loc="upper right")
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time.png", dpi=130)
@@ -124,7 +158,9 @@ def main(folder):
         ax.axis("off")
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time_per_level.png", dpi=110)
-    print(f"plot-sweep: wrote {folder / 'error_vs_time.png'} and {folder / 'error_vs_time_per_level.png'}")
+    plot_reads(report, folder / "error_vs_reads.png")
+    print(f"plot-sweep: wrote {folder / 'error_vs_time.png'}, {folder / 'error_vs_time_per_level.png'} "
+          f"and {folder / 'error_vs_reads.png'}")
 
 
 if __name__ == "__main__":

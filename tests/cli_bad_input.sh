@@ -62,6 +62,13 @@ expect_refused scene-missing-file       "$work/nope.json"                       
 expect_refused sweep-size     "face size 12"      sweep --size 12 --out "$work/out"
 expect_refused sweep-hdri-dir "$in/nope"          sweep --size 4 --hdri-dir "$in/nope" --out "$work/out"
 expect_refused sweep-repeat   "--repeat 0"        sweep --size 4 --repeat 0 --out "$work/out"
+expect_refused sweep-summarize-missing "$in/nope/sweep.csv" sweep --summarize "$in/nope" --out "$work/out"
+mkdir -p "$work/bad-sweep"
+{
+    echo method,family,count,bias,pyramid,form,reads_per_texel,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms
+    echo fis8,fis,8,0,bspline,,8,sky,1,0.1,0.1
+} >"$work/bad-sweep/sweep.csv"
+expect_refused sweep-summarize-short-row "sweep.csv: line 2" sweep --summarize "$work/bad-sweep" --out "$work/out"
 expect_refused plan-missing   "$in/nope.json"     plan "$in/nope.json"
 
 # The explicit flag repairs instead of refusing, and then the output is complete.
