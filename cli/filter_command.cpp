@@ -31,6 +31,7 @@ struct FilterOptions {
     std::string tableForm;        // published text layout: const or quad
     std::vector<int> samples{32}; // one count for every level, or one per level
     double fisBias = 0.0;
+    std::string fisMap = "cube";
     std::string pyramid = "bspline";
     std::string weighting = "solid-angle";
     int size = 128;
@@ -113,6 +114,7 @@ void runFilter(const FilterOptions& o) {
     s.method.fis.samples = o.samples.front();
     if (o.samples.size() > 1) s.method.fis.levelSamples = o.samples;
     s.method.fis.bias = o.fisBias;
+    s.method.fis.map = probe::parseFisMap(o.fisMap);
     s.method.fis.pyramid = pyramid;
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     probe::checkRepeat(o.repeat);
@@ -162,7 +164,7 @@ void runFilter(const FilterOptions& o) {
     if (s.method.kind == probe::MethodKind::fis) {
         const probe::ImportanceSamplingSettings& fis = s.method.fis;
         const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
-        report["fis"] = {{"samples", samples}, {"bias", fis.bias}};
+        report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
     }
     if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(table);
     report["warnings"] = filter.warnings();
@@ -212,6 +214,10 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option(
            "--samples", o->samples,
            fmt::format("fis: samples per output texel (1 to {}): one count, or one per output level (level 0 first)", probe::kMaxSamples))
+        ->capture_default_str();
+    cmd->add_option("--fis-map", o->fisMap,
+                    "fis: what the samples read: the cube pyramid, or a dual-paraboloid map with its own mips (Krivanek & Colbert as "
+                    "published; exact sampling)")
         ->capture_default_str();
     cmd->add_option("--fis-bias", o->fisBias,
                     fmt::format("fis: added to each sample's pyramid level (-{0} to {0}; 0 is the accurate setting, Filament uses 1)",

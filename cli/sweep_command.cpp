@@ -1,5 +1,6 @@
 // probefilter sweep: what accuracy costs in time. One run on one device: for every probe and
-// every method (each table of the size in --tables, FIS over samples x bias x pyramid), the image
+// every method (each table of the size in --tables, FIS over samples x bias x pyramid, and over
+// samples x bias on a dual-paraboloid map), the image
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
 // all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
 // methods), and the trilinear pyramid reads per output texel, the cost that does not depend on the
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -19,6 +21,7 @@
 #include "probe/importance_sampling.h"
 #include "probe/impulse_error.h"
 #include "probe/limits.h"
+#include "probe/paraboloid.h"
 #include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"
@@ -41,6 +44,7 @@ struct SweepOptions {
     std::vector<int> fisMix{8, 16, 32}; // per-level FIS: N at level 1 (probe::mixedLevelSamples)
     std::vector<double> biases{0.0, 0.5, 1.0};
     std::vector<std::string> pyramids{"bspline", "box"};
+    std::vector<std::string> fisMaps{"cube", "paraboloid"}; // paraboloid: uniform counts x biases, on its own box mips
     int repeat = 5;
     int texelBudget = 384;
     std::string tables = "tables";
@@ -165,6 +169,23 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                     m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
                     methods.push_back(std::move(m));
                 }
+    // FIS on a dual-paraboloid map: the same samples, read from the map (its mips are box averages).
+    for (const std::string& map : o.fisMaps) {
+        if (probe::parseFisMap(map) != probe::FisMap::paraboloid) continue;
+        for (double bias : o.biases)
+            for (int samples : o.samples) {
+                Method m;
+                probe::ImportanceSamplingSettings& fis = m.settings.method.fis;
+                fis.samples = samples;
+                fis.bias = bias;
+                fis.map = probe::FisMap::paraboloid;
+                m.description = {fmt::format("fisparaboloid{}-bias{}", samples, bias), "fis-paraboloid", samples, bias, "paraboloid", ""};
+                m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling says
+                m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
+                methods.push_back(std::move(m));
+            }
+    }
     return methods;
 }
 
@@ -238,9 +259,18 @@ void runSweep(const SweepOptions& o) {
         auto& ops = operators[pyramid.kind];
         if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
         std::vector<probe::ImpulseError> impulse;
-        for (int m = 0; m < levelCount; ++m)
-            impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m,
-                                                  probe::stratifiedTexels(o.size >> m, o.texelBudget)));
+        const probe::ImportanceSamplingSettings& fis = method.settings.method.fis;
+        std::optional<probe::ParaboloidImpulse> paraboloid;
+        if (method.settings.method.kind == probe::MethodKind::fis && fis.map == probe::FisMap::paraboloid)
+            paraboloid.emplace(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+        for (int m = 0; m < levelCount; ++m) {
+            const std::vector<probe::WeightedTexel> texels = probe::stratifiedTexels(o.size >> m, o.texelBudget);
+            // A paraboloid map's level 0 is a copy, as every method's.
+            if (paraboloid && probe::levelAlpha(probe::RoughnessMapping::gltf, m, levelCount) > 0.0)
+                impulse.push_back(probe::impulseError([&](const probe::Texel& t) { return paraboloid->response(m, t); }, o.size, levelCount,
+                                                      probe::RoughnessMapping::gltf, m, texels));
+            else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m, texels));
+        }
         for (std::size_t p = 0; p < probes.size(); ++p) {
             const probe::CubeLevels out = filters.back()->run(probes[p].cube);
             for (int m = 0; m < levelCount; ++m)
@@ -297,6 +327,8 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
     cmd->add_option("--bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
+    cmd->add_option("--fis-maps", o->fisMaps, "What FIS reads: cube (the pyramids above), paraboloid (a dual-paraboloid map)")
+        ->capture_default_str();
     cmd->add_option(
         "--repeat", o->repeat,
         fmt::format("Timed runs per method (1 to {}), on the first probe, in rounds over the methods (median)", probe::kMaxRepeat));

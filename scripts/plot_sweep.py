@@ -71,7 +71,8 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
     groups = defaultdict(list)
     for name, (err, ms, meta) in points.items():
         key = {"table": f"table ({meta['form']}{', per-level mix' if 'mix' in name else ''})", "fis": f"FIS {setting(meta)}",
-               "fis-mix": f"FIS per-level mix, {setting(meta)}"}[meta["family"]]
+               "fis-mix": f"FIS per-level mix, {setting(meta)}",
+               "fis-paraboloid": f"FIS dual-paraboloid, bias {float(meta['bias']):g}"}[meta["family"]]
         groups[key].append((ms, err, meta, name))
     for key, pts in sorted(groups.items()):
         pts.sort(key=lambda p: p[0])

@@ -2,14 +2,18 @@
 // importance_sampling.cpp: the level's samples, made once on the host by probe::importanceSamples in
 // the tangent frame of R (xyz: the reflected direction l, w: its pyramid level; the weight is
 // n.l = l.z), are rotated into the frame of each output texel and read from the pyramid: with
-// PROBE_HARDWARE_SAMPLING one textureLod through the seamless sampler, else sampling.glsl's
-// arithmetic over the bordered buffer.
+// PROBE_HARDWARE_SAMPLING one textureLod through the seamless sampler, with PROBE_PARABOLOID_MAP one
+// trilinear read of the dual-paraboloid map at the level its texel solid angle there gives
+// (paraboloid.glsl), else sampling.glsl's arithmetic over the bordered buffer.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "images.glsl"
 #include "sampling.glsl"
 #include "tap_sum.glsl"
+#ifdef PROBE_PARABOLOID_MAP
+#include "paraboloid.glsl"
+#endif
 
 layout(local_size_x = 64) in;
 
@@ -29,8 +33,10 @@ layout(push_constant) uniform Params {
 } params;
 
 vec3 samplePyramid(vec3 direction, float level) {
-#ifdef PROBE_HARDWARE_SAMPLING
+#if defined(PROBE_HARDWARE_SAMPLING)
     return textureLod(pyramidCube, direction, level).rgb;
+#elif defined(PROBE_PARABOLOID_MAP)
+    return sampleParaboloid(params.baseSize, direction, paraboloidLevel(direction, level, params.baseSize));
 #else
     return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
 #endif

@@ -79,9 +79,17 @@ refused "--samples 0" --method fis --samples 0 --size 16
 refused "--format rgb8" --method fis --format rgb8 --size 16
 refused "--sampling fast" --method fis --sampling fast --size 16
 refused "one count, or one per output level (4)" --method fis --samples 8 16 --size 16
+refused "--fis-map sphere" --method fis --fis-map sphere --size 16
+refused "reads it exactly" --method fis --fis-map paraboloid --sampling hardware --size 16
 
 # FIS with a count per level: the report lists them.
 "$PROBEFILTER" filter sky.exr --method fis --samples 8 8 32 128 --size 16 --out fis-levels >/dev/null 2>&1 || fail "fis per level"
 python3 -c "import json,sys; sys.exit(json.load(open('fis-levels/report.json'))['fis']['samples'] != [8, 8, 32, 128])" ||
     fail "fis per level: the report does not list the counts"
+
+# FIS on a dual-paraboloid map: the report names the map.
+"$PROBEFILTER" filter sky.exr --method fis --fis-map paraboloid --samples 32 --size 16 --validate --out fis-paraboloid >/dev/null 2>&1 ||
+    fail "fis paraboloid"
+python3 -c "import json,sys; sys.exit(json.load(open('fis-paraboloid/report.json'))['fis']['map'] != 'paraboloid')" ||
+    fail "fis paraboloid: the report does not name the map"
 echo "cli_filter: ok"

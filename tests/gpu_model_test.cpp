@@ -195,6 +195,33 @@ TEST_F(GpuTest, ImportanceSamplingPerLevelEqualsCpuModel) {
     EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ParameterError);
 }
 
+// FIS on a dual-paraboloid map: the map and the samples' levels on it as the CPU model makes them,
+// uniform and per-level counts, every output format's shader from the same source; a constant stays
+// constant; hardware sampling is refused (the map is read from a buffer).
+TEST_F(GpuTest, ParaboloidImportanceSamplingEqualsCpuModel) {
+    const CubeImage source = probetest::randomProbe(32, 33);
+    for (const double bias : {0.0, 1.0}) {
+        gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::automatic);
+        s.method.fis.map = FisMap::paraboloid;
+        s.method.fis.samples = 24;
+        s.method.fis.bias = bias;
+        if (bias > 0.0) s.method.fis.levelSamples = {8, 8, 32, 128, 512};
+        gpu::Filter filter(probetest::testDevice(), s);
+        EXPECT_EQ(filter.sampling(), gpu::Sampling::exact);
+        expectLevelsEqual(filter.run(source), filterOnCpu(source, 5, RoughnessMapping::gltf, s.method), 1e-5,
+                          fmt::format("paraboloid fis bias {}", bias));
+    }
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);
+    s.method.fis.map = FisMap::paraboloid;
+    const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
+    gpu::Filter filter(probetest::testDevice(), s);
+    const CubeLevels levels = filter.run(constantProbe(32, radiance));
+    for (int m = 0; m < 5; ++m)
+        EXPECT_LT(probetest::maxRelativeError(levels[m], CubeImage(32 >> m, radiance)), 1e-5) << "paraboloid white furnace, level " << m;
+    s.sampling = gpu::Sampling::hardware;
+    EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ParameterError);
+}
+
 TEST_F(GpuTest, WhiteFurnaceEveryMethod) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
     const CubeImage constant = constantProbe(32, radiance);

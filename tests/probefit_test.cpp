@@ -330,7 +330,7 @@ TEST(FisLevelSamples, TheMixAndItsChecks) {
     for (int m = 1; m < 3; ++m) {
         mixed(m, {2, 5, 1}, a);
         importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf,
-                                     ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}})(m, {2, 5, 1}, b);
+                                     ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}, FisMap::cube})(m, {2, 5, 1}, b);
         ASSERT_EQ(a.size(), b.size()) << "level " << m;
         for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].direction, b[k].direction);
     }

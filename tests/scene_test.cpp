@@ -85,7 +85,7 @@ TEST_F(SceneTest, Mixed) {
     // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
     const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));
     const int deepest = p.probes[0].pyramidLevels;
-    const ImportanceSamplingSettings fis{32, 0.0, {}, {}};
+    const ImportanceSamplingSettings fis{32, 0.0, {}, {}, FisMap::cube};
     EXPECT_EQ(deepest, deepestPyramidLevelRead(importanceSampleTapGenerator(16, 4, RoughnessMapping::gltf, fis), 16, {1, 2}));
     EXPECT_GT(deepest, 0);
     EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: pyramid 0..{}", deepest), "sky: level 0 (fis)",

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/paraboloid.h"
 #include "probe/range_scale.h"
 #include "probe/reference.h"
 #include "probe/table_filter.h"
@@ -58,8 +59,10 @@ CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping
     validateMethod(method, source.size, levelCount, mapping);
     if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
     const int shift = rangeShift(source);
-    CubeLevels levels = filterWithTaps(buildPyramid(shifted(source, -shift), method.pyramid()), levelCount,
-                                       methodTapGenerator(method, source.size, levelCount, mapping));
+    CubeLevels levels = method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid
+                            ? paraboloidFilter(shifted(source, -shift), levelCount, mapping, method.fis)
+                            : filterWithTaps(buildPyramid(shifted(source, -shift), method.pyramid()), levelCount,
+                                             methodTapGenerator(method, source.size, levelCount, mapping));
     shiftLevels(levels, shift);
     return levels;
 }

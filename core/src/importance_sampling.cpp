@@ -13,6 +13,14 @@
 
 namespace probe {
 
+std::string_view fisMapName(FisMap map) { return map == FisMap::paraboloid ? "paraboloid" : "cube"; }
+
+FisMap parseFisMap(std::string_view name) {
+    for (FisMap map : {FisMap::cube, FisMap::paraboloid})
+        if (fisMapName(map) == name) return map;
+    throw ParameterError("fis-map", fmt::format("{}: expected cube or paraboloid", name));
+}
+
 std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias) {
     std::vector<Tap> result;
     const double alpha2 = alpha * alpha;

@@ -6,13 +6,19 @@ namespace probe {
 
 ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
                           RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels) {
+    return impulseError([&](const Texel& texel) { return impulseWithTaps(operators, baseSize, level, texel, generator); }, baseSize,
+                        levelCount, mapping, level, texels);
+}
+
+ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, RoughnessMapping mapping, int level,
+                          const std::vector<WeightedTexel>& texels) {
     const double alpha = levelAlpha(mapping, level, levelCount);
     const CubeGeometry source(baseSize);
     const int size = baseSize >> level;
     std::vector<double> errors(texels.size());
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::size_t n = 0; n < texels.size(); ++n) {
-        const std::vector<double> w = impulseWithTaps(operators, baseSize, level, texels[n].texel, generator);
+        const std::vector<double> w = response(texels[n].texel);
         errors[n] = impulseL1(w, referenceKernel(texelDirection(texels[n].texel, size), source, alpha));
     }
     // Accumulated in texel order so the result does not depend on threads.

@@ -47,11 +47,11 @@ ParaboloidPoint paraboloidPoint(const glm::dvec3& direction, int size) {
     const int image = d.z >= 0.0 ? 0 : 1;
     const double denominator = 1.0 + std::abs(d.z);
     const double half = 0.5 * size;
-    return {image, (d.x / denominator * kParaboloidScale + 1.0) * half, (d.y / denominator * kParaboloidScale + 1.0) * half};
+    return {image, (d.x / denominator * PROBE_PARABOLOID_SCALE + 1.0) * half, (d.y / denominator * PROBE_PARABOLOID_SCALE + 1.0) * half};
 }
 
 glm::dvec3 paraboloidDirection(int image, double x, double y, int size) {
-    const double u = (2.0 * x / size - 1.0) / kParaboloidScale, v = (2.0 * y / size - 1.0) / kParaboloidScale;
+    const double u = (2.0 * x / size - 1.0) / PROBE_PARABOLOID_SCALE, v = (2.0 * y / size - 1.0) / PROBE_PARABOLOID_SCALE;
     const double r2 = u * u + v * v;
     const double z = (1.0 - r2) / (1.0 + r2);
     return {2.0 * u / (1.0 + r2), 2.0 * v / (1.0 + r2), image == 0 ? z : -z};
@@ -61,7 +61,7 @@ double paraboloidTexelSolidAngle(const glm::dvec3& direction, int size) {
     const glm::dvec3 d = glm::normalize(direction);
     const double denominator = 1.0 + std::abs(d.z);
     const double u = d.x / denominator, v = d.y / denominator;
-    const double texel = 2.0 / (kParaboloidScale * size); // a texel's side in (u, v)
+    const double texel = 2.0 / (PROBE_PARABOLOID_SCALE * size); // a texel's side in (u, v)
     const double jacobian = 4.0 / ((1.0 + u * u + v * v) * (1.0 + u * u + v * v));
     return jacobian * texel * texel;
 }
@@ -163,8 +163,7 @@ std::vector<double> ParaboloidImpulse::response(int level, const Texel& texel) c
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
     for (int k = 0; k < levels; ++k) weights[k].assign(2 * imageTexels(size >> k), 0.0);
     for (const Tap& tap : taps) {
-        const TrilinearFootprint f =
-            paraboloidFootprint(size, levels, tap.direction, paraboloidLevel(tap.direction, tap.level, baseSize_));
+        const TrilinearFootprint f = paraboloidFootprint(size, levels, tap.direction, paraboloidLevel(tap.direction, tap.level, baseSize_));
         for (int t = 0; t < f.count; ++t) weights[f.taps[t].level][f.taps[t].index] += tap.weight / weightSum * f.taps[t].weight;
     }
     // Each mip texel is the mean of its four children: its weight goes a quarter to each.

@@ -9,6 +9,7 @@
 #include "filter_impl.h"
 #include "probe/error.h"
 #include "probe/limits.h"
+#include "probe/paraboloid.h"
 #include "probe/range_scale.h"
 #include "vulkan_check.h"
 
@@ -63,8 +64,23 @@ CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offse
 
 bool has(const Device& device, VkFormat format, VkFormatFeatureFlags needed) { return (device.impl().features(format) & needed) == needed; }
 
+// The dual-paraboloid map (shaders/paraboloid.glsl): both images of every level, down to 1x1.
+std::size_t paraboloidMapTexels(int baseSize) {
+    std::size_t texels = 0;
+    for (int size = paraboloidSize(baseSize); size >= 1; size /= 2) texels += 2 * static_cast<std::size_t>(size) * size;
+    return texels;
+}
+
+bool readsParaboloid(const FilterMethod& method) { return method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid; }
+
 Sampling resolveSampling(const Device& device, const FilterSettings& s) {
     if (s.method.kind == MethodKind::reference) return Sampling::exact; // it reads every texel as it is
+    if (readsParaboloid(s.method)) {
+        // The map lives in a buffer and is read with the shader's own arithmetic.
+        if (s.sampling == Sampling::hardware)
+            throw ParameterError("sampling", "hardware: FIS on a paraboloid map reads it exactly (use exact or automatic)");
+        return Sampling::exact;
+    }
     if (s.sampling != Sampling::automatic) return s.sampling;
     return device.info().type == "cpu" ? Sampling::exact : Sampling::hardware;
 }
@@ -152,6 +168,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     const bool filters = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
     const MethodKind kind = s.method.kind;
     buildsPyramid = kind != MethodKind::reference && filters;
+    paraboloid = readsParaboloid(s.method) && filters;
+    if (paraboloid) pyramidDepth = 0; // the map reads the source alone
     sampling = resolveSampling(d, s);
     if (kind == MethodKind::table && sampling == Sampling::exact && !d.impl().computeSubgroupVote)
         throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method's exact "
@@ -175,7 +193,9 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     else if (kind == MethodKind::reference && filters) pyramidTexels = pyramidOffsets[1];
 
     pyramidBuffer = Buffer(d, pyramidTexels * kTexelBytes, Buffer::Kind::storage);
-    accumulator = Buffer(d, (kind == MethodKind::reference ? outputOffsets.back() : 1) * kTexelBytes, Buffer::Kind::storage);
+    std::size_t accumulatorTexels = kind == MethodKind::reference ? outputOffsets.back() : 1;
+    if (paraboloid) accumulatorTexels = paraboloidMapTexels(s.faceSize);
+    accumulator = Buffer(d, accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
     for (const Buffer* b : {&table, &pyramidBuffer})

@@ -32,10 +32,11 @@ struct Filter::Impl {
     std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
     uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
     bool buildsPyramid = false;           // pass 1 runs (table or fis with a filtered level computed)
+    bool paraboloid = false;              // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
 
     // Buffers (shaders/buffers.glsl).
     Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
-    Buffer accumulator;   // the reference's running sums (one vec4 when unused)
+    Buffer accumulator;   // the reference's running sums, or the paraboloid map (one vec4 when unused)
     Buffer geometry;      // per pyramid level, (texel direction, solid angle)
     Buffer table;         // tap table or FIS samples (one vec4 when unused)
     BufferView tableView, pyramidView;
@@ -65,11 +66,12 @@ struct Filter::Impl {
     std::vector<VkDescriptorSet> levelSets;   // per output level
     std::vector<VkDescriptorSet> convertSets; // per output level
 
-    std::unique_ptr<ComputePipeline> pass1;        // the pyramid (the reference: its level 0, the source)
-    std::unique_ptr<ComputePipeline> pass1Corners; // exact sampling: the border corners of each pyramid level
-    std::unique_ptr<ComputePipeline> pass2;        // table, fis or reference
-    std::unique_ptr<ComputePipeline> copy;         // pass 2 at the levels with alpha = 0; null when none is computed
-    std::unique_ptr<ComputePipeline> convert;      // the conversion pass; null unless convertOutput
+    std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
+    std::unique_ptr<ComputePipeline> pass1Corners;  // exact sampling: the border corners of each pyramid level
+    std::unique_ptr<ComputePipeline> paraboloidMap; // fis on a paraboloid map: its levels, after the source's level
+    std::unique_ptr<ComputePipeline> pass2;         // table, fis or reference
+    std::unique_ptr<ComputePipeline> copy;          // pass 2 at the levels with alpha = 0; null when none is computed
+    std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
     int tableTaps = 0;                   // table method: N per frame

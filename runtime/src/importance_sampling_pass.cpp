@@ -1,5 +1,6 @@
 // Filtered importance sampling (shaders/importance_sampling.comp): every level's samples, made by
-// probecore in the tangent frame, in the table buffer, and one dispatch per output level computed.
+// probecore in the tangent frame, in the table buffer, and one dispatch per output level computed,
+// reading the cube pyramid or the dual-paraboloid map.
 #include <cstdint>
 
 #include <importance_sampling_exact_b10g11r11.spv.h>
@@ -8,6 +9,9 @@
 #include <importance_sampling_hardware_b10g11r11.spv.h>
 #include <importance_sampling_hardware_rgba16f.spv.h>
 #include <importance_sampling_hardware_rgba32f.spv.h>
+#include <importance_sampling_paraboloid_b10g11r11.spv.h>
+#include <importance_sampling_paraboloid_rgba16f.spv.h>
+#include <importance_sampling_paraboloid_rgba32f.spv.h>
 
 #include "filter_impl.h"
 #include "probe/importance_sampling.h"
@@ -30,7 +34,9 @@ struct ImportanceSamplingConstants {
 
 std::unique_ptr<ComputePipeline> makeImportanceSamplingPipeline(const Filter::Impl& impl) {
     const std::span<const uint32_t> spirv =
-        impl.sampling == Sampling::hardware
+        impl.paraboloid ? outputVariant(impl, {kImportanceSamplingParaboloidRgba32fSpv, kImportanceSamplingParaboloidRgba16fSpv,
+                                               kImportanceSamplingParaboloidB10g11r11Spv})
+        : impl.sampling == Sampling::hardware
             ? outputVariant(impl, {kImportanceSamplingHardwareRgba32fSpv, kImportanceSamplingHardwareRgba16fSpv,
                                    kImportanceSamplingHardwareB10g11r11Spv})
             : outputVariant(impl,

@@ -2,15 +2,19 @@
 // - exact sampling (shaders/pyramid.comp, then shaders/pyramid_corners.comp): each level of the
 //   bordered buffer, faces and edges, then its border corners; the reference builds level 0 alone,
 //   the source it reads texel by texel, with no corners;
-// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image.
+// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image;
+// then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
+// the bordered source.
 #include <cstdint>
 
+#include <paraboloid_map.spv.h>
 #include <pyramid.spv.h>
 #include <pyramid_corners.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
 
 #include "filter_impl.h"
+#include "probe/paraboloid.h"
 
 namespace probe::gpu {
 
@@ -39,6 +43,7 @@ void makePyramidPipelines(Filter::Impl& impl) {
     }
     impl.pass1 = std::make_unique<ComputePipeline>(device, layout, kPyramidSpv, specialization);
     if (impl.buildsPyramid) impl.pass1Corners = std::make_unique<ComputePipeline>(device, layout, kPyramidCornersSpv);
+    if (impl.paraboloid) impl.paraboloidMap = std::make_unique<ComputePipeline>(device, layout, kParaboloidMapSpv);
 }
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
@@ -56,6 +61,13 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         if (!impl.pass1Corners) continue;
         computeBarrier(commandBuffer);
         dispatchPass(impl, commandBuffer, *impl.pass1Corners, "pyramid", level, constants, groupsFor(kFaceCount * 4));
+    }
+    if (!impl.paraboloidMap) return;
+    for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {
+        computeBarrier(commandBuffer);
+        const PyramidConstants constants{s.faceSize, level};
+        const std::size_t size = static_cast<std::size_t>(paraboloidSize(s.faceSize) >> level);
+        dispatchPass(impl, commandBuffer, *impl.paraboloidMap, "pyramid", level, constants, groupsFor(2 * size * size));
     }
 }
 

@@ -31,10 +31,12 @@ struct FilterMethod {
 void validateMethod(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
 
 // The taps of every output level (empty for the reference, which reads no pyramid). A table's
-// generator refers to method.table.
+// generator refers to method.table. FIS on a paraboloid map has the cube's taps: the same samples,
+// which the map reads at its own levels (probe/paraboloid.h).
 TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
 
-// Filters a probe on the CPU with the shared model: the reference, or pass 1 and the method's taps.
+// Filters a probe on the CPU with the shared model: the reference, pass 1 and the method's taps, or
+// FIS on a paraboloid map (paraboloidFilter).
 CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method);
 
 } // namespace probe

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "probe/roughness.h"
@@ -11,13 +12,20 @@
 
 namespace probe {
 
+// What the samples read: the cube pyramid (engines' FIS), or a dual-paraboloid map with its own mips
+// (Krivanek & Colbert as published; probe/paraboloid.h).
+enum class FisMap { cube, paraboloid };
+std::string_view fisMapName(FisMap map);   // "cube" or "paraboloid"
+FisMap parseFisMap(std::string_view name); // ParameterError("fis-map") for anything else
+
 struct ImportanceSamplingSettings {
     int samples = 32;
-    double bias = 0.0; // added to the level; 0 is the accurate setting (docs/design.md), Filament uses 1
-    PyramidSettings pyramid;
+    double bias = 0.0;       // added to the level; 0 is the accurate setting (docs/design.md), Filament uses 1
+    PyramidSettings pyramid; // the cube pyramid's; a paraboloid map's mips are box averages
     // Samples per output level, level 0 first; empty: `samples` at every level. Rough levels need
     // many more samples than sharp ones and hold few texels, so a per-level count buys accuracy cheaply.
     std::vector<int> levelSamples;
+    FisMap map = FisMap::cube;
 
     int samplesAt(int level) const { return levelSamples.empty() ? samples : levelSamples[static_cast<std::size_t>(level)]; }
 };

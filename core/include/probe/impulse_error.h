@@ -2,6 +2,7 @@
 // normalized weights over base texels against the reference kernel, over a set of output texels.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "probe/error_measures.h"
@@ -15,5 +16,11 @@ namespace probe {
 // A copy level (alpha = 0) is compared with the reference's copy.
 ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
                           RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels);
+
+// The same for a method given by its impulse response (weights over base texels) at an output texel
+// of level m; `response` runs on every core at once.
+using ImpulseResponse = std::function<std::vector<double>(const Texel& texel)>;
+ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, RoughnessMapping mapping, int level,
+                          const std::vector<WeightedTexel>& texels);
 
 } // namespace probe

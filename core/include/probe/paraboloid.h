@@ -7,7 +7,7 @@
 //
 // Mapping: d (unit) in the front image is (u, v) = (d.x, d.y) / (1 + d.z), in the back image
 // (d.x, d.y) / (1 - d.z); the hemisphere is the disc u^2 + v^2 <= 1 and dOmega = 4 / (1 + u^2 + v^2)^2
-// du dv. The image square [-1, 1]^2 holds (u, v) * kParaboloidScale, so the disc ends inside the
+// du dv. The image square [-1, 1]^2 holds (u, v) * PROBE_PARABOLOID_SCALE, so the disc ends inside the
 // square: the texels beyond it hold the directions past the seam (the other hemisphere), and a
 // bilinear read or a mip near the seam filters across it instead of into black.
 #pragma once
@@ -21,10 +21,9 @@
 #include "probe/cube_sampling.h"
 #include "probe/importance_sampling.h"
 #include "probe/roughness.h"
+#include "probe/shared_constants.h"
 
 namespace probe {
-
-inline constexpr double kParaboloidScale = 0.9;
 
 // Face size of each paraboloid image for a cube of face size S_0: 2 S_0, so that the texels at the
 // image centre cover about the solid angle of the cube's texels at a face centre.
@@ -45,7 +44,7 @@ struct ParaboloidPoint {
     int image = 0;
     double x = 0.0, y = 0.0;
 };
-ParaboloidPoint paraboloidPoint(const glm::dvec3& direction, int size); // any length, not zero
+ParaboloidPoint paraboloidPoint(const glm::dvec3& direction, int size);  // any length, not zero
 glm::dvec3 paraboloidDirection(int image, double x, double y, int size); // unit; past the disc: the other hemisphere
 
 // Solid angle of one texel of level 0 (image size `size`) at a direction: the mapping's Jacobian

@@ -21,6 +21,10 @@
 #define PROBE_PYRAMID_JACOBIAN_SHARE 0.5
 #define PROBE_PYRAMID_BASE_WEIGHT 0.125
 
+// Dual-paraboloid FIS (probe/paraboloid.h): the image square holds the mapping's (u, v) times this,
+// so the unit disc of a hemisphere ends inside it.
+#define PROBE_PARABOLOID_SCALE 0.9
+
 // Order-2 real SH basis (probe/sh.h): sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi),
 // sqrt(15/16pi).
 #define PROBE_SH_C0 0.28209479177387814

@@ -1,0 +1,35 @@
+// Pass 1 of FIS on a dual-paraboloid map (probe::buildParaboloidMap), one map level per dispatch:
+// level 0 reads the bordered source (pyramid level 0) bilinearly at each texel centre's direction,
+// level k averages the 2x2 texels of level k - 1.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "paraboloid.glsl"
+#include "sampling.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant) uniform Params {
+    int baseSize; // S_0
+    int level;    // the map level written
+} params;
+
+void main() {
+    int size = paraboloidSize(params.baseSize) >> params.level;
+    uint index = invocationIndex();
+    if (index >= uint(2 * size * size)) return;
+    int image = int(index) / (size * size), j = int(index) / size % size, i = int(index) % size;
+    vec3 value;
+    if (params.level == 0) {
+        int face;
+        vec2 uv;
+        directionToFaceUv(paraboloidDirection(image, float(i) + 0.5, float(j) + 0.5, size), face, uv);
+        float half0 = 0.5 * float(params.baseSize);
+        value = sampleBilinear(params.baseSize, 0, face, (uv.x + 1.0) * half0, (uv.y + 1.0) * half0);
+    } else {
+        int fine = 2 * size;
+        uint f = paraboloidLevelOffset(params.baseSize, params.level - 1) + uint(image * fine * fine + 2 * j * fine + 2 * i);
+        value = 0.25 * (outputTexels[f].rgb + outputTexels[f + 1u].rgb + outputTexels[f + uint(fine)].rgb +
+                        outputTexels[f + uint(fine) + 1u].rgb);
+    }
+    outputTexels[paraboloidLevelOffset(params.baseSize, params.level) + index] = vec4(value, 1.0);
+}
