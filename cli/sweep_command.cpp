@@ -189,8 +189,8 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
     return methods;
 }
 
-// Rewrites the summary of a finished sweep (DIR/sweep.csv, and DIR/report.json for the device)
-// into --out.
+// Summarizes a finished sweep again (DIR/sweep.csv, and DIR/report.json for the device) into --out,
+// another folder: sweep.csv, sweep.md and report.json.
 void summarizeAgain(const SweepOptions& o) {
     const std::filesystem::path dir = o.summarize;
     const std::vector<SweepRow> rows = readSweepCsv(dir / "sweep.csv");
@@ -208,8 +208,8 @@ void summarizeAgain(const SweepOptions& o) {
         throw probe::ProbeError(
             fmt::format("{}: not a sweep report (device, sampling, face_size or level_count missing)", (dir / "report.json").string()));
     }
-    probe::StagedOutput output(o.out);
-    if (std::filesystem::absolute(o.out) != std::filesystem::absolute(dir)) writeSweepCsv(output.file("sweep.csv"), rows);
+    probe::StagedOutput output(o.out, {dir}, o.force);
+    writeSweepCsv(output.file("sweep.csv"), rows);
     const SweepSummary summary = summarizeSweep(rows);
     writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {} sampling", name, driver, sampling), size,
                        levelCount);
@@ -336,7 +336,8 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
-    cmd->add_option("--summarize", o->summarize, "Run nothing: summarize the sweep in this folder (its sweep.csv) again into --out");
+    cmd->add_option("--summarize", o->summarize,
+                    "Run nothing: summarize the sweep in this folder (its sweep.csv) again into --out (another folder)");
     cmd->add_option("--out", o->out, "Output folder")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->callback([o] { runSweep(*o); });
