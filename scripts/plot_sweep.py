@@ -137,6 +137,47 @@ def plot_reads(report, path):
     fig.savefig(path, dpi=120)
 
 
+def front_at(front, x):
+    """The front's y at x, interpolated in log y against log x; outside it, the nearer end's."""
+    if x <= front[0][0]:
+        return front[0][1]
+    for (x0, y0), (x1, y1) in zip(front, front[1:]):
+        if x1 >= x:
+            t = 1.0 if x1 == x0 else (math.log(x) - math.log(x0)) / (math.log(x1) - math.log(x0))
+            return math.exp(math.log(y0) + t * (math.log(y1) - math.log(y0)))
+    return front[-1][1]
+
+
+def front_reaches(front, y):
+    """The x at which the front reaches y, interpolated the same way; None where it never does."""
+    for k, (x1, y1) in enumerate(front):
+        if y1 <= y:
+            if k == 0:
+                return x1
+            x0, y0 = front[k - 1]
+            t = 1.0 if y0 == y1 else (math.log(y0) - math.log(y)) / (math.log(y0) - math.log(y1))
+            return math.exp(math.log(x0) + t * (math.log(x1) - math.log(x0)))
+    return None
+
+
+def reads_table(report):
+    """Every table against the FIS front over reads per texel (the cost that does not depend on the
+    device), per error measure: its error over the front's at the table's reads, and the front's reads
+    over the table's at the table's error."""
+    lines = ["| table | reads/texel | image L1 | / FIS front's at those reads | front's reads at that error | impulse L1 | "
+             "/ FIS front's at those reads | front's reads at that error |", "|---|---|---|---|---|---|---|---|"]
+    fronts = {key: pareto({m["method"]: (m[key], m["reads_per_texel"], m) for m in report["methods"] if m["family"] != "table"})
+              for key in ("image_l1", "impulse_l1")}
+    for m in sorted((m for m in report["methods"] if m["family"] == "table"), key=lambda m: m["reads_per_texel"]):
+        cells = [f"`{m['method']}`", f"{m['reads_per_texel']:.1f}"]
+        for key, front in fronts.items():
+            reaches = front_reaches(front, m[key])
+            cells += [f"{m[key]:.4f}", f"{m[key] / front_at(front, m['reads_per_texel']):.3f}",
+                      "never" if reaches is None else f"{reaches / m['reads_per_texel']:.2f}x"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def main(folder):
     folder = Path(folder)
     rows, report = load(folder)
@@ -160,8 +201,9 @@ def main(folder):
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time_per_level.png", dpi=110)
     plot_reads(report, folder / "error_vs_reads.png")
+    (folder / "reads.md").write_text(reads_table(report))
     print(f"plot-sweep: wrote {folder / 'error_vs_time.png'}, {folder / 'error_vs_time_per_level.png'} "
-          f"and {folder / 'error_vs_reads.png'}")
+          f", {folder / 'error_vs_reads.png'} and {folder / 'reads.md'}")
 
 
 if __name__ == "__main__":
