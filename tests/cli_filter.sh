@@ -45,7 +45,7 @@ fi
 
 # The compiled-in table of each mapping at 128^2 (tables/*_quad8.h) filters.
 "$PROBEFILTER" synth sky --size 128 --out sky128.exr >/dev/null
-for mapping in gltf authors filament; do
+for mapping in gltf authors filament unity; do
     "$PROBEFILTER" filter sky128.exr --method table --size 128 --mapping $mapping --out table128_$mapping >/dev/null 2>&1 ||
         fail "compiled-in table for the $mapping mapping at 128^2"
     python3 -c "import json,sys; t=json.load(open('table128_$mapping/report.json'))['table']
