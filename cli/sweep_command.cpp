@@ -325,7 +325,7 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");
     cmd->add_option("--samples", o->samples, fmt::format("FIS sample counts (each 1 to {})", probe::kMaxSamples));
     cmd->add_option("--fis-mix", o->fisMix, "FIS per-level mixes: N at level 1, 4N at level 2, 16N from level 3 (at most 1024)");
-    cmd->add_option("--bias", o->biases, "FIS level biases");
+    cmd->add_option("--fis-bias", o->biases, "FIS level biases");
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
     cmd->add_option("--fis-maps", o->fisMaps, "What FIS reads: cube (the pyramids above), paraboloid (a dual-paraboloid map)")
         ->capture_default_str();

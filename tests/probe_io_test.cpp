@@ -2,7 +2,10 @@
 // area-correct resampling, bad pixels, staged output.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <sstream>
 
@@ -61,6 +64,27 @@ TEST(ProbeIo, FloatExrRoundTripIsExact) {
     EXPECT_EQ(back.width, 48);
     EXPECT_EQ(back.height, 8);
     EXPECT_EQ(back.rgb, image.rgb);
+}
+
+// A header attribute that declares more bytes than the file holds is refused before OpenEXR
+// allocates them.
+TEST(ProbeIo, ExrAttributeLargerThanTheFileIsRefused) {
+    TempDir dir;
+    writeExr(dir.path / "a.exr", rampImage(48, 8));
+    std::ifstream in(dir.path / "a.exr", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string channels("channels\0chlist\0", 16);
+    const std::size_t at = bytes.find(channels);
+    ASSERT_NE(at, std::string::npos);
+    const std::int32_t huge = 1634231040;
+    std::memcpy(&bytes[at + channels.size()], &huge, sizeof(huge));
+    std::ofstream(dir.path / "b.exr", std::ios::binary) << bytes;
+    try {
+        readImage(dir.path / "b.exr");
+        FAIL() << "accepted";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("1634231040 bytes, past the end of the file"), std::string::npos) << e.what();
+    }
 }
 
 TEST(ProbeIo, HalfRgbaExrInEveryCompression) {

@@ -52,7 +52,35 @@ void checkImageSize(const fs::path& path, std::int64_t width, std::int64_t heigh
 
 // The header alone, read before OpenEXR opens the file: opening allocates by the data window and the
 // tile count, so both are checked first.
+// OpenEXR allocates the size an attribute declares before it reads the attribute, so a few hundred
+// bytes could ask for gigabytes: walk the attribute list (name, type, int32 size, value; an empty
+// name ends it) and refuse a size that runs past the end of the file.
+void checkExrAttributeSizes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    const std::uintmax_t fileSize = fs::file_size(path);
+    in.seekg(8);                             // the magic number and the version field
+    auto readName = [&](std::string& name) { // names and type names are at most 255 bytes
+        name.clear();
+        for (char c; in.get(c) && c != '\0';)
+            if (name.size() < 255) name += c;
+            else return false;
+        return bool(in);
+    };
+    std::string name, type;
+    for (int k = 0;; ++k) {
+        if (!readName(name)) fail(path, "EXR header ends early");
+        if (name.empty()) return;
+        std::int32_t size = 0;
+        if (!readName(type) || !in.read(reinterpret_cast<char*>(&size), sizeof(size))) fail(path, "EXR header ends early");
+        const std::uintmax_t at = static_cast<std::uintmax_t>(in.tellg());
+        if (size < 0 || at + static_cast<std::uintmax_t>(size) > fileSize)
+            fail(path, fmt::format("EXR header attribute {} declares {} bytes, past the end of the file", k, size));
+        in.seekg(size, std::ios::cur);
+    }
+}
+
 void checkExrHeader(const fs::path& path) {
+    checkExrAttributeSizes(path);
     Imf::StdIFStream stream(path.c_str());
     char start[8] = {}; // the magic number and the version field; readFrom reads what follows
     stream.read(start, 8);
