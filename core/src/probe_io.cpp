@@ -115,14 +115,14 @@ Image readExr(const fs::path& path) {
         const std::size_t rowFloats = static_cast<std::size_t>(width) * 3;
         Image image{width, height, {}};
         image.rgb.reserve(rowFloats * height);
-        // OpenEXR addresses the buffer with absolute data-window coordinates.
-        char* base = reinterpret_cast<char*>(image.rgb.data()) -
-                     (static_cast<std::ptrdiff_t>(window.min.y) * width + window.min.x) * 3 * sizeof(float);
+        // OpenEXR addresses the buffer with absolute data-window coordinates; Slice::Make offsets the
+        // base pointer by the window's origin without pointer arithmetic outside the buffer.
+        float* rgb = image.rgb.data();
         Imf::FrameBuffer frame;
         const std::size_t xStride = 3 * sizeof(float), yStride = xStride * width;
-        frame.insert("R", Imf::Slice(Imf::FLOAT, base, xStride, yStride));
-        frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xStride, yStride));
-        frame.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xStride, yStride));
+        frame.insert("R", Imf::Slice::Make(Imf::FLOAT, rgb, window, xStride, yStride));
+        frame.insert("G", Imf::Slice::Make(Imf::FLOAT, rgb + 1, window, xStride, yStride));
+        frame.insert("B", Imf::Slice::Make(Imf::FLOAT, rgb + 2, window, xStride, yStride));
         file.setFrameBuffer(frame);
         constexpr int kBlockRows = 64;
         for (int row = 0; row < height; row += kBlockRows) {
