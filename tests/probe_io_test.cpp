@@ -12,6 +12,9 @@
 #include <unistd.h>
 
 #include <ImfArray.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfOutputFile.h>
 #include <ImfRgbaFile.h>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -85,6 +88,33 @@ TEST(ProbeIo, ExrAttributeLargerThanTheFileIsRefused) {
     } catch (const ProbeError& e) {
         EXPECT_NE(std::string(e.what()).find("1634231040 bytes, past the end of the file"), std::string::npos) << e.what();
     }
+}
+
+// The image is the data window, wherever it lies: here far below and left of the origin.
+TEST(ProbeIo, ExrDataWindowAwayFromTheOrigin) {
+    TempDir dir;
+    const int w = 16, h = 8;
+    const Imath::Box2i window(Imath::V2i(-100000, 70000), Imath::V2i(-100000 + w - 1, 70000 + h - 1));
+    std::vector<float> rgb;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) rgb.insert(rgb.end(), {float(x), float(y), 0.5f});
+    {
+        Imf::Header header(window, window);
+        Imf::FrameBuffer frame;
+        for (int c = 0; c < 3; ++c) {
+            const char* name = c == 0 ? "R" : (c == 1 ? "G" : "B");
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+            frame.insert(name, Imf::Slice::Make(Imf::FLOAT, rgb.data() + c, window, 3 * sizeof(float), 3 * sizeof(float) * w));
+        }
+        Imf::OutputFile out((dir.path / "w.exr").c_str(), header);
+        out.setFrameBuffer(frame);
+        out.writePixels(h);
+    }
+    const Image image = readImage(dir.path / "w.exr");
+    ASSERT_EQ(image.width, w);
+    ASSERT_EQ(image.height, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) EXPECT_EQ(image.pixel(x, y), glm::vec3(float(x), float(y), 0.5f)) << x << ", " << y;
 }
 
 TEST(ProbeIo, HalfRgbaExrInEveryCompression) {
