@@ -27,22 +27,13 @@
 #include "probe/probe_io.h"
 #include "probe/radiance_hdr.h"
 #include "probe/synthetic.h"
+#include "temp_dir.h"
 
 using namespace probe;
+using probetest::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir()
-        : path(fs::temp_directory_path() /
-               fmt::format("probe_io_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-};
 
 Image rampImage(int width, int height) {
     Image image{width, height, std::vector<float>(std::size_t(width) * height * 3)};

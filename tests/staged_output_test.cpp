@@ -10,22 +10,13 @@
 
 #include "probe/error.h"
 #include "probe/staged_output.h"
+#include "temp_dir.h"
 
 using namespace probe;
+using probetest::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct TempDir {
-    fs::path path;
-    TempDir()
-        : path(fs::temp_directory_path() /
-               fmt::format("staged_output_test_{}_{}", ::getpid(), ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-};
 
 void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
