@@ -3,8 +3,9 @@
 // samples x bias on a dual-paraboloid map), the image
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
 // all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
-// methods), and the trilinear pyramid reads per output texel, the cost that does not depend on the
-// device. Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it. With --summarize,
+// methods), and the trilinear pyramid reads and the filter shader's taps or samples per output texel,
+// costs that do not depend on the device (tools/shader_stats --sweep turns the latter into
+// instructions). Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it. With --summarize,
 // summarizes a sweep.csv again without running anything.
 #include <algorithm>
 #include <filesystem>
@@ -113,20 +114,39 @@ std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
     return tables;
 }
 
-// The trilinear reads per output texel over every texel of levels >= 1: a table's taps in each frame
-// the texel blends (frames of weight 0 are skipped, a mix's padding is not read), FIS's samples
-// with n.l > 0.
-double readsPerTexel(const probe::TapGenerator& taps, int size, int levelCount) {
+// Per output texel of levels >= 1, averaged over those texels: the trilinear reads (a table's taps in
+// each frame the texel blends, frames of weight 0 skipped, a mix's padding not read; FIS's samples
+// with n.l > 0), and the taps or samples the filter shader's loop runs. They are the same but for a
+// table level whose taps in use are not a multiple of four: table_filter.comp runs them in groups of
+// four, the zero-weight padding included.
+struct ReadCounts {
+    double reads = 0.0, shaderTaps = 0.0; // per output texel
+};
+
+ReadCounts readsPerTexel(const probe::TapGenerator& taps, int size, int levelCount, const probe::TapTable* table) {
     std::vector<probe::Tap> list;
-    double reads = 0.0, texels = 0.0;
-    for (int m = 1; m < levelCount; ++m)
+    double reads = 0.0, shaderTaps = 0.0, texels = 0.0;
+    for (int m = 1; m < levelCount; ++m) {
+        const int used = table ? probe::tapsInUse(*table, m) : 0;
+        const double padding = used > 0 ? 4.0 * ((used + 3) / 4) / used : 1.0;
+        double levelReads = 0.0;
         for (int face = 0; face < 6; ++face)
             for (int j = 0; j < size >> m; ++j)
                 for (int i = 0; i < size >> m; ++i) {
-                    reads += taps(m, {face, i, j}, list) ? static_cast<double>(list.size()) : 1.0;
+                    levelReads += taps(m, {face, i, j}, list) ? static_cast<double>(list.size()) : 1.0;
                     texels += 1.0;
                 }
-    return texels > 0.0 ? reads / texels : 0.0;
+        reads += levelReads;
+        shaderTaps += levelReads * padding;
+    }
+    if (texels == 0.0) return {};
+    return {reads / texels, shaderTaps / texels};
+}
+
+void setReads(Method& m, int size, int levelCount, const probe::TapTable* table) {
+    const ReadCounts reads = readsPerTexel(m.taps, size, levelCount, table);
+    m.description.readsPerTexel = reads.reads;
+    m.description.shaderTapsPerTexel = reads.shaderTaps;
 }
 
 std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables) {
@@ -143,7 +163,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
         m.settings.method = {probe::MethodKind::table, &t.table, {}};
         m.settings.sampling = sampling;
         m.taps = probe::tableTapGenerator(t.table);
-        m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
+        setReads(m, o.size, levelCount, &t.table);
         methods.push_back(std::move(m));
     }
     // FIS at one count for every level ("fis"), and the per-level mix with N at level 1 ("fis-mix").
@@ -166,7 +186,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                     m.settings.method = {probe::MethodKind::fis, nullptr, fis};
                     m.settings.sampling = sampling;
                     m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-                    m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
+                    setReads(m, o.size, levelCount, nullptr);
                     methods.push_back(std::move(m));
                 }
     // FIS on a dual-paraboloid map: the same samples, read from the map (its mips are box averages).
@@ -182,7 +202,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                 m.description = {fmt::format("fisparaboloid{}-bias{}", samples, bias), "fis-paraboloid", samples, bias, "paraboloid", ""};
                 m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling says
                 m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-                m.description.readsPerTexel = readsPerTexel(m.taps, o.size, levelCount);
+                setReads(m, o.size, levelCount, nullptr);
                 methods.push_back(std::move(m));
             }
     }

@@ -232,17 +232,18 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
 }
 
 namespace {
-constexpr const char* kCsvHeader =
-    "method,family,count,bias,pyramid,form,reads_per_texel,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms";
+constexpr const char* kCsvHeader = "method,family,count,bias,pyramid,form,reads_per_texel,shader_taps_per_texel,probe,level,image_l1,"
+                                   "impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms";
 }
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows) {
     std::ofstream out(path);
     out << kCsvHeader << "\n";
     for (const SweepRow& r : rows)
-        out << fmt::format("{},{},{},{},{},{},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family,
-                           r.method.count, r.method.bias, r.method.pyramid, r.method.form, r.method.readsPerTexel, r.probe, r.level,
-                           r.imageL1, r.impulseL1Mean, r.impulseL1Max, r.gpuMs, r.levelGpuMs);
+        out << fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family,
+                           r.method.count, r.method.bias, r.method.pyramid, r.method.form, r.method.readsPerTexel,
+                           r.method.shaderTapsPerTexel, r.probe, r.level, r.imageL1, r.impulseL1Mean, r.impulseL1Max, r.gpuMs,
+                           r.levelGpuMs);
     if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
 }
 
@@ -260,7 +261,7 @@ std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path) {
         const auto bad = [&](const std::string& problem) {
             return probe::ProbeError(fmt::format("{}: line {}: {}", path.string(), number, problem));
         };
-        if (f.size() != 14) throw bad(fmt::format("{} fields, expected 14", f.size()));
+        if (f.size() != 15) throw bad(fmt::format("{} fields, expected 15", f.size()));
         try {
             std::size_t used = 0;
             const auto toNumber = [&](const std::string& text) {
@@ -269,14 +270,14 @@ std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path) {
                 return x;
             };
             SweepRow r;
-            r.method = {f[0], f[1], static_cast<int>(toNumber(f[2])), toNumber(f[3]), f[4], f[5], toNumber(f[6])};
-            r.probe = f[7];
-            r.level = static_cast<int>(toNumber(f[8]));
-            r.imageL1 = toNumber(f[9]);
-            r.impulseL1Mean = toNumber(f[10]);
-            r.impulseL1Max = toNumber(f[11]);
-            r.gpuMs = toNumber(f[12]);
-            r.levelGpuMs = toNumber(f[13]);
+            r.method = {f[0], f[1], static_cast<int>(toNumber(f[2])), toNumber(f[3]), f[4], f[5], toNumber(f[6]), toNumber(f[7])};
+            r.probe = f[8];
+            r.level = static_cast<int>(toNumber(f[9]));
+            r.imageL1 = toNumber(f[10]);
+            r.impulseL1Mean = toNumber(f[11]);
+            r.impulseL1Max = toNumber(f[12]);
+            r.gpuMs = toNumber(f[13]);
+            r.levelGpuMs = toNumber(f[14]);
             if (r.gpuMs <= 0.0 || r.level < 0) throw std::invalid_argument("range");
             rows.push_back(r);
         } catch (const std::logic_error&) {
@@ -348,7 +349,9 @@ nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& 
                            {"count", s.method.count},
                            {"bias", s.method.bias},
                            {"pyramid", s.method.pyramid},
+                           {"form", s.method.form},
                            {"reads_per_texel", s.method.readsPerTexel},
+                           {"shader_taps_per_texel", s.method.shaderTapsPerTexel},
                            {"image_l1", s.imageL1},
                            {"impulse_l1", s.impulseL1},
                            {"gpu_ms", s.gpuMs}});

@@ -22,6 +22,9 @@ struct SweepMethod {
     std::string pyramid;
     std::string form;           // tables: "quad" or "const"
     double readsPerTexel = 0.0; // trilinear pyramid reads per output texel of levels >= 1, averaged over those texels
+    // The taps or samples that the filter shader's loop runs per output texel of levels >= 1: the reads, and a
+    // table level's zero-weight taps up to the shader's groups of four (tools/shader_stats --sweep costs them).
+    double shaderTapsPerTexel = 0.0;
 };
 
 struct SweepRow {

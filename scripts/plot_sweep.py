@@ -105,34 +105,43 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
                 bbox=dict(facecolor="white", alpha=0.85, edgecolor="grey"))
 
 
-def plot_reads(report, path):
-    """Error against trilinear reads per output texel, the cost that does not depend on the device:
-    image L1 and impulse L1 side by side, the FIS front of each marked."""
+# The costs per output texel that do not depend on the device: the report's key, its axis label, its
+# name in the tables, and a note for the plot's title.
+READS = ("reads_per_texel", "trilinear reads per output texel (levels >= 1)", "reads/texel", "reads", "")
+INSTRUCTIONS = ("instructions_per_texel", "RDNA2 instructions per output texel (levels >= 1)", "instructions/texel", "instructions",
+                " (filter pass, hardware sampling; the paraboloid map's exact reads, its only path)")
+
+
+def plot_cost(report, cost, path):
+    """Error against a cost per output texel that does not depend on the device: image L1 and impulse
+    L1 side by side, the FIS front of each marked."""
+    key_x, xlabel, _, noun, note = cost
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
     for ax, key, label in zip(axes, ("image_l1", "impulse_l1"), ("image L1 vs exact reference", "impulse L1")):
         groups = defaultdict(list)
         for m in report["methods"]:
             family = m["family"]
             group = "table" if family == "table" else f"{family}, {setting(m)}"
-            groups[group].append((m["reads_per_texel"], m[key], m))
+            groups[group].append((m[key_x], m[key], m))
         for group, pts in sorted(groups.items()):
             pts.sort(key=lambda p: p[0])
             table = group == "table"
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="*" if table else "o", markersize=10 if table else 4,
-                    linestyle="none" if table else "-", linewidth=0.8, alpha=1.0 if table else 0.5, label=group)
+                    linestyle="none" if table else "-", linewidth=1.6 if group.startswith("fis-paraboloid") else 0.8,
+                    alpha=1.0 if table else 0.5, label=group)
             if table:
-                for reads, err, m in pts:
-                    ax.annotate(m["method"].split("_", 1)[-1], (reads, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
-        front = pareto({m["method"]: (m[key], m["reads_per_texel"], m) for m in report["methods"] if m["family"] != "table"})
+                for x, err, m in pts:
+                    ax.annotate(m["method"].split("_", 1)[-1], (x, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        front = pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if m["family"] != "table"})
         ax.plot([p[0] for p in front], [p[1] for p in front], color="tab:red", linestyle=":", linewidth=1.6,
-                label="FIS front over reads")
+                label=f"FIS front over {noun}")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("trilinear reads per output texel (levels >= 1)")
+        ax.set_xlabel(xlabel)
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.25)
     axes[0].legend(fontsize=6, loc="upper right")
-    fig.suptitle(f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}: error against reads per texel", fontsize=9)
+    fig.suptitle(f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}: error against {noun} per texel{note}", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 
@@ -160,21 +169,40 @@ def front_reaches(front, y):
     return None
 
 
-def reads_table(report):
-    """Every table against the FIS front over reads per texel (the cost that does not depend on the
-    device), per error measure: its error over the front's at the table's reads, and the front's reads
-    over the table's at the table's error."""
-    lines = ["| table | reads/texel | image L1 | / FIS front's at those reads | front's reads at that error | impulse L1 | "
-             "/ FIS front's at those reads | front's reads at that error |", "|---|---|---|---|---|---|---|---|"]
-    fronts = {key: pareto({m["method"]: (m[key], m["reads_per_texel"], m) for m in report["methods"] if m["family"] != "table"})
+def cost_table(report, cost):
+    """Every table against the FIS front over a cost per texel that does not depend on the device, per
+    error measure: its error over the front's at the table's cost, and the front's cost over the
+    table's at the table's error."""
+    key_x, _, column, noun, _ = cost
+    lines = [f"| table | {column} | image L1 | / FIS front's at that cost | front's {noun} at that error | impulse L1 | "
+             f"/ FIS front's at that cost | front's {noun} at that error |", "|---|---|---|---|---|---|---|---|"]
+    fronts = {key: pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if m["family"] != "table"})
               for key in ("image_l1", "impulse_l1")}
-    for m in sorted((m for m in report["methods"] if m["family"] == "table"), key=lambda m: m["reads_per_texel"]):
-        cells = [f"`{m['method']}`", f"{m['reads_per_texel']:.1f}"]
+    for m in sorted((m for m in report["methods"] if m["family"] == "table"), key=lambda m: m[key_x]):
+        cells = [f"`{m['method']}`", f"{m[key_x]:.1f}" if key_x == "reads_per_texel" else f"{m[key_x]:.0f}"]
         for key, front in fronts.items():
             reaches = front_reaches(front, m[key])
-            cells += [f"{m[key]:.4f}", f"{m[key] / front_at(front, m['reads_per_texel']):.3f}",
-                      "never" if reaches is None else f"{reaches / m['reads_per_texel']:.2f}x"]
+            cells += [f"{m[key]:.4f}", f"{m[key] / front_at(front, m[key_x]):.3f}",
+                      "never" if reaches is None else f"{reaches / m[key_x]:.2f}x"]
         lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def instructions_markdown(report, instructions):
+    """instructions.md: every table against the FIS front over instructions per texel, then every
+    method's cost."""
+    device = instructions["device"]
+    lines = [f"Instructions per output texel of levels >= 1, from the compiled filter shaders on {device['name']} "
+             f"({device['driver']}): the code outside the tap or sample loop once, the runtime loop per tap or sample "
+             "(tools/shader_stats). Hardware sampling, which a GPU runs; FIS on the dual-paraboloid map reads a buffer "
+             "exactly, its only path. The filter pass alone: the pyramid pass is not counted.", "",
+             cost_table(report, INSTRUCTIONS),
+             "| method | family | shader loop | reads/texel | taps or samples/texel | instructions/texel | image L1 | impulse L1 |",
+             "|---|---|---|---|---|---|---|---|"]
+    for m in sorted(report["methods"], key=lambda m: m["instructions_per_texel"]):
+        lines.append(f"| `{m['method']}` | {m['family']} | `{m['loop']}` | {m['reads_per_texel']:.1f} | "
+                     f"{m['shader_taps_per_texel']:.1f} | {m['instructions_per_texel']:.0f} | {m['image_l1']:.4f} | "
+                     f"{m['impulse_l1']:.4f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -200,10 +228,22 @@ def main(folder):
         ax.axis("off")
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time_per_level.png", dpi=110)
-    plot_reads(report, folder / "error_vs_reads.png")
-    (folder / "reads.md").write_text(reads_table(report))
-    print(f"plot-sweep: wrote {folder / 'error_vs_time.png'}, {folder / 'error_vs_time_per_level.png'} "
-          f", {folder / 'error_vs_reads.png'} and {folder / 'reads.md'}")
+    plot_cost(report, READS, folder / "error_vs_reads.png")
+    (folder / "reads.md").write_text(cost_table(report, READS))
+    written = ["error_vs_time.png", "error_vs_time_per_level.png", "error_vs_reads.png", "reads.md"]
+    # scripts/shader-stats --sweep DIR writes it (scripts/sweep runs it).
+    if (folder / "instructions.json").exists():
+        instructions = json.load(open(folder / "instructions.json"))
+        costs = {m["method"]: m for m in instructions["methods"]}
+        for m in report["methods"]:
+            m.update(loop=costs[m["method"]]["loop"], instructions_per_texel=costs[m["method"]]["instructions_per_texel"])
+        plot_cost(report, INSTRUCTIONS, folder / "error_vs_instructions.png")
+        (folder / "instructions.md").write_text(instructions_markdown(report, instructions))
+        written += ["error_vs_instructions.png", "instructions.md"]
+    else:
+        print(f"plot-sweep: no {folder / 'instructions.json'} (scripts/shader-stats --family navi21 --sweep {folder}): "
+              "no instruction plot", file=sys.stderr)
+    print(f"plot-sweep: wrote {', '.join(str(folder / name) for name in written)}")
 
 
 if __name__ == "__main__":

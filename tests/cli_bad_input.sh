@@ -65,7 +65,8 @@ expect_refused sweep-repeat   "--repeat 0"        sweep --size 4 --repeat 0 --ou
 expect_refused sweep-summarize-missing "$in/nope/sweep.csv" sweep --summarize "$in/nope" --out "$work/out"
 mkdir -p "$work/bad-sweep"
 {
-    echo method,family,count,bias,pyramid,form,reads_per_texel,probe,level,image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms
+    printf '%s%s\n' method,family,count,bias,pyramid,form,reads_per_texel,shader_taps_per_texel,probe,level, \
+        image_l1,impulse_l1_mean,impulse_l1_max,gpu_ms,level_gpu_ms
     echo fis8,fis,8,0,bspline,,8,sky,1,0.1,0.1
 } >"$work/bad-sweep/sweep.csv"
 expect_refused sweep-summarize-short-row "sweep.csv: line 2" sweep --summarize "$work/bad-sweep" --out "$work/out"

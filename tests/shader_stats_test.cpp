@@ -1,6 +1,7 @@
 // tools/shader_stats on RADV's null device for RDNA2 (navi21): every pipeline of the runtime compiles
-// with statistics, and the per-tap and per-sample costs measured from the instruction counts are
-// consistent with what the shaders do. Skipped where the RADV driver is not installed.
+// with statistics, the per-tap and per-sample costs measured from the instruction counts are
+// consistent with what the shaders do, and a sweep's methods are costed with their own shader.
+// Skipped where the RADV driver is not installed.
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -8,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "probe/error.h"
 #include "shader_stats.h"
+#include "sweep_instructions.h"
 
 namespace {
 
@@ -92,6 +95,58 @@ TEST_F(ShaderStatsTest, FixedCountsUnrollAndBoundTheRuntimeLoop) {
         EXPECT_GT(cost.fixedInstructions(), 0.0) << v.name;
         EXPECT_GE(cost.runtimeInstructionsPerUnit(), cost.instructionsPerUnit()) << v.name;
         EXPECT_LT(cost.runtimeInstructionsPerUnit(), 2.0 * cost.instructionsPerUnit()) << v.name;
+    }
+}
+
+// A table row and an FIS row of a sweep report, costed by hand from the three compilations' raw
+// instruction counts: the loop body from the two unrolled counts, the code outside it, the runtime
+// loop per tap or sample, then that code once and the loop per tap or sample per texel.
+TEST_F(ShaderStatsTest, SweepMethodsCostTheirShaderPerTexel) {
+    std::vector<LoopCost> costs;
+    for (const probe::stats::LoopVariant& v : probe::stats::loopVariants()) costs.push_back(probe::stats::measureLoop(*device, v));
+    const auto byHand = [&](const std::string& name, double taps) {
+        for (const LoopCost& c : costs)
+            if (c.loop.name == name) {
+                const double body = double(c.b.instructions - c.a.instructions) / (c.loop.unitsB - c.loop.unitsA);
+                const double outside = double(c.a.instructions) - c.loop.unitsA * body;
+                const double perUnit = (double(c.runtime.instructions) - outside) / c.loop.unitsPerIteration;
+                return outside + taps * perUnit;
+            }
+        ADD_FAILURE() << "no loop " << name;
+        return 0.0;
+    };
+    const nlohmann::json report = {
+        {"methods",
+         {{{"method", "gltf128_quad8"}, {"family", "table"}, {"form", "quad"}, {"shader_taps_per_texel", 19.5}},
+          {{"method", "gltf128_const4"}, {"family", "table"}, {"form", "const"}, {"shader_taps_per_texel", 9.75}},
+          {{"method", "fis32-bias0-bspline"}, {"family", "fis"}, {"form", ""}, {"shader_taps_per_texel", 31.3}},
+          {{"method", "fismix8-bias0-box"}, {"family", "fis-mix"}, {"form", ""}, {"shader_taps_per_texel", 14.2}},
+          {{"method", "fisparaboloid32-bias0"}, {"family", "fis-paraboloid"}, {"form", ""}, {"shader_taps_per_texel", 31.3}}}}};
+    const nlohmann::json out = probe::stats::sweepInstructions(report, costs, device->name(), device->driver());
+    const std::vector<std::pair<std::string, double>> expected{{"table_filter_hardware_rgba32f quad", 19.5},
+                                                               {"table_filter_hardware_rgba32f const", 9.75},
+                                                               {"importance_sampling_hardware_rgba32f", 31.3},
+                                                               {"importance_sampling_hardware_rgba32f", 14.2},
+                                                               {"importance_sampling_paraboloid_rgba32f", 31.3}};
+    ASSERT_EQ(out["methods"].size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        const nlohmann::json& m = out["methods"][k];
+        EXPECT_EQ(m["loop"], expected[k].first) << m["method"];
+        EXPECT_NEAR(m["instructions_per_texel"].get<double>(), byHand(expected[k].first, expected[k].second), 1e-9) << m["method"];
+    }
+    // The table with N = 8 costs more per texel than FIS with as many samples as its taps, and less than
+    // exact sampling would.
+    EXPECT_GT(out["methods"][0]["instructions_per_texel"].get<double>(), byHand("importance_sampling_hardware_rgba32f", 19.5));
+    EXPECT_LT(out["methods"][0]["instructions_per_texel"].get<double>(), byHand("table_filter_exact_rgba32f quad", 19.5));
+
+    EXPECT_THROW(probe::stats::sweepMethodLoop("table", "cubic"), probe::ProbeError);
+    EXPECT_THROW(probe::stats::sweepMethodLoop("reference", ""), probe::ProbeError);
+    const nlohmann::json missing = {{"methods", {{{"method", "old"}, {"family", "table"}, {"shader_taps_per_texel", 8.0}}}}};
+    try {
+        probe::stats::sweepInstructions(missing, costs, device->name(), device->driver());
+        ADD_FAILURE() << "a method without its form was costed";
+    } catch (const probe::ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("method old"), std::string::npos) << e.what();
     }
 }
 

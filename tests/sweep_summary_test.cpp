@@ -30,7 +30,7 @@ void addFis(std::vector<SweepRow>& rows, double bias, const std::string& pyramid
 }
 
 void addTable(std::vector<SweepRow>& rows, const std::string& name, double error, double ms) {
-    addMethod(rows, {name, "table", 8, 0.0, "bspline", "quad", 20.0}, error, 2.0 * error, ms);
+    addMethod(rows, {name, "table", 8, 0.0, "bspline", "quad", 20.0, 24.0}, error, 2.0 * error, ms);
 }
 
 std::vector<std::string> names(const std::vector<MethodScore>& front) {
@@ -138,6 +138,7 @@ TEST(SweepSummary, CsvReadsBackWhatItWrote) {
     EXPECT_EQ(back.back().method.name, "t");
     EXPECT_EQ(back.back().method.form, "quad");
     EXPECT_DOUBLE_EQ(back.back().method.readsPerTexel, 20.0);
+    EXPECT_DOUBLE_EQ(back.back().method.shaderTapsPerTexel, 24.0);
     EXPECT_EQ(back.front().method.pyramid, "box");
     EXPECT_DOUBLE_EQ(back.front().method.bias, 0.5);
     EXPECT_NEAR(summarizeSweep(back).imageRatios->errorAtTableTime, summarizeSweep(rows).imageRatios->errorAtTableTime, 1e-5);
@@ -147,7 +148,7 @@ TEST(SweepSummary, CsvReadsBackWhatItWrote) {
     std::ifstream in(dir / "sweep.csv");
     std::string header;
     std::getline(in, header);
-    std::ofstream(dir / "bad.csv") << header << "\nfis8,fis,8,0,bspline,,8,sky,1,nan,0.1,0.1,10,1\n";
+    std::ofstream(dir / "bad.csv") << header << "\nfis8,fis,8,0,bspline,,8,8,sky,1,nan,0.1,0.1,10,1\n";
     EXPECT_THROW(readSweepCsv(dir / "bad.csv"), probe::ProbeError);
     std::filesystem::remove_all(dir);
 }

@@ -49,7 +49,8 @@ struct LoopVariant {
     int unitsPerIteration = 0;                    // taps or samples in the code of one pass of the runtime's loops
 };
 
-// The table filter (quad and constant tables) and FIS, hardware and exact sampling, RGBA32F output.
+// The table filter (quad and constant tables) and FIS, hardware and exact sampling, and FIS on the
+// dual-paraboloid map; RGBA32F output.
 std::vector<LoopVariant> loopVariants();
 
 // The cost of one tap or sample, from the instruction counts of a LoopVariant's three compilations.
@@ -64,6 +65,9 @@ struct LoopCost {
     // The runtime's loop, its counting and branching included: its instructions beyond the fixed ones,
     // per tap or sample in one pass.
     double runtimeInstructionsPerUnit() const { return (double(runtime.instructions) - fixedInstructions()) / loop.unitsPerIteration; }
+    // The runtime pipeline's instructions for an output texel whose loop runs `units` taps or samples:
+    // the code outside the loop once, the runtime loop per tap or sample.
+    double instructionsPerTexel(double units) const { return fixedInstructions() + units * runtimeInstructionsPerUnit(); }
 };
 
 // Taps per output texel of a table with N taps per frame, on average over a face: two frames

@@ -1,7 +1,10 @@
 // shader_stats: the static GPU cost of every compute pipeline of the runtime, from the Vulkan driver's
-// pipeline statistics, as Markdown tables (scripts/shader-stats runs it on RADV's null device). Exit
-// codes: 0 success, 2 bad input or failure.
+// pipeline statistics, as Markdown tables (scripts/shader-stats runs it on RADV's null device); with
+// --sweep DIR, the instructions per output texel of every method of the sweep in DIR, written to
+// DIR/instructions.json. Exit codes: 0 success, 2 bad input or failure.
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +12,7 @@
 
 #include "probe/error.h"
 #include "shader_stats.h"
+#include "sweep_instructions.h"
 
 namespace {
 
@@ -38,8 +42,7 @@ void printPerTexel(const std::vector<LoopCost>& costs, const std::vector<int>& t
         const bool table = cost.loop.unit == "tap";
         for (int count : table ? taps : samples) {
             const double units = table ? frames * count : count;
-            fmt::print("| `{}` | {} {} | {:.0f} |\n", cost.loop.name, table ? "N =" : "S =", count,
-                       cost.fixedInstructions() + units * cost.runtimeInstructionsPerUnit());
+            fmt::print("| `{}` | {} {} | {:.0f} |\n", cost.loop.name, table ? "N =" : "S =", count, cost.instructionsPerTexel(units));
         }
     }
 }
@@ -66,6 +69,33 @@ int run(const std::vector<int>& taps, const std::vector<int>& samples) {
     return 0;
 }
 
+// DIR/report.json's methods costed into DIR/instructions.json; nothing is written unless every method is.
+int runSweep(const std::filesystem::path& dir) {
+    const std::filesystem::path reportPath = dir / "report.json", outPath = dir / "instructions.json";
+    nlohmann::json report;
+    try {
+        std::ifstream in(reportPath);
+        if (!in) throw probe::ProbeError(fmt::format("{}: cannot read", reportPath.string()));
+        report = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw probe::ProbeError(fmt::format("{}: not a sweep report ({})", reportPath.string(), e.what()));
+    }
+    const probe::stats::StatisticsDevice device;
+    std::vector<LoopCost> costs;
+    for (const probe::stats::LoopVariant& loop : probe::stats::loopVariants()) costs.push_back(probe::stats::measureLoop(device, loop));
+    nlohmann::json instructions;
+    try {
+        instructions = probe::stats::sweepInstructions(report, costs, device.name(), device.driver());
+    } catch (const std::exception& e) {
+        throw probe::ProbeError(fmt::format("{}: {}", reportPath.string(), e.what()));
+    }
+    std::ofstream out(outPath);
+    out << instructions.dump(2) << "\n";
+    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", outPath.string()));
+    fmt::print("shader_stats: wrote {} ({} methods, {})\n", outPath.string(), instructions["methods"].size(), device.name());
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -74,9 +104,13 @@ int main(int argc, char** argv) {
     std::vector<int> samples{32, 128, 256, 1024};
     app.add_option("--taps", taps, "table taps per frame N for the per-texel costs")->delimiter(',')->check(CLI::Range(1, 1 << 16));
     app.add_option("--samples", samples, "FIS samples S for the per-texel costs")->delimiter(',')->check(CLI::Range(1, 1 << 16));
+    std::string sweep;
+    app.add_option("--sweep", sweep,
+                   "A probefilter sweep's output folder: write instructions.json there, the instructions per output texel of its "
+                   "methods, instead of the tables");
     try {
         app.parse(argc, argv);
-        return run(taps, samples);
+        return sweep.empty() ? run(taps, samples) : runSweep(sweep);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
