@@ -31,12 +31,13 @@ DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
 }
 
 double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                            const std::vector<float>& kernel, std::vector<std::vector<double>>* adjoint) const {
+                            const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                            double* tailError) const {
     for (int k = top; k > 1; --k) operators[k - 1].applyTranspose(weights[k], weights[k - 1]);
     std::vector<double>& base = weights[0];
     const double* coarse = top >= 1 ? weights[1].data() : nullptr;
     double* slope = adjoint ? (*adjoint)[0].data() : nullptr;
-    double sum = 0.0;
+    double sum = 0.0, tailMass = 0.0;
     for (std::size_t t = 0; t < base.size(); ++t) {
         double w = base[t];
         base[t] = 0.0;
@@ -46,7 +47,14 @@ double DensePasses::measure(const std::vector<DownsampleOperator>& operators, st
             for (std::uint32_t n = parentStart_[t]; n < parentStart_[t + 1]; ++n) w += parentWeight_[n] * coarse[parentRow_[n]];
         const double d = w - static_cast<double>(kernel[t]);
         sum += std::abs(d);
+        if (tail.contains(t)) tailMass += w;
         if (slope) slope[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+    }
+    *tailError = std::abs(tailMass - tail.kernelMass);
+    if (slope && tail.weight > 0.0) {
+        const double step = tailMass > tail.kernelMass ? tail.weight : (tailMass < tail.kernelMass ? -tail.weight : 0.0);
+        for (std::size_t t = 0; t < base.size(); ++t)
+            if (tail.contains(t)) slope[t] += step;
     }
     if (adjoint && top >= 1) {
         // The first pull-up step as DownsampleOperator::apply, from the rows' indices and weights held apart.

@@ -13,17 +13,27 @@
 
 namespace probefit {
 
+// The tail term beside the L1 (impulse_model.h): the base texels of the lobe's tail (a bit each),
+// the reference's mass there, and the term's weight in the slope (0: the L1's slope alone).
+struct TailTerm {
+    const std::uint64_t* mask = nullptr;
+    double kernelMass = 0.0;
+    double weight = 0.0;
+    bool contains(std::size_t t) const { return (mask[t / 64] >> (t % 64)) & 1u; }
+};
+
 class DensePasses {
 public:
     // The passes over the pyramid of these operators (probe::pyramidOperators), which measure() takes again.
     explicit DensePasses(const std::vector<probe::DownsampleOperator>& operators);
 
     // weights: per pyramid level (zero above `top`), the taps' weights; left all zero on return.
-    // Returns sum_t |w_t - k_t| over the base texels t of the pushed-back weights w. With `adjoint`
-    // (per level, sized like weights), also d L1 / d(weight on pyramid texel p) into adjoint[k][p]
-    // for k <= top.
+    // Returns sum_t |w_t - k_t| over the base texels t of the pushed-back weights w, and |W - K| of the
+    // tail into *tailError. With `adjoint` (per level, sized like weights), also d(L1 + tail.weight
+    // |W - K|) / d(weight on pyramid texel p) into adjoint[k][p] for k <= top.
     double measure(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                   const std::vector<float>& kernel, std::vector<std::vector<double>>* adjoint) const;
+                   const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                   double* tailError) const;
 
 private:
     // The transpose of operators[0]: base texel t's parents (level-1 rows) and their weights in

@@ -14,6 +14,7 @@
 #include "initial_layout.h"
 #include "probe/error.h"
 #include "seam_term.h"
+#include "tail_check.h"
 
 namespace probefit {
 
@@ -72,7 +73,7 @@ public:
                 const double deficit = kMinWeightSum - r.weightSum / weightScale_;
                 Term& t = terms[n];
                 t.a = texels_[n].weight / weightTotal_;
-                t.error = r.error;
+                t.error = r.error + model_.tailWeight() * r.tail;
                 t.penalty = deficit > 0.0 ? kPenalty * deficit : 0.0;
                 t.penaltySlope = deficit > 0.0 ? -kPenalty / weightScale_ : 0.0;
             }
@@ -267,11 +268,16 @@ std::string solverDescription(const FitSettings& s) {
                                                "reference's)",
                                                s.seamWeight, s.seamPairBudget)
                                  : "";
+    const std::string tail =
+        s.tailWeight > 0.0 ? fmt::format(" (each texel's L1 plus {} x |W - K|, its mass beyond {} texels of the lobe centre against the "
+                                         "reference's)",
+                                         s.tailWeight, kTailTexels)
+                           : "";
     return fmt::format(
-        "Ceres {}: {} on the weighted mean impulse L1 over the stratified output texels{}, per level; "
+        "Ceres {}: {} on the weighted mean impulse L1{} over the stratified output texels{}, per level; "
         "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
         "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
-        CERES_VERSION_STRING, method, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
+        CERES_VERSION_STRING, method, tail, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "");
 }
 
@@ -313,6 +319,18 @@ SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObject
     return {summary.num_successful_steps, summary.total_time_in_seconds};
 }
 
+// Records level m's L1 (stratified and, with `all`, over every texel) and lowest weight sum in the table.
+void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& texels, bool all) {
+    TableLevel& level = table.levels[m];
+    const LevelEvaluation stratified = evaluatePrepared(model, levelBlocks(table, m).data(), texels);
+    level.stratified = stratified.error;
+    level.minWeightSum = stratified.minWeightSum;
+    if (!all) return;
+    const LevelEvaluation every = evaluateLevel(table, m, TexelSet::all);
+    level.all = every.error;
+    level.minWeightSum = std::min(level.minWeightSum, every.minWeightSum);
+}
+
 } // namespace
 
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels) {
@@ -342,8 +360,15 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             throw ProbeError(
                 fmt::format("--init: table has {} taps per frame, expected {} or {}", init.taps, settings.taps, settings.taps / 2));
     }
+    if (!settings.fitLevels.empty()) {
+        if (settings.inits.empty() || settings.inits.front().taps != settings.taps || settings.inits.front().form != settings.form)
+            throw ProbeError("--fit-levels: the first --init must have the table's taps and form (the other levels are copied from it)");
+        for (int m : settings.fitLevels)
+            if (m < 0 || m >= settings.levelCount)
+                throw ProbeError(fmt::format("--fit-levels: level {} is not one of 0..{}", m, settings.levelCount - 1));
+    }
     const auto start = Clock::now();
-    const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
+    const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     const MomentBasis basis(settings.baseSize, settings.pyramid);
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
@@ -357,6 +382,13 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const std::vector<OutputTexel> texels =
             prepareTexels(stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget), settings.baseSize, m, alpha);
         const double kernelSeconds = secondsSince(kernelStart);
+        if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
+            startFromTable(table, m, settings.inits.front());
+            recordLevel(table, m, model, texels, settings.measureAll);
+            if (progress) progress({m, 0, level.stratified.mean, secondsSince(start), "copied from --init"});
+            previous = m;
+            continue;
+        }
 
         // Starting candidates; keep the one with the lowest L1.
         std::vector<std::pair<std::string, std::vector<double>>> candidates;
@@ -462,9 +494,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         reportSeam("after the fit");
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));
-        const LevelEvaluation stratified = evaluatePrepared(model, constBlocks.data(), texels);
-        level.stratified = stratified.error;
-        level.minWeightSum = stratified.minWeightSum;
+        recordLevel(table, m, model, texels, false);
         if (progress) {
             FitProgress done{m, report.iterations, level.stratified.mean, secondsSince(start), "done"};
             done.kernelSeconds = kernelSeconds;
@@ -474,9 +504,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             progress(done);
         }
         if (settings.measureAll) {
-            const LevelEvaluation all = evaluateLevel(table, m, TexelSet::all);
-            level.all = all.error;
-            level.minWeightSum = std::min(level.minWeightSum, all.minWeightSum);
+            recordLevel(table, m, model, texels, true);
             if (progress) progress({m, 0, level.all.mean, secondsSince(start), "all texels"});
         }
         previous = m;

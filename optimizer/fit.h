@@ -34,11 +34,16 @@ struct FitSettings {
     // edge pairs per level.
     double seamWeight = 0.0;
     int seamPairBudget = 128;
+    // The tail term's weight T (impulse_model.h): each texel's e + T |W - K| (0: off).
+    double tailWeight = 0.0;
     // Fits per level: from the best start candidate and, where > 1, also from starts - 1 importance
     // layouts (initial_layout.h) turned apart about the axis; the lowest objective is kept.
     int starts = 1;
     bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
+    // Levels to fit (empty: all); the others are copied from the first init, which then must have the
+    // table's taps and form, so one level can be refitted without paying for the rest.
+    std::vector<int> fitLevels;
 };
 
 struct FitProgress {

@@ -56,8 +56,11 @@ FitEstimate estimateFit(const FitSettings& settings) {
         for (const OutputTexel& t : texels) model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
         const double fitTexels = static_cast<double>(stratified.size());
-        double seconds = kernel * fitTexels + perTexel * fitTexels * kEvaluationsPerIteration * std::max(1, settings.starts) *
-                                                  levelIterations(settings, iterations, stratified.size());
+        const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
+        double seconds = kernel * fitTexels;
+        if (fitted)
+            seconds += perTexel * fitTexels * kEvaluationsPerIteration * std::max(1, settings.starts) *
+                       levelIterations(settings, iterations, stratified.size());
         if (settings.measureAll) {
             const double all = static_cast<double>(texelCount(settings.baseSize >> m));
             seconds += (kernel + perTexel) * all;

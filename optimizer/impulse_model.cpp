@@ -8,6 +8,7 @@
 #include "probe/cube_sampling.h"
 #include "probe/reference.h"
 #include "probe/sh.h"
+#include "tail_check.h"
 
 namespace probefit {
 
@@ -30,6 +31,14 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     const std::vector<double> k = referenceKernel(t.cubeVector, geometry, alpha);
     t.kernel.assign(k.begin(), k.end());
     for (const float v : t.kernel) t.kernelSum += static_cast<double>(v);
+    const glm::dvec3 R = glm::normalize(t.cubeVector);
+    const double cosRadius = std::cos(tailRadius(size));
+    t.tail.assign((k.size() + 63) / 64, 0);
+    for (std::size_t n = 0; n < k.size(); ++n)
+        if (glm::dot(geometry.directions[n], R) < cosRadius) {
+            t.tail[n / 64] |= std::uint64_t{1} << (n % 64);
+            t.kernelTail += static_cast<double>(t.kernel[n]);
+        }
     return t;
 }
 
@@ -41,8 +50,8 @@ std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels,
     return out;
 }
 
-ImpulseModel::ImpulseModel(int baseSize, PyramidSettings pyramid, int taps, TableForm form)
-    : baseSize_(baseSize), pyramidLevels_(pyramidLevelCount(baseSize)), taps_(taps), form_(form),
+ImpulseModel::ImpulseModel(int baseSize, PyramidSettings pyramid, int taps, TableForm form, double tailWeight)
+    : baseSize_(baseSize), pyramidLevels_(pyramidLevelCount(baseSize)), taps_(taps), form_(form), tailWeight_(tailWeight),
       operators_(pyramidOperators(baseSize, pyramid)), dense_(operators_) {}
 
 ImpulseModel::Workspace ImpulseModel::workspace() const {
@@ -238,7 +247,9 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     for (int k = 0; k <= top; ++k) reach += 2.0 * std::ldexp(static_cast<double>(ws.touched[k].size()), 2 * k);
     const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
-    if (dense) result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, gradient ? &ws.adjoint : nullptr);
+    const TailTerm tail{texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
+    if (dense)
+        result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, gradient ? &ws.adjoint : nullptr, &result.tail);
     else {
         const std::vector<double>& w = ws.weights[0];
         std::vector<double>& slope = ws.adjoint[0];
@@ -255,8 +266,18 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
                 }
             }
         }
-        for (const std::uint32_t t : ws.touched[0]) slope[t] = measure.visit(t, w[t]);
+        double tailMass = 0.0;
+        for (const std::uint32_t t : ws.touched[0]) {
+            slope[t] = measure.visit(t, w[t]);
+            if (tail.contains(t)) tailMass += w[t];
+        }
         result.error = measure.value();
+        result.tail = std::abs(tailMass - tail.kernelMass);
+        if (tail.weight > 0.0) {
+            const double step = tailMass > tail.kernelMass ? tail.weight : (tailMass < tail.kernelMass ? -tail.weight : 0.0);
+            for (const std::uint32_t t : ws.touched[0])
+                if (tail.contains(t)) slope[t] += step;
+        }
     }
     if (gradient) {
         // d e / d c_p = G_p (the pulled-up slope, which the dense passes leave in ws.adjoint); c_p =

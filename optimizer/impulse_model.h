@@ -24,6 +24,10 @@ struct OutputTexel {
     std::array<probe::FrameSetup, probe::kFrameCount> frames;
     std::vector<float> kernel; // reference k(R, t) over base texels, sum 1
     double kernelSum = 0.0;    // sum of `kernel` (1 up to float rounding)
+    // The lobe's tail (tail_check.h): bit t set where base texel t lies beyond the tail radius of
+    // the level from R, and the reference's mass there.
+    std::vector<std::uint64_t> tail;
+    double kernelTail = 0.0;
 };
 
 // One texel of output level m (alpha > 0), its kernel included; `geometry` is that of the base.
@@ -51,11 +55,15 @@ private:
 
 class ImpulseModel {
 public:
-    ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form);
+    // With tailWeight T > 0, the gradients evaluate() gives are those of e + T |W - K| (the tail term:
+    // the response's mass in the lobe's tail against the reference's), which keeps a fit from trading
+    // the far tail away for the lobe's centre; the error it reports stays the L1.
+    ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form, double tailWeight = 0.0);
 
     int taps() const { return taps_; }
     int blockSize() const { return probe::kTapParameterCount * probe::coefficientCount(form_); }
     int blockCount() const { return probe::kFrameCount * taps_; }
+    double tailWeight() const { return tailWeight_; }
 
     // Per-thread scratch. Only the texels that the taps reach (their footprints pushed back
     // through the transposed pyramid) are visited: `touched` lists them per level, `stamp` marks
@@ -69,6 +77,7 @@ public:
 
     struct Result {
         double error = 0.0;     // e(R) in [0, 2]
+        double tail = 0.0;      // |W - K|: the response's mass in the tail against the reference's
         double weightSum = 0.0; // sum of tap weights (frame weights included), before normalization
     };
 
@@ -96,6 +105,7 @@ private:
     int pyramidLevels_;
     int taps_;
     probe::TableForm form_;
+    double tailWeight_;
     std::vector<probe::DownsampleOperator> operators_;
     DensePasses dense_;
 };

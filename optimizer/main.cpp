@@ -54,6 +54,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
     if (settings.seamWeight < 0.0 || !std::isfinite(settings.seamWeight))
         throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
+    if (settings.tailWeight < 0.0 || !std::isfinite(settings.tailWeight))
+        throw ProbeError(fmt::format("--tail-weight: {} is not a weight >= 0", settings.tailWeight));
     if (settings.starts < 1) throw ProbeError(fmt::format("--starts: {} is not a positive count", settings.starts));
     if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
@@ -84,10 +86,11 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     // solver's own work, and everything else (start candidates, the measurement over all texels).
     double kernels = 0.0, evaluation = 0.0, solverOwn = 0.0;
     int evaluations = 0;
+    const std::string objective =
+        fmt::format("L1{}{}", settings.tailWeight > 0.0 ? " + T tail" : "", settings.seamWeight > 0.0 ? " + W s" : "");
     const TapTable table = probefit::fitTable(settings, [&](const probefit::FitProgress& p) {
         if (p.stage == "iteration")
-            fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration,
-                       settings.seamWeight > 0.0 ? "L1 + W s" : "L1", p.l1, p.seconds);
+            fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration, objective, p.l1, p.seconds);
         else if (p.stage == "done") {
             fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
                        "evaluations, solver {:.1f} s)\n",
@@ -224,11 +227,19 @@ int main(int argc, char** argv) {
                    "weight of the seam term (the step of the response's smooth moments across face edges against "
                    "the reference's) beside the mean L1; 0: off")
         ->capture_default_str();
+    app.add_option("--tail-weight", settings.tailWeight,
+                   "weight of the tail term (per texel, the response's mass beyond 3 texels of the lobe centre against "
+                   "the reference's) beside the L1; 0: off")
+        ->capture_default_str();
     app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
     app.add_option("--starts", settings.starts,
                    "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
                    "turned apart); the lowest objective is kept")
         ->capture_default_str();
+    app.add_option("--fit-levels", settings.fitLevels,
+                   "fit only these levels (comma-separated); the others are copied from the first --init, which must "
+                   "have the table's taps and form")
+        ->delimiter(',');
     bool estimateOnly = false;
     app.add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");

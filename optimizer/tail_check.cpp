@@ -20,8 +20,8 @@ std::vector<TailLevel> checkTail(const TapTable& table) {
         const double alpha = tableLevelAlpha(table, m);
         if (alpha <= 0.0) continue;
         const int size = table.baseSize >> m;
-        TailLevel level{m, kTailTexels * 2.0 / size, {}};
-        const double cosRadius = std::cos(std::min(level.radius, std::numbers::pi));
+        TailLevel level{m, tailRadius(size), {}};
+        const double cosRadius = std::cos(level.radius);
         for (const auto& [where, i, j] : {std::tuple{"face centre", size / 2, size / 2}, {"edge", 0, size / 2}, {"corner", 0, 0}}) {
             const Texel texel{0, i, j};
             const glm::dvec3 R = glm::normalize(faceUvToCubePoint(0, texelCentreUv(i, size), texelCentreUv(j, size)));

@@ -3,6 +3,8 @@
 // near the centre drop that mass: the L1 counts it only once among the whole lobe's errors.
 #pragma once
 
+#include <algorithm>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,8 @@ namespace probefit {
 // The tail begins this many texels of the output level (at a face centre, 2 / S_m radians each)
 // from the lobe centre.
 inline constexpr double kTailTexels = 3.0;
+// That radius in radians at an output level of face size `size`.
+inline double tailRadius(int size) { return std::min(kTailTexels * 2.0 / size, std::numbers::pi); }
 // Levels whose reference puts less than this share of its mass in the tail have no tail to reach.
 inline constexpr double kMinTailMass = 0.01;
 // A table reaches the tail where the mass it puts there is within this factor of the reference's

@@ -44,6 +44,16 @@ grep -q '^estimate: about [0-9]* s' "$work/estimate.log" || fail "--estimate: no
 awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2 in best) || f < best[$2]) best[$2] = f }
      / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best " best[$2]; bad = 1 } } END { exit bad }' \
     "$work/two.log" || fail "--starts 2 did not keep the best fit: $(grep -E 'objective|done' "$work/two.log")"
+# --fit-levels refits only the levels named: the others keep the first --init's coefficients bit for bit.
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
+    --out "$work/level2" >"$work/level2.log" || fail "--fit-levels 2"
+[[ $(grep -c '^level [13] copied from --init' "$work/level2.log") -eq 2 && $(grep -c '^level 2 done' "$work/level2.log") -eq 1 ]] ||
+    fail "--fit-levels 2: not level 2 alone fitted: $(grep -E 'copied|done' "$work/level2.log")"
+python3 - "$work/small.json" "$work/level2.json" <<'PY' || fail "--fit-levels 2 did not keep levels 0, 1 and 3"
+import json, sys
+a, b = (json.load(open(f))["levels"] for f in sys.argv[1:])
+sys.exit(0 if all(a[m]["coefficients"] == b[m]["coefficients"] for m in (0, 1, 3)) else "a level other than 2 changed")
+PY
 # tail prints every level with alpha > 0 at the three texels, and exits 0 or 1 (in or out of the bound).
 "$PROBEFIT" tail "$work/small.json" >"$work/tail.log"
 code=$?
@@ -91,6 +101,9 @@ expect_refused eval-layout     "$work/wrong-layout.json" eval "$work/wrong-layou
 expect_refused init-layout     "$work/wrong-layout.json" $(fit --size 16 --levels 4 --init "$work/wrong-layout.json")
 expect_refused seam-weight     "--seam-weight"          $(fit --size 16 --seam-weight -1)
 expect_refused seam-pairs      "--seam-pairs"           $(fit --size 16 --seam-pairs 0)
+expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-weight nan)
+expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
+expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"

@@ -21,6 +21,7 @@
 #include "seam_select.h"
 #include "seam_term.h"
 #include "table_mix.h"
+#include "tail_check.h"
 
 namespace probefit {
 namespace {
@@ -55,36 +56,66 @@ TEST(ImpulseModel, EqualsTheSharedModel) {
     }
 }
 
+// The gradient is that of e (tail weight 0) or of e + T |W - K| (the tail term).
 TEST(ImpulseModel, GradientMatchesFiniteDifferences) {
-    TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
-    const int m = 2;
+    for (const double tailWeight : {0.0, 2.0}) {
+        TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
+        const int m = 2;
+        const ImpulseModel model(16, table.pyramid, table.taps, table.form, tailWeight);
+        ImpulseModel::Workspace ws = model.workspace();
+        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m));
+        const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
+        std::vector<double> gradient(n), weightGradient(n);
+        int checked = 0, agreeing = 0;
+        for (const OutputTexel& t : texels) {
+            model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
+            for (std::size_t q = 0; q < n; q += 7) {
+                const double h = 1e-6, saved = table.levels[m].coefficients[q];
+                table.levels[m].coefficients[q] = saved + h;
+                const ImpulseModel::Result plus = model.evaluate(levelBlocks(table, m).data(), t, ws);
+                table.levels[m].coefficients[q] = saved - h;
+                const ImpulseModel::Result minus = model.evaluate(levelBlocks(table, m).data(), t, ws);
+                table.levels[m].coefficients[q] = saved;
+                const double fd = (plus.error + tailWeight * plus.tail - minus.error - tailWeight * minus.tail) / (2 * h);
+                ++checked;
+                // |.| and texel boundaries make e piecewise smooth; most coefficients must agree closely.
+                if (std::abs(fd - gradient[q]) <= 1e-4 + 1e-3 * std::abs(fd)) ++agreeing;
+                EXPECT_NEAR((plus.weightSum - minus.weightSum) / (2 * h), weightGradient[q], 1e-6);
+            }
+        }
+        EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked << " at tail weight " << tailWeight;
+    }
+}
+
+// The tail term's |W - K| is the response's mass beyond the tail radius against the reference's,
+// measured as probefit tail measures it.
+TEST(ImpulseModel, TailErrorIsTheMassBeyondTheTailRadius) {
+    const TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
+    const std::vector<DownsampleOperator> ops = pyramidOperators(16, table.pyramid);
+    const CubeGeometry geometry(16);
     ImpulseModel::Workspace ws = model.workspace();
-    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m));
-    const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
-    std::vector<double> gradient(n), weightGradient(n);
-    int checked = 0, agreeing = 0;
-    for (const OutputTexel& t : texels) {
-        model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
-        for (std::size_t q = 0; q < n; q += 7) {
-            const double h = 1e-6, saved = table.levels[m].coefficients[q];
-            table.levels[m].coefficients[q] = saved + h;
-            const ImpulseModel::Result plus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-            table.levels[m].coefficients[q] = saved - h;
-            const ImpulseModel::Result minus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-            table.levels[m].coefficients[q] = saved;
-            const double fd = (plus.error - minus.error) / (2 * h);
-            ++checked;
-            // |.| and texel boundaries make e piecewise smooth; most coefficients must agree closely.
-            if (std::abs(fd - gradient[q]) <= 1e-4 + 1e-3 * std::abs(fd)) ++agreeing;
-            EXPECT_NEAR((plus.weightSum - minus.weightSum) / (2 * h), weightGradient[q], 1e-6);
+    for (int m = 1; m < 4; ++m) {
+        const double alpha = tableLevelAlpha(table, m);
+        const double cosRadius = std::cos(tailRadius(16 >> m));
+        for (const OutputTexel& t : prepareTexels(stratifiedTexels(16 >> m, 20), 16, m, alpha)) {
+            const std::vector<double> response = tableImpulseResponse(table, ops, m, t.texel);
+            const std::vector<double> reference = referenceKernel(t.cubeVector, 16, alpha);
+            const glm::dvec3 R = glm::normalize(t.cubeVector);
+            double tableMass = 0.0, referenceMass = 0.0;
+            for (std::size_t n = 0; n < response.size(); ++n)
+                if (glm::dot(geometry.directions[n], R) < cosRadius) {
+                    tableMass += response[n];
+                    referenceMass += reference[n];
+                }
+            EXPECT_NEAR(model.evaluate(levelBlocks(table, m).data(), t, ws).tail, std::abs(tableMass - referenceMass), 1e-6)
+                << "level " << m;
         }
     }
-    EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked;
 }
 
 // The fused dense passes equal, bit for bit, probecore's push-back to the base, an L1 pass and the
-// pull-up of its slope.
+// pull-up of its slope (with the tail term's step on the tail texels).
 TEST(DensePasses, EqualTheSeparatePassesBitForBit) {
     for (PyramidKind kind : {PyramidKind::bspline, PyramidKind::box}) {
         const int size = 32, top = 3;
@@ -102,18 +133,27 @@ TEST(DensePasses, EqualTheSeparatePassesBitForBit) {
         }
         std::vector<float> kernel(weights[0].size());
         for (float& k : kernel) k = static_cast<float>(std::max(0.0, value(rng)) * 1e-4);
+        std::vector<std::uint64_t> mask((kernel.size() + 63) / 64);
+        for (std::uint64_t& bits : mask) bits = (std::uint64_t{rng()} << 32) | rng();
+        const TailTerm tail{mask.data(), 0.01, 0.5};
 
         std::vector<std::vector<double>> pushed = weights, expectedAdjoint = adjoint;
         pushBackToBase(ops, pushed, top);
-        double expected = 0.0;
+        double expected = 0.0, tailMass = 0.0;
         for (std::size_t t = 0; t < kernel.size(); ++t) {
             const double d = pushed[0][t] - static_cast<double>(kernel[t]);
             expected += std::abs(d);
             expectedAdjoint[0][t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+            if (tail.contains(t)) tailMass += pushed[0][t];
         }
+        const double tailStep = tailMass > tail.kernelMass ? tail.weight : -tail.weight;
+        for (std::size_t t = 0; t < kernel.size(); ++t)
+            if (tail.contains(t)) expectedAdjoint[0][t] += tailStep;
         pullUpFromBase(ops, expectedAdjoint, top);
 
-        EXPECT_EQ(dense.measure(ops, weights, top, kernel, &adjoint), expected);
+        double tailError = 0.0;
+        EXPECT_EQ(dense.measure(ops, weights, top, kernel, tail, &adjoint, &tailError), expected);
+        EXPECT_EQ(tailError, std::abs(tailMass - tail.kernelMass));
         for (int k = 0; k <= top; ++k) {
             EXPECT_TRUE(adjoint[k] == expectedAdjoint[k]) << "level " << k;
             EXPECT_TRUE(std::all_of(weights[k].begin(), weights[k].end(), [](double w) { return w == 0.0; })) << "level " << k;
