@@ -19,12 +19,14 @@ namespace {
 // Errors of texels in a fixed order, so the worst texel and the sums do not depend on threads.
 LevelEvaluation combine(const std::vector<WeightedTexel>& texels, const std::vector<ImpulseModel::Result>& results) {
     ImpulseErrorAccumulator accumulator;
-    double minWeightSum = std::numeric_limits<double>::max();
+    double minWeightSum = std::numeric_limits<double>::max(), tail = 0.0, total = 0.0;
     for (std::size_t n = 0; n < texels.size(); ++n) {
         accumulator.add(texels[n].texel, texels[n].weight, results[n].error);
         minWeightSum = std::min(minWeightSum, results[n].weightSum);
+        tail += texels[n].weight * results[n].tail;
+        total += texels[n].weight;
     }
-    return {accumulator.result(), minWeightSum};
+    return {accumulator.result(), minWeightSum, total > 0.0 ? tail / total : 0.0};
 }
 
 } // namespace

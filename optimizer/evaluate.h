@@ -12,6 +12,7 @@ namespace probefit {
 struct LevelEvaluation {
     probe::ImpulseError error; // solid-angle (stratum) weighted mean, worst texel
     double minWeightSum = 0.0;
+    double tailMean = 0.0; // the weighted mean of the tail term's |W - K| (impulse_model.h)
 };
 
 enum class TexelSet { all, stratified };

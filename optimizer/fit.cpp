@@ -319,6 +319,12 @@ SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObject
     return {summary.num_successful_steps, summary.total_time_in_seconds};
 }
 
+// What decides between the fit and an exact --init: the mean L1, plus the tail term where it is on.
+double fitScore(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {
+    const LevelEvaluation e = evaluatePrepared(model, blocks, texels);
+    return e.error.mean + model.tailWeight() * e.tailMean;
+}
+
 // Records level m's L1 (stratified and, with `all`, over every texel) and lowest weight sum in the table.
 void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& texels, bool all) {
     TableLevel& level = table.levels[m];
@@ -408,9 +414,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
             startFromTable(table, m, init);
             if (init.form == settings.form || init.form == TableForm::constant) {
-                const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean;
-                if (progress) progress({m, 0, l1, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
-                if (!fallback || l1 < fallback->first) fallback.emplace(l1, level.coefficients);
+                const double score = fitScore(model, levelBlocks(table, m).data(), texels);
+                if (progress) progress({m, 0, score, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
+                if (!fallback || score < fallback->first) fallback.emplace(score, level.coefficients);
             }
             if (init.taps != settings.taps) startFromTable(table, m, init, kSplitSpread);
             candidates.emplace_back(name, level.coefficients);
@@ -487,7 +493,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         }
         level.coefficients = fitted;
 
-        if (fallback && evaluatePrepared(model, constBlocks.data(), texels).error.mean > fallback->first) {
+        if (fallback && fitScore(model, constBlocks.data(), texels) > fallback->first) {
             level.coefficients = fallback->second;
             if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
         }
