@@ -6,6 +6,8 @@
 #ifndef PROBE_IMAGES_GLSL
 #define PROBE_IMAGES_GLSL
 
+#include "probe/shared_constants.h"
+
 #ifndef PROBE_OUTPUT_FORMAT
 #define PROBE_OUTPUT_FORMAT rgba32f
 #define PROBE_OUTPUT_MAX vec3(3.40282347e38)
@@ -25,8 +27,12 @@ layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArra
 // Pass 2: the output cube's mip of the dispatch's level, faces as layers.
 layout(set = 0, binding = 8, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
 
-// The source texel of a direction (the texel whose footprint holds it).
-vec3 sourceTexel(vec3 direction) { return textureLod(sourceCube, direction, 0.0).rgb; }
+// The source texel of a direction (the texel whose footprint holds it), clamped to
+// +-PROBE_FILTER_RANGE_LIMIT: every pass reads the source through here (pass 1's level 0, the copied
+// levels), so the sums after it stay finite whatever finite values the caller's cube holds.
+vec3 sourceTexel(vec3 direction) {
+    return clamp(textureLod(sourceCube, direction, 0.0).rgb, -PROBE_FILTER_RANGE_LIMIT, PROBE_FILTER_RANGE_LIMIT);
+}
 
 // Texel `index` of a level of face size `size` (face-major, row-major: probe::texelIndex) as image
 // coordinates (i, j, face).
@@ -35,7 +41,7 @@ ivec3 texelCoordinates(uint index, int size) {
     return ivec3(int(r % s), int(r / s), int(index / (s * s)));
 }
 
-// Writes an output texel, clamped to the format's largest finite value so that no texel is Inf.
-void storeOutput(ivec3 texel, vec3 value) { imageStore(outputMip, texel, vec4(min(value, PROBE_OUTPUT_MAX), 1.0)); }
+// Writes an output texel, clamped to the format's largest finite magnitude so that no texel is Inf.
+void storeOutput(ivec3 texel, vec3 value) { imageStore(outputMip, texel, vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0)); }
 
 #endif

@@ -71,5 +71,5 @@ void main() {
     vec3 value;
     if (params.level == 0) value = sourceTexel(faceUvToCubePoint(t.z, texelCentreUv(t.x, size), texelCentreUv(t.y, size)));
     else value = kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
-    imageStore(pyramidMip, t, vec4(min(value, PROBE_PYRAMID_MAX), 1.0));
+    imageStore(pyramidMip, t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

@@ -1,13 +1,18 @@
 // The engine path: Filter::record into the caller's command buffer, on the caller's device (the test
 // device wrapped), from the caller's RGBA16F source cube (sampled through its cube view) straight
 // into the caller's RGBA16F output mips, gives the same levels as the tool path (Filter::run) on the
-// same half-float texels, in both sampling modes, and the validation layer stays silent.
+// same half-float texels, in both sampling modes, and the validation layer stays silent; an RGBA32F
+// source at the largest finite values gives finite levels for every method.
 #include <cstring>
+#include <limits>
 
+#include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
 #include "gpu_test_support.h"
+#include "probe/range_scale.h"
 #include "probe/synthetic.h"
+#include "probe/table_io.h"
 
 using namespace probe;
 using probetest::GpuTest;
@@ -64,12 +69,12 @@ struct CubeTexture {
     VkDeviceMemory memory = VK_NULL_HANDLE;
 };
 
-CubeTexture cubeTexture(const Caller& c, int size, int mips, VkImageUsageFlags usage) {
+CubeTexture cubeTexture(const Caller& c, VkFormat format, int size, int mips, VkImageUsageFlags usage) {
     CubeTexture t;
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    info.format = format;
     info.extent = {uint32_t(size), uint32_t(size), 1};
     info.mipLevels = uint32_t(mips);
     info.arrayLayers = 6;
@@ -107,50 +112,64 @@ CubeImage halfRounded(const CubeImage& probe) {
     return rounded;
 }
 
-void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
-    const int size = 32, levels = 5;
-    gpu::FilterSettings settings;
-    settings.method.kind = MethodKind::fis;
-    settings.faceSize = size;
-    settings.levelCount = levels;
-    settings.sampling = sampling;
-    settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-    const CubeImage source = halfRounded(probetest::randomProbe(size, 7));
-    gpu::Filter tool(owner, settings);
-    const CubeLevels expected = tool.run(source);
+// Bytes per texel of the caller's cubes: RGBA16F or RGBA32F.
+std::size_t texelBytes(VkFormat format) { return format == VK_FORMAT_R16G16B16A16_SFLOAT ? 4 * sizeof(uint16_t) : 4 * sizeof(float); }
 
-    gpu::Filter engine(wrapped, settings);
-    const CubeTexture in = cubeTexture(c, size, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-    const CubeTexture out = cubeTexture(c, size, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+void storeTexel(unsigned char* at, VkFormat format, glm::vec3 v) {
+    if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
+        const uint16_t rgba[4] = {glm::packHalf1x16(v.r), glm::packHalf1x16(v.g), glm::packHalf1x16(v.b), glm::packHalf1x16(1.0f)};
+        std::memcpy(at, rgba, sizeof(rgba));
+    } else {
+        const float rgba[4] = {v.r, v.g, v.b, 1.0f};
+        std::memcpy(at, rgba, sizeof(rgba));
+    }
+}
+
+glm::vec3 loadTexel(const unsigned char* at, VkFormat format) {
+    if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
+        uint16_t rgba[4];
+        std::memcpy(rgba, at, sizeof(rgba));
+        return {glm::unpackHalf1x16(rgba[0]), glm::unpackHalf1x16(rgba[1]), glm::unpackHalf1x16(rgba[2])};
+    }
+    float rgba[4];
+    std::memcpy(rgba, at, sizeof(rgba));
+    return {rgba[0], rgba[1], rgba[2]};
+}
+
+// What an engine does around Filter::record: its source cube (of `sourceFormat`, holding `source`)
+// uploaded and made readable by compute shaders, its output cube (of the filter's output format,
+// RGBA16F or RGBA32F) in GENERAL for the filter's writes, the passes recorded into its command
+// buffer between them, the output copied back. Returns the output levels.
+CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSettings& settings, const CubeImage& source,
+                      VkFormat sourceFormat) {
+    const int size = settings.faceSize, levels = settings.levelCount;
+    const VkFormat outputFormat = settings.outputFormat;
+    const CubeTexture in = cubeTexture(c, sourceFormat, size, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+    const CubeTexture out = cubeTexture(c, outputFormat, size, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     viewInfo.image = in.image;
     viewInfo.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
-    viewInfo.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    viewInfo.format = sourceFormat;
     viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
     VkImageView inView = VK_NULL_HANDLE;
-    ASSERT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &inView), VK_SUCCESS);
+    EXPECT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &inView), VK_SUCCESS);
     std::size_t outputTexels = 0;
     for (int m = 0; m < levels; ++m) outputTexels += texelCount(size >> m);
-    HostBuffer staging = hostBuffer(c, outputTexels * 4 * sizeof(uint16_t));
-    auto* halves = reinterpret_cast<uint16_t*>(staging.data);
-    for (std::size_t t = 0; t < texelCount(size); ++t) {
-        const glm::vec3 v = source.texel(t);
-        const uint16_t rgba[4] = {glm::packHalf1x16(v.r), glm::packHalf1x16(v.g), glm::packHalf1x16(v.b), glm::packHalf1x16(1.0f)};
-        std::memcpy(halves + 4 * t, rgba, sizeof(rgba));
-    }
+    const std::size_t bytes = std::max(outputTexels * texelBytes(outputFormat), texelCount(size) * texelBytes(sourceFormat));
+    HostBuffer staging = hostBuffer(c, bytes);
+    auto* data = reinterpret_cast<unsigned char*>(staging.data);
+    for (std::size_t t = 0; t < texelCount(size); ++t) storeTexel(data + t * texelBytes(sourceFormat), sourceFormat, source.texel(t));
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     poolInfo.queueFamilyIndex = c.queueFamily;
     VkCommandPool pool = VK_NULL_HANDLE;
-    ASSERT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool), VK_SUCCESS);
+    EXPECT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool), VK_SUCCESS);
     VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool, VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
     VkCommandBuffer cmd = VK_NULL_HANDLE;
-    ASSERT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &cmd), VK_SUCCESS);
+    EXPECT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &cmd), VK_SUCCESS);
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     vkBeginCommandBuffer(cmd, &begin);
 
-    // The engine's own work: its cube uploaded and made readable by compute shaders, its output
-    // mips in GENERAL for the filter's writes.
     transition(cmd, in.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
     VkBufferImageCopy whole{};
     whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 6};
@@ -160,7 +179,7 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
                VK_ACCESS_SHADER_READ_BIT);
     transition(cmd, out.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
 
-    engine.record(cmd, {inView, VK_FORMAT_R16G16B16A16_SFLOAT}, {out.image, VK_FORMAT_R16G16B16A16_SFLOAT});
+    engine.record(cmd, {inView, sourceFormat}, {out.image, outputFormat});
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
@@ -172,7 +191,7 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
         region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
         back.push_back(region);
-        offset += texelCount(size >> m) * 4 * sizeof(uint16_t);
+        offset += texelCount(size >> m) * texelBytes(outputFormat);
     }
     vkCmdCopyImageToBuffer(cmd, out.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, uint32_t(back.size()), back.data());
     VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
@@ -181,21 +200,15 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cmd;
-    ASSERT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
-    ASSERT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
+    EXPECT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+    EXPECT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
 
-    const std::vector<gpu::PassTime> timings = engine.timings();
-    ASSERT_EQ(timings.size(), 3u);
-    EXPECT_EQ(timings[0].name, "pyramid");
-    EXPECT_GT(timings[2].medianMs, 0.0);
-    const uint16_t* texels = halves;
+    CubeLevels result;
     for (int m = 0; m < levels; ++m) {
         CubeImage level(size >> m);
         for (std::size_t t = 0; t < texelCount(level.size); ++t)
-            level.set(t,
-                      {glm::unpackHalf1x16(texels[4 * t]), glm::unpackHalf1x16(texels[4 * t + 1]), glm::unpackHalf1x16(texels[4 * t + 2])});
-        texels += 4 * texelCount(level.size);
-        EXPECT_EQ(level.rgb, expected[m].rgb) << gpu::samplingName(sampling) << " sampling, level " << m;
+            level.set(t, loadTexel(data + back[m].bufferOffset + t * texelBytes(outputFormat), outputFormat));
+        result.push_back(std::move(level));
     }
 
     vkDestroyCommandPool(c.device, pool, nullptr);
@@ -206,6 +219,28 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
         vkDestroyImage(c.device, t.image, nullptr);
         vkFreeMemory(c.device, t.memory, nullptr);
     }
+    return result;
+}
+
+void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
+    gpu::FilterSettings settings;
+    settings.method.kind = MethodKind::fis;
+    settings.faceSize = 32;
+    settings.levelCount = 5;
+    settings.sampling = sampling;
+    settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    const CubeImage source = halfRounded(probetest::randomProbe(settings.faceSize, 7));
+    gpu::Filter tool(owner, settings);
+    const CubeLevels expected = tool.run(source);
+
+    gpu::Filter engine(wrapped, settings);
+    const CubeLevels recorded = recordOnce(c, engine, settings, source, VK_FORMAT_R16G16B16A16_SFLOAT);
+    const std::vector<gpu::PassTime> timings = engine.timings();
+    ASSERT_EQ(timings.size(), 3u);
+    EXPECT_EQ(timings[0].name, "pyramid");
+    EXPECT_GT(timings[2].medianMs, 0.0);
+    for (int m = 0; m < settings.levelCount; ++m)
+        EXPECT_EQ(recorded[m].rgb, expected[m].rgb) << gpu::samplingName(sampling) << " sampling, level " << m;
 }
 
 } // namespace
@@ -215,4 +250,64 @@ TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
     const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
     const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) recordAndCompare(c, owner, wrapped, sampling);
+}
+
+// Finite input gives finite output on the engine path too, where the source never reaches the host:
+// the caller's RGBA32F source holding FLT_MAX, -FLT_MAX, 0 and -0 side by side gives finite levels
+// for every method and sampling mode, into RGBA32F and RGBA16F outputs. The source saturates at
+// +-kFilterRangeLimit (2^64) where the passes read it, so an all-FLT_MAX source gives 2^64 at every
+// level (65504 in RGBA16F), and no level exceeds it in magnitude.
+TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
+    const gpu::Device& owner = probetest::testDevice();
+    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
+    const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
+    constexpr float largest = std::numeric_limits<float>::max();
+    const CubeImage allLargest(table.baseSize, glm::vec3(largest));
+    CubeImage mixed(table.baseSize);
+    for (std::size_t t = 0; t < texelCount(mixed.size); ++t) {
+        const float values[4] = {largest, 0.0f, -largest, -0.0f};
+        mixed.set(t, {values[t % 4], values[(t + 1) % 4], values[(t + 2) % 4]});
+    }
+    // FIS over every pyramid (the inverse solid angle weighs a coarse texel's children by up to
+    // S_0^2), on the paraboloid map, the table over its own pyramid, and the reference.
+    std::vector<std::pair<std::string, FilterMethod>> methods{{"table", {MethodKind::table, &table, {}}}};
+    for (PyramidKind kind : {PyramidKind::bspline, PyramidKind::box})
+        for (PyramidWeighting weighting : {PyramidWeighting::solidAngle, PyramidWeighting::inverseSolidAngle}) {
+            FilterMethod fis{MethodKind::fis, nullptr, {}};
+            fis.fis.pyramid = {kind, weighting};
+            methods.emplace_back(fmt::format("fis {} {}", pyramidKindName(kind), pyramidWeightingName(weighting)), fis);
+        }
+    FilterMethod paraboloid{MethodKind::fis, nullptr, {}};
+    paraboloid.fis.map = FisMap::paraboloid;
+    methods.emplace_back("fis paraboloid", paraboloid);
+    methods.emplace_back("reference", FilterMethod{MethodKind::reference, nullptr, {}});
+    for (VkFormat outputFormat : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT})
+        for (const auto& [name, method] : methods)
+            for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+                // The paraboloid map and the reference read their input exactly whatever the setting.
+                const bool readsExactly = name == "fis paraboloid" || name == "reference";
+                if (sampling == gpu::Sampling::hardware && readsExactly) continue;
+                gpu::FilterSettings settings;
+                settings.method = method;
+                settings.faceSize = table.baseSize;
+                settings.levelCount = table.levelCount;
+                settings.mapping = table.mapping;
+                settings.sampling = sampling;
+                settings.outputFormat = outputFormat;
+                gpu::Filter engine(wrapped, settings);
+                const float limit = outputFormat == VK_FORMAT_R16G16B16A16_SFLOAT ? 65504.0f : kFilterRangeLimit;
+                const std::string what =
+                    fmt::format("{}, {} sampling, {} output", name, gpu::samplingName(sampling), gpu::formatName(outputFormat));
+                const CubeLevels fromLargest = recordOnce(c, engine, settings, allLargest, VK_FORMAT_R32G32B32A32_SFLOAT);
+                const CubeLevels fromMixed = recordOnce(c, engine, settings, mixed, VK_FORMAT_R32G32B32A32_SFLOAT);
+                for (int m = 0; m < settings.levelCount; ++m) {
+                    for (float v : fromLargest[m].rgb)
+                        ASSERT_TRUE(std::isfinite(v) && std::abs(v - limit) <= 1e-5 * limit)
+                            << what << ", all FLT_MAX, level " << m << ": " << v;
+                    for (float v : fromMixed[m].rgb)
+                        ASSERT_TRUE(std::isfinite(v) && std::abs(v) <= limit * (1.0 + 1e-5))
+                            << what << ", +-FLT_MAX and +-0, level " << m << ": " << v;
+                }
+            }
 }

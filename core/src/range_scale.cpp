@@ -33,10 +33,4 @@ void shiftLevels(CubeLevels& levels, int shift) {
     for (CubeImage& level : levels) level = shifted(level, shift);
 }
 
-CubeImage rangeLimited(const CubeImage& image) {
-    CubeImage out = image;
-    for (float& v : out.rgb) v = std::min(v, kFilterRangeLimit);
-    return out;
-}
-
 } // namespace probe

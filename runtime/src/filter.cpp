@@ -368,10 +368,11 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     const auto allMips = uint32_t(s.levelCount);
 
     // The source: uploaded, then read by the passes; above 2^64 scaled down into range for a float32
-    // output, which is scaled back up once read, or clamped there for a 16-bit one (probe/range_scale.h).
+    // output, which is scaled back up once read (probe/range_scale.h). A 16-bit output saturates at
+    // 65504 anyway: its source goes as it is, and the shaders clamp what they read of it to 2^64.
     const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
     const int shift = float32 ? rangeShift(source) : 0;
-    const std::vector<float> texels = rgbaTexels(float32 ? shifted(source, -shift) : rangeLimited(source));
+    const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
     Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
     std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
     VkCommandBuffer upload = f.submission->begin();

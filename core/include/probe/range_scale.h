@@ -2,15 +2,18 @@
 // FLT_MAX (3.4e38) those sums overflow to Inf, then NaN. A probe whose largest value is above 2^64
 // is therefore filtered scaled down by a power of two, which is exact in float, and its output
 // scaled back up, saturating at FLT_MAX. The CPU model and the GPU scale alike, so they stay equal,
-// and a probe below 2^64 (every real one) is filtered as it is.
+// and a probe below 2^64 (every real one) is filtered as it is. The GPU passes also clamp every
+// source value they read to +-2^64: after the scaling that changes nothing, and on the engine path
+// (gpu::Filter::record), whose source never reaches the host, larger values saturate there instead.
 #pragma once
 
 #include "probe/cube_image.h"
+#include "probe/shared_constants.h"
 
 namespace probe {
 
-// The largest value a probe is filtered at: 2^64.
-inline constexpr float kFilterRangeLimit = 18446744073709551616.0f;
+// The largest magnitude a probe is filtered at: 2^64.
+inline constexpr float kFilterRangeLimit = float(PROBE_FILTER_RANGE_LIMIT);
 
 // The largest |value| of the image.
 float largestMagnitude(const CubeImage& image);
@@ -22,9 +25,5 @@ int rangeShift(const CubeImage& image);
 // Every value times 2^shift (shift may be negative), saturating at +-FLT_MAX.
 CubeImage shifted(const CubeImage& image, int shift);
 void shiftLevels(CubeLevels& levels, int shift);
-
-// Every value clamped to at most kFilterRangeLimit: for outputs whose format saturates far below
-// it (16-bit floats, 65504) anyway, where scaling back would lose the small values.
-CubeImage rangeLimited(const CubeImage& image);
 
 } // namespace probe

@@ -25,6 +25,10 @@
 // so the unit disc of a hemisphere ends inside it.
 #define PROBE_PARABOLOID_SCALE 0.9
 
+// The largest magnitude a probe's values are filtered at, 2^64 (probe/range_scale.h): the filters'
+// float sums stay finite below it.
+#define PROBE_FILTER_RANGE_LIMIT 18446744073709551616.0
+
 // Order-2 real SH basis (probe/sh.h): sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi),
 // sqrt(15/16pi).
 #define PROBE_SH_C0 0.28209479177387814

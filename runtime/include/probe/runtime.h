@@ -179,6 +179,9 @@ public:
     // - after: the outputs are written at VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT with
     //   VK_ACCESS_SHADER_WRITE_BIT (VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT when
     //   converted): the caller's barrier makes them visible to its readers.
+    // Any finite source gives finite output: the passes read the source clamped to +-2^64
+    // (probe::kFilterRangeLimit), so values above it saturate there, where run(), which sees the
+    // probe on the host, scales the whole probe by a power of two instead (probe/range_scale.h).
     // The Filter orders its own work (a barrier before its first dispatch covers its resources' use
     // by a previous recording on the same queue). record() makes views of the caller's images and
     // keeps them until the next record() or the Filter's end: a command buffer recorded before must
