@@ -13,13 +13,14 @@
 
 namespace probefit {
 
-// The tail term beside the L1 (impulse_model.h): the base texels of the lobe's tail (a bit each),
-// the reference's mass there, and the term's weight in the slope (0: the L1's slope alone).
+// The tail term beside the L1 (impulse_model.h): the base texels of the lobe's tail (a bit each;
+// none without a mask), the reference's mass there, and the term's weight in the slope (0: the
+// L1's slope alone).
 struct TailTerm {
     const std::uint64_t* mask = nullptr;
     double kernelMass = 0.0;
     double weight = 0.0;
-    bool contains(std::size_t t) const { return (mask[t / 64] >> (t % 64)) & 1u; }
+    bool contains(std::size_t t) const { return mask && ((mask[t / 64] >> (t % 64)) & 1u); }
 };
 
 class DensePasses {

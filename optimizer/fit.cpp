@@ -385,8 +385,8 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             continue;
         }
         const auto kernelStart = Clock::now();
-        const std::vector<OutputTexel> texels =
-            prepareTexels(stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget), settings.baseSize, m, alpha);
+        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget),
+                                                              settings.baseSize, m, alpha, settings.tailWeight > 0.0);
         const double kernelSeconds = secondsSince(kernelStart);
         if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
             startFromTable(table, m, settings.inits.front());

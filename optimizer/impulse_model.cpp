@@ -21,7 +21,7 @@ namespace {
 constexpr double kSparseReach = 0.25;
 } // namespace
 
-OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha) {
+OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, bool tail) {
     const int size = geometry.size >> level;
     OutputTexel t;
     t.texel = texel.texel;
@@ -31,6 +31,7 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     const std::vector<double> k = referenceKernel(t.cubeVector, geometry, alpha);
     t.kernel.assign(k.begin(), k.end());
     for (const float v : t.kernel) t.kernelSum += static_cast<double>(v);
+    if (!tail) return t;
     const glm::dvec3 R = glm::normalize(t.cubeVector);
     const double cosRadius = std::cos(tailRadius(size));
     t.tail.assign((k.size() + 63) / 64, 0);
@@ -42,11 +43,11 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     return t;
 }
 
-std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int baseSize, int level, double alpha) {
+std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int baseSize, int level, double alpha, bool tail) {
     const CubeGeometry geometry(baseSize);
     std::vector<OutputTexel> out(texels.size());
 #pragma omp parallel for schedule(dynamic, 4)
-    for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, alpha);
+    for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, alpha, tail);
     return out;
 }
 
@@ -247,7 +248,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     for (int k = 0; k <= top; ++k) reach += 2.0 * std::ldexp(static_cast<double>(ws.touched[k].size()), 2 * k);
     const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
-    const TailTerm tail{texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
+    const TailTerm tail{texel.tail.empty() ? nullptr : texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
     if (dense)
         result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, gradient ? &ws.adjoint : nullptr, &result.tail);
     else {

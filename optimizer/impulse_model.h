@@ -24,17 +24,20 @@ struct OutputTexel {
     std::array<probe::FrameSetup, probe::kFrameCount> frames;
     std::vector<float> kernel; // reference k(R, t) over base texels, sum 1
     double kernelSum = 0.0;    // sum of `kernel` (1 up to float rounding)
-    // The lobe's tail (tail_check.h): bit t set where base texel t lies beyond the tail radius of
-    // the level from R, and the reference's mass there.
+    // The lobe's tail (tail_check.h), for the tail term only (empty without it): bit t set where
+    // base texel t lies beyond the tail radius of the level from R, and the reference's mass there.
     std::vector<std::uint64_t> tail;
     double kernelTail = 0.0;
 };
 
-// One texel of output level m (alpha > 0), its kernel included; `geometry` is that of the base.
-OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha);
+// One texel of output level m (alpha > 0), its kernel (and with `tail` its tail) included; `geometry`
+// is that of the base.
+OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
+                            bool tail = false);
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
-std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha);
+std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha,
+                                       bool tail = false);
 
 // The smooth functions whose moments the seam term of the fit compares: the order-1 and order-2 real
 // SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel,

@@ -63,7 +63,7 @@ TEST(ImpulseModel, GradientMatchesFiniteDifferences) {
         const int m = 2;
         const ImpulseModel model(16, table.pyramid, table.taps, table.form, tailWeight);
         ImpulseModel::Workspace ws = model.workspace();
-        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m));
+        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m), true);
         const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
         std::vector<double> gradient(n), weightGradient(n);
         int checked = 0, agreeing = 0;
@@ -98,7 +98,7 @@ TEST(ImpulseModel, TailErrorIsTheMassBeyondTheTailRadius) {
     for (int m = 1; m < 4; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         const double cosRadius = std::cos(tailRadius(16 >> m));
-        for (const OutputTexel& t : prepareTexels(stratifiedTexels(16 >> m, 20), 16, m, alpha)) {
+        for (const OutputTexel& t : prepareTexels(stratifiedTexels(16 >> m, 20), 16, m, alpha, true)) {
             const std::vector<double> response = tableImpulseResponse(table, ops, m, t.texel);
             const std::vector<double> reference = referenceKernel(t.cubeVector, 16, alpha);
             const glm::dvec3 R = glm::normalize(t.cubeVector);
