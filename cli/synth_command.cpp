@@ -8,6 +8,7 @@
 #include "probe/limits.h"
 #include "probe/probe_io.h"
 #include "probe/roughness.h"
+#include "probe/staged_output.h"
 #include "probe/synthetic.h"
 
 namespace probefilter {
@@ -31,18 +32,17 @@ void addSynthCommand(CLI::App& app) {
                     fmt::format("Write a W x W/2 equirectangular image instead of a strip (W even, 4 to {})", kMaxEquirectWidth));
     cmd->add_option("--out", o->out, "Output EXR file")->required();
     cmd->callback([o] {
-        const std::filesystem::path out(o->out);
-        const std::filesystem::path partial = out.parent_path() / ("." + out.filename().string() + ".partial");
+        probe::StagedFile out(o->out);
         if (o->equirectWidth) {
             const int width = *o->equirectWidth;
             if (width < 4 || width % 2 != 0 || width > kMaxEquirectWidth)
                 throw probe::ProbeError(fmt::format("--equirect {}: the width must be even, 4 to {}", width, kMaxEquirectWidth));
-            probe::writeExr(partial, probe::syntheticEquirect(o->name, width));
+            probe::writeExr(out.path(), probe::syntheticEquirect(o->name, width));
         } else {
             probe::validateSizeAndLevels(o->size, 1);
-            probe::writeExr(partial, probe::cubeToStrip(probe::syntheticProbe(o->name, o->size)));
+            probe::writeExr(out.path(), probe::cubeToStrip(probe::syntheticProbe(o->name, o->size)));
         }
-        std::filesystem::rename(partial, out);
+        out.commit();
         fmt::print("synth: {} -> {}\n", o->name, o->out);
     });
 }

@@ -2,8 +2,10 @@
 # Output folders under faults: `probefilter filter` runs killed (SIGKILL and SIGINT) at points
 # spread over the whole run, the pause before the swap included, leave the output folder exactly as
 # the previous run left it or whole as the new run writes it, never a mix; after SIGINT no staging
-# folder is left, after SIGKILL the next run removes it. Every command that writes a folder refuses
-# `/`, the input's folder and a non-empty folder it did not write (exit 2, nothing changed).
+# folder is left, after SIGKILL the next run removes it. `probefilter synth`, which writes one file,
+# interrupted (SIGINT, SIGTERM) while it writes a large probe leaves the previous file as it was and
+# no staging file. Every command that writes a folder refuses `/`, the input's folder and a non-empty
+# folder it did not write (exit 2, nothing changed).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 work=$(mktemp -d)
@@ -96,6 +98,34 @@ if staging():
     failures += 1
 print(f"{2 * (trials + 4)} killed runs over {duration:.2f} s each ({pause_ms} ms pause before the swap): "
       + ", ".join(f"{s} {r}: {n}" for (s, r), n in sorted(outcomes.items())))
+sys.exit(1 if failures else 0)
+PY
+
+python3 - "$PROBEFILTER" <<'PY'
+import os, signal, subprocess, sys, time
+
+probefilter = sys.argv[1]
+subprocess.run([probefilter, "synth", "sky", "--size", "16", "--out", "big.exr"], check=True, capture_output=True)
+previous = open("big.exr", "rb").read()
+failures = 0
+for sig in (signal.SIGINT, signal.SIGTERM):
+    proc = subprocess.Popen([probefilter, "synth", "sky", "--size", "1024", "--out", "big.exr"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    # The staging file appears when the writing starts (after the probe is made).
+    while proc.poll() is None and not os.path.exists(".big.exr.partial"):
+        time.sleep(0.005)
+    if proc.poll() is not None:
+        print(f"FAIL: synth --size 1024 ended before {sig.name} could reach it while writing")
+        failures += 1
+        continue
+    proc.send_signal(sig)
+    code = proc.wait()
+    left = sorted(n for n in os.listdir(".") if "big.exr" in n and n != "big.exr")
+    if code != -sig or left or open("big.exr", "rb").read() != previous:
+        print(f"FAIL: synth interrupted by {sig.name} while writing (exit {code}) left {left}, the previous file "
+              + ("kept" if open("big.exr", "rb").read() == previous else "changed"))
+        failures += 1
+print(f"synth interrupted while writing: {failures} failure(s)")
 sys.exit(1 if failures else 0)
 PY
 

@@ -1,6 +1,8 @@
 // Output folders: replaced whole or left as they were; refused, with nothing created, where a
-// replacement would destroy what probefilter did not write.
+// replacement would destroy what probefilter did not write. Single output files: replaced whole on
+// commit, or left as they were with no staging file.
 #include <fstream>
+#include <iterator>
 #include <set>
 
 #include <fmt/format.h>
@@ -19,6 +21,22 @@ namespace fs = std::filesystem;
 namespace {
 
 void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Whether `use` throws ProbeError.
+template <class Use>
+bool refused(Use use) {
+    try {
+        use();
+    } catch (const ProbeError&) {
+        return true;
+    }
+    return false;
+}
 
 // A run's output: the files, and a report.json that marks the folder as probefilter's.
 void writeRun(StagedOutput& output, const std::vector<std::string>& names) {
@@ -133,18 +151,36 @@ TEST(StagedOutput, AbandonAllRemovesStaging) {
     if (child == 0) {
         StagedOutput staged(dir.path / "result", {}, false);
         writeRun(staged, {"level_0.exr"});
+        StagedFile file(dir.path / "probe.exr");
+        writeText(file.path(), "new");
         StagedOutput::abandonAll();
-        bool refused = false;
-        try {
-            staged.file("level_1.exr");
-        } catch (const ProbeError&) {
-            refused = true;
-        }
-        ::_exit(refused ? 0 : 1); // no destructors: only abandonAll() may have cleaned up
+        const bool allRefused =
+            refused([&] { staged.file("level_1.exr"); }) && refused([&] { file.path(); }) && refused([&] { file.commit(); });
+        ::_exit(allRefused ? 0 : 1); // no destructors: only abandonAll() may have cleaned up
     }
     int status = 0;
     ::waitpid(child, &status, 0);
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 0);
     EXPECT_TRUE(entries(dir.path).empty());
+}
+
+TEST(StagedFile, ReplacesTheFileOnlyOnCommit) {
+    TempDir dir;
+    const fs::path out = dir.path / "probe.exr";
+    writeText(out, "old");
+    {
+        StagedFile staged(out);
+        writeText(staged.path(), "new");
+        EXPECT_EQ(entries(dir.path), (std::set<std::string>{".probe.exr.partial", "probe.exr"}));
+    }
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"probe.exr"});
+    EXPECT_EQ(readText(out), "old");
+    {
+        StagedFile staged(out);
+        writeText(staged.path(), "new");
+        staged.commit();
+    }
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"probe.exr"});
+    EXPECT_EQ(readText(out), "new");
 }

@@ -25,10 +25,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Every StagedOutput alive, for abandonAll(); the mutex also keeps abandonAll() from removing a
-// staging folder while file() or commit() works on it.
+// Every StagedOutput and StagedFile alive, for abandonAll(); the mutex also keeps abandonAll() from
+// removing a staging folder or file while file(), path() or commit() works on it.
 std::mutex registryMutex;
 std::vector<StagedOutput*> registry;
+std::vector<StagedFile*> fileRegistry;
 bool abandoned = false;
 
 [[noreturn]] void fail(const fs::path& path, const std::string& problem) {
@@ -177,6 +178,38 @@ void StagedOutput::abandonAll() {
         std::error_code ec;
         for (int attempt = 0; attempt < 5 && fs::exists(output->staging_, ec); ++attempt) fs::remove_all(output->staging_, ec);
     }
+    for (const StagedFile* file : fileRegistry) {
+        std::error_code ec;
+        if (!file->committed_) fs::remove(file->staging_, ec);
+    }
+}
+
+StagedFile::StagedFile(fs::path out) : out_(std::move(out)) {
+    staging_ = out_.parent_path() / fmt::format(".{}.partial", out_.filename().string());
+    const std::lock_guard lock(registryMutex);
+    fileRegistry.push_back(this);
+}
+
+StagedFile::~StagedFile() {
+    const std::lock_guard lock(registryMutex);
+    fileRegistry.erase(std::find(fileRegistry.begin(), fileRegistry.end(), this));
+    std::error_code ec;
+    if (!committed_) fs::remove(staging_, ec);
+}
+
+fs::path StagedFile::path() const {
+    const std::lock_guard lock(registryMutex);
+    if (abandoned) fail(out_, "interrupted");
+    return staging_;
+}
+
+void StagedFile::commit() {
+    const std::lock_guard lock(registryMutex);
+    if (abandoned) fail(out_, "interrupted");
+    std::error_code ec;
+    fs::rename(staging_, out_, ec);
+    if (ec) fail(out_, fmt::format("cannot move the output into place ({})", ec.message()));
+    committed_ = true;
 }
 
 } // namespace probe

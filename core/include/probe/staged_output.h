@@ -1,4 +1,5 @@
-// Output folders that a run replaces whole or leaves as they were.
+// Outputs that a run replaces whole or leaves as they were: folders (StagedOutput) and single files
+// (StagedFile).
 //
 // Every file goes into a staging folder beside the output folder (".probefilter-<hash>-<pid>", so
 // on the same file system and short whatever the output's name); commit() swaps the two folders in
@@ -34,8 +35,9 @@ public:
 
     const std::filesystem::path& outDir() const { return outDir_; }
 
-    // Removes the staging folder of every StagedOutput not yet committed; file() and commit() fail
-    // afterwards. Safe to call from another thread; the process is expected to end right after.
+    // Removes the staging folder of every StagedOutput and the staging file of every StagedFile not
+    // yet committed; file(), path() and commit() fail afterwards. Safe to call from another thread; the
+    // process is expected to end right after.
     static void abandonAll();
 
 private:
@@ -47,6 +49,29 @@ private:
     std::filesystem::path staging_; // empty until the first file()
     std::vector<std::filesystem::path> inputs_;
     bool force_ = false;
+    bool committed_ = false;
+};
+
+// A single output file, written as ".NAME.partial" beside it and renamed over it by commit(): a run
+// killed at any point leaves the previous file as it was (a killed run's staging file is replaced by
+// the next run's). The staging file is removed unless committed, when the StagedFile ends or at once
+// on an interrupt (StagedOutput::abandonAll()).
+class StagedFile {
+public:
+    explicit StagedFile(std::filesystem::path out); // creates nothing
+    ~StagedFile();
+    StagedFile(const StagedFile&) = delete;
+    StagedFile& operator=(const StagedFile&) = delete;
+
+    // Where to write the file.
+    std::filesystem::path path() const;
+    // Moves the file written into place.
+    void commit();
+
+private:
+    friend class StagedOutput;
+    std::filesystem::path out_;
+    std::filesystem::path staging_;
     bool committed_ = false;
 };
 
