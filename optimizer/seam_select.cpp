@@ -7,6 +7,7 @@
 #include "probe/seam_measure.h"
 #include "probe/synthetic.h"
 #include "probe/table_filter.h"
+#include "tail_check.h"
 
 namespace probefit {
 
@@ -29,6 +30,15 @@ void checkSameShape(const std::vector<SeamCandidate>& candidates) {
 // The L1 the choice compares: over all texels where every candidate measured it, else the stratified set.
 double levelL1(const TableLevel& level, bool all) { return all ? level.all.mean : level.stratified.mean; }
 
+// Per level, whether the table reaches the lobe's tail there (probefit tail; levels without a tail do).
+std::vector<bool> tailReached(const TapTable& table) {
+    std::vector<bool> reached(static_cast<std::size_t>(table.levelCount), true);
+    for (const TailLevel& level : checkTail(table))
+        for (const TailSample& sample : level.samples)
+            reached[static_cast<std::size_t>(level.level)] = reached[level.level] && sample.reached();
+    return reached;
+}
+
 } // namespace
 
 SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates) {
@@ -37,7 +47,11 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     const CubeImage sky = skyProbe(shape.baseSize);
     const std::vector<double> bounds = seamBounds(skyReference(shape.baseSize, shape.levelCount, shape.mapping), seamBoundCap());
     std::vector<CubeLevels> filtered;
-    for (const SeamCandidate& c : candidates) filtered.push_back(tableFilter(sky, c.table));
+    std::vector<std::vector<bool>> tails;
+    for (const SeamCandidate& c : candidates) {
+        filtered.push_back(tableFilter(sky, c.table));
+        tails.push_back(tailReached(c.table));
+    }
 
     SeamSelection selection{shape, {}};
     selection.table.fitSeconds = 0.0;
@@ -49,17 +63,22 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
         LevelSelection level;
         level.bound = bounds[m];
         int nearest = 0;
-        bool found = false;
         for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
-            const double ratio = level.bound > 0.0 ? seamRatio(filtered[k][m]) : 0.0;
-            level.seamRatios.push_back(ratio);
-            if (ratio < level.seamRatios[nearest]) nearest = k;
-            const bool better =
-                !found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all);
-            if (ratio <= level.bound && better) {
-                level.chosen = k;
-                found = true;
+            level.seamRatios.push_back(level.bound > 0.0 ? seamRatio(filtered[k][m]) : 0.0);
+            level.tailReached.push_back(tails[k][m]);
+            if (level.seamRatios[k] < level.seamRatios[nearest]) nearest = k;
+        }
+        // The lowest L1 within the seam bound among the fits that reach the tail, else among all.
+        bool found = false;
+        for (const bool needTail : {true, false}) {
+            for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
+                if (level.seamRatios[k] > level.bound || (needTail && !tails[k][m])) continue;
+                if (!found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all)) {
+                    level.chosen = k;
+                    found = true;
+                }
             }
+            if (found) break;
         }
         if (!found) {
             level.chosen = nearest;
@@ -77,7 +96,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     for (const SeamCandidate& c : candidates)
         fits.push_back(fmt::format("[{}: seam weight {}, {}]", c.name, c.table.seamWeight, c.table.solver));
     selection.table.solver = fmt::format("probefit select: per level, the lowest impulse L1 among {} fits whose seams stay within "
-                                         "the bound of seam_measure.h (level: fit) {}; the fits: {}",
+                                         "the bound of seam_measure.h, those that reach the lobe's tail first (level: fit) {}; "
+                                         "the fits: {}",
                                          candidates.size(), sources, fmt::join(fits, " "));
     return selection;
 }

@@ -1,7 +1,8 @@
 // `probefit select`: a table assembled level by level from several fits of the same shape (different
 // seam weights, iterations or starts). Output levels are independent filters, so each level takes the
-// fit with the lowest impulse L1 among those whose seams stay within the bound of seam_measure.h;
-// multi-start under a constraint that the L1 alone does not see.
+// fit with the lowest impulse L1 among those whose seams stay within the bound of seam_measure.h and,
+// where any of those does, that reach the lobe's tail (tail_check.h): multi-start under constraints
+// that the L1 alone does not see.
 #pragma once
 
 #include <string>
@@ -20,6 +21,7 @@ struct SeamCandidate {
 struct LevelSelection {
     int chosen = 0;                 // index into the candidates
     std::vector<double> seamRatios; // per candidate (0 where the level has no bound)
+    std::vector<bool> tailReached;  // per candidate
     double bound = 0.0;             // 0: faces under 4 texels, chosen by L1 alone
     bool withinBound = true;        // false: no candidate was; the one nearest the bound was kept
 };
