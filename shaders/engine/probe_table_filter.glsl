@@ -15,7 +15,9 @@
 //     fitted for (the table's comment names it; probefilter's is the B-spline pass of
 //     docs/design.md). Sampler: linear min/mag filter, linear mipmap mode, clamp to edge, no LOD
 //     bias, maxLod at least the last mip; seamless cube filtering, which Vulkan always does.
-//     Layout SHADER_READ_ONLY_OPTIMAL.
+//     Layout SHADER_READ_ONLY_OPTIMAL. Its values must lie within +-2^64 (clamp them where mip 0 is
+//     made from the source, as probefilter's own passes do): then every tap's weighted sum stays
+//     finite, for any finite source.
 //   binding 1 (PROBE_OUTPUT_BINDING)   image2DArray, writeonly: the output level's mip, its six faces
 //     as layers (a 2D-array view of one mip of the output cube), layout GENERAL.
 // Push constant: int level, the output level (1 .. PROBE_TABLE_LEVEL_COUNT - 1). Level 0 is a copy
