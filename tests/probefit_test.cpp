@@ -246,7 +246,8 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
     // Candidates at 16^2: the committed quad 8x3 table (within the bound at every level), a short fit
     // without the seam term, and the committed table with big random offsets that claims an L1 of 0.
     // Every level must be one candidate's level, within the seam bound, with the lowest L1 among the
-    // candidates within.
+    // candidates within that reach the lobe's tail there (probefit tail), or among all within where
+    // none does.
     FitSettings settings;
     settings.baseSize = 16;
     settings.taps = 8;
@@ -258,6 +259,15 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
     candidates.push_back({"plain", fitTable(settings, {})});
     for (SeamCandidate& c : candidates)
         for (TableLevel& level : c.table.levels) level.all.mean = -1.0; // compare on the stratified L1
+    // Every tap of level 1 on the lobe axis at the base level: it misses the tail, and claims an L1 of 0.
+    TapTable narrow = candidates[0].table;
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < narrow.taps; ++t)
+            for (const TapParameter parameter : {tapDirX, tapDirY, tapLevel})
+                for (int q = 0; q < coefficientCount(narrow.form); ++q)
+                    narrow.levels[1].coefficients[narrow.offset(frame, t, parameter) + q] = 0.0;
+    narrow.levels[1].stratified.mean = 0.0;
+    candidates.push_back({"narrow", narrow});
     TapTable rough = candidates[0].table;
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> offset(-0.4, 0.4);
@@ -270,18 +280,35 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
     const SeamSelection selection = selectWithinSeamBound(candidates);
     const std::vector<double> bounds = seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf), seamBoundCap());
     const CubeImage sky = skyProbe(16);
+    std::vector<std::vector<TailLevel>> tails;
+    for (const SeamCandidate& c : candidates) tails.push_back(checkTail(c.table));
+    auto reachesTail = [&](std::size_t k, int m) {
+        for (const TailLevel& level : tails[k])
+            if (level.level == m)
+                return std::all_of(level.samples.begin(), level.samples.end(), [](const TailSample& s) { return s.reached(); });
+        return true;
+    };
     int roughRefused = 0;
     for (int m = 1; m < settings.levelCount; ++m) {
         const LevelSelection& level = selection.levels[m];
         EXPECT_EQ(selection.table.levels[m].coefficients, candidates[level.chosen].table.levels[m].coefficients);
-        double bestWithin = 1e9;
+        double bestWithin = 1e9, bestWithTail = 1e9;
         for (std::size_t k = 0; k < candidates.size(); ++k) {
             const double ratio = seamRatio(tableFilter(sky, candidates[k].table)[m]);
-            if (bounds[m] == 0.0 || ratio <= bounds[m]) bestWithin = std::min(bestWithin, candidates[k].table.levels[m].stratified.mean);
-            else if (k + 1 == candidates.size()) ++roughRefused; // the rough candidate is the last
+            const double l1 = candidates[k].table.levels[m].stratified.mean;
+            if (bounds[m] == 0.0 || ratio <= bounds[m]) {
+                bestWithin = std::min(bestWithin, l1);
+                if (reachesTail(k, m)) bestWithTail = std::min(bestWithTail, l1);
+            } else if (k + 1 == candidates.size()) ++roughRefused; // the rough candidate is the last
         }
         ASSERT_LT(bestWithin, 1e9) << "level " << m << ": no candidate within the bound";
+        if (bestWithTail < 1e9) bestWithin = bestWithTail;
         EXPECT_TRUE(level.withinBound);
+        if (m == 1) {
+            ASSERT_FALSE(reachesTail(2, m)) << "the narrow candidate should miss the tail";
+            ASSERT_LE(level.seamRatios[2], bounds[m]) << "the narrow candidate should stay within the seam bound";
+            EXPECT_NE(level.chosen, 2) << "a fit that misses the tail was kept where another reaches it";
+        }
         EXPECT_EQ(candidates[level.chosen].table.levels[m].stratified.mean, bestWithin) << "level " << m;
     }
     EXPECT_GT(roughRefused, 0) << "the rough candidate should step across the edges at some level";
