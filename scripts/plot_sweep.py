@@ -206,6 +206,35 @@ def instructions_markdown(report, instructions):
     return "\n".join(lines) + "\n"
 
 
+def level_table(rows):
+    """Per table, level and probe: the table's image L1 against the most accurate FIS method whose
+    pass 2 for that level is no slower than the table's (level_gpu_ms), and every pair it loses."""
+    error, level_ms, family = defaultdict(dict), defaultdict(dict), {}
+    for r in rows:
+        level = int(r["level"])
+        if level == 0:
+            continue
+        family[r["method"]] = r["family"]
+        level_ms[r["method"]][level] = float(r["level_gpu_ms"])
+        error[r["method"]][(r["probe"], level)] = float(r["image_l1"])
+    fis = [m for m in family if family[m] != "table"]
+    lines = ["Per level and probe, each table against the most accurate FIS method (every variant of the sweep) whose pass 2 "
+             "for that level takes no longer than the table's (`level_gpu_ms`); image L1 (impulse probes: their image L1).", "",
+             "| table | level-probe pairs | lost to FIS | losses (probe, level: table / FIS, method) |", "|---|---|---|---|"]
+    for table in sorted((m for m in family if family[m] == "table"), key=lambda m: sum(level_ms[m].values())):
+        losses, pairs = [], 0
+        for (probe, level), e in sorted(error[table].items(), key=lambda kv: (kv[0][1], kv[0][0])):
+            within = [f for f in fis if level_ms[f][level] <= level_ms[table][level]]
+            if not within:
+                continue
+            pairs += 1
+            best = min(within, key=lambda f: error[f][(probe, level)])
+            if e > error[best][(probe, level)]:
+                losses.append(f"{probe} {level}: {e:.4f} / {error[best][(probe, level)]:.4f} `{best}`")
+        lines.append(f"| `{table}` | {pairs} | {len(losses)} | {'; '.join(losses) or '-'} |")
+    return "\n".join(lines) + "\n"
+
+
 def main(folder):
     folder = Path(folder)
     rows, report = load(folder)
@@ -230,7 +259,8 @@ def main(folder):
     fig.savefig(folder / "error_vs_time_per_level.png", dpi=110)
     plot_cost(report, READS, folder / "error_vs_reads.png")
     (folder / "reads.md").write_text(cost_table(report, READS))
-    written = ["error_vs_time.png", "error_vs_time_per_level.png", "error_vs_reads.png", "reads.md"]
+    (folder / "levels.md").write_text(level_table(rows))
+    written = ["error_vs_time.png", "error_vs_time_per_level.png", "error_vs_reads.png", "reads.md", "levels.md"]
     # scripts/shader-stats --sweep DIR writes it (scripts/sweep runs it).
     if (folder / "instructions.json").exists():
         instructions = json.load(open(folder / "instructions.json"))
