@@ -52,7 +52,7 @@ double DensePasses::measure(const std::vector<DownsampleOperator>& operators, st
     }
     *tailError = std::abs(tailMass - tail.kernelMass);
     if (slope && tail.weight > 0.0) {
-        const double step = tailMass > tail.kernelMass ? tail.weight : (tailMass < tail.kernelMass ? -tail.weight : 0.0);
+        const double step = tail.slope(tailMass);
         for (std::size_t t = 0; t < base.size(); ++t)
             if (tail.contains(t)) slope[t] += step;
     }

@@ -21,6 +21,8 @@ struct TailTerm {
     double kernelMass = 0.0;
     double weight = 0.0;
     bool contains(std::size_t t) const { return mask && ((mask[t / 64] >> (t % 64)) & 1u); }
+    // d(weight |W - K|) / dW at the response's tail mass W: what the term adds to each tail texel's slope.
+    double slope(double mass) const { return mass > kernelMass ? weight : (mass < kernelMass ? -weight : 0.0); }
 };
 
 class DensePasses {

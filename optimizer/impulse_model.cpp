@@ -275,7 +275,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         result.error = measure.value();
         result.tail = std::abs(tailMass - tail.kernelMass);
         if (tail.weight > 0.0) {
-            const double step = tailMass > tail.kernelMass ? tail.weight : (tailMass < tail.kernelMass ? -tail.weight : 0.0);
+            const double step = tail.slope(tailMass);
             for (const std::uint32_t t : ws.touched[0])
                 if (tail.contains(t)) slope[t] += step;
         }
