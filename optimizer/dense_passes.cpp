@@ -7,32 +7,55 @@ namespace probefit {
 
 using namespace probe;
 
+namespace {
+
+// sum + weight[0] * values[index[0]] + ... over `count` slots, added in order; Slots > 0 fixes the
+// count at compile time.
+template <int Slots>
+double addSlots(double sum, const std::uint32_t* index, const double* weight, const double* values, int count) {
+    if constexpr (Slots > 0) count = Slots;
+    for (int n = 0; n < count; ++n) sum += weight[n] * values[index[n]];
+    return sum;
+}
+
+} // namespace
+
 DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
     if (operators.empty()) return;
     const DownsampleOperator& op = operators[0];
-    const std::size_t baseCount = texelCount(op.fineSize);
-    parentStart_.assign(baseCount + 1, 0);
-    for (const TexelWeight& e : op.entries) ++parentStart_[e.index + 1];
-    for (std::size_t t = 0; t < baseCount; ++t) parentStart_[t + 1] += parentStart_[t];
-    rowStart_ = op.rowStart;
-    for (const TexelWeight& e : op.entries) {
-        rowIndex_.push_back(e.index);
-        rowWeight_.push_back(e.weight);
-    }
-    parentRow_.resize(op.entries.size());
-    parentWeight_.resize(op.entries.size());
-    std::vector<std::uint32_t> next(parentStart_.begin(), parentStart_.end() - 1);
-    for (std::uint32_t r = 0; r + 1 < op.rowStart.size(); ++r)
+    const std::size_t baseCount = texelCount(op.fineSize), rowCount = op.rowStart.size() - 1;
+    std::vector<int> parents(baseCount, 0);
+    for (const TexelWeight& e : op.entries) parentSlots_ = std::max(parentSlots_, ++parents[e.index]);
+    for (std::size_t r = 0; r < rowCount; ++r) rowSlots_ = std::max(rowSlots_, static_cast<int>(op.rowStart[r + 1] - op.rowStart[r]));
+    parentRow_.assign(baseCount * parentSlots_, 0);
+    parentWeight_.assign(parentRow_.size(), 0.0);
+    rowIndex_.assign(rowCount * rowSlots_, 0);
+    rowWeight_.assign(rowIndex_.size(), 0.0);
+    std::fill(parents.begin(), parents.end(), 0);
+    for (std::uint32_t r = 0; r < rowCount; ++r)
         for (std::uint32_t e = op.rowStart[r]; e < op.rowStart[r + 1]; ++e) {
-            const std::uint32_t slot = next[op.entries[e].index]++;
-            parentRow_[slot] = r;
-            parentWeight_[slot] = op.entries[e].weight;
+            const TexelWeight& entry = op.entries[e];
+            const std::size_t parent = entry.index * static_cast<std::size_t>(parentSlots_) + parents[entry.index]++;
+            parentRow_[parent] = r;
+            parentWeight_[parent] = entry.weight;
+            const std::size_t slot = r * static_cast<std::size_t>(rowSlots_) + (e - op.rowStart[r]);
+            rowIndex_[slot] = entry.index;
+            rowWeight_[slot] = entry.weight;
         }
 }
 
 double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
                             const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                             double* tailError) const {
+    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, kernel, tail, adjoint, tailError);
+    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, kernel, tail, adjoint, tailError);
+    return measureWith<0, 0>(operators, weights, top, kernel, tail, adjoint, tailError);
+}
+
+template <int ParentSlots, int RowSlots>
+double DensePasses::measureWith(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
+                                const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                                double* tailError) const {
     for (int k = top; k > 1; --k) operators[k - 1].applyTranspose(weights[k], weights[k - 1]);
     std::vector<double>& base = weights[0];
     const double* coarse = top >= 1 ? weights[1].data() : nullptr;
@@ -41,10 +64,12 @@ double DensePasses::measure(const std::vector<DownsampleOperator>& operators, st
     for (std::size_t t = 0; t < base.size(); ++t) {
         double w = base[t];
         base[t] = 0.0;
-        // The transposed operator skips rows whose weight is zero; adding their products (zero)
-        // changes at most the sign of a zero w, which neither |w - k| nor the slope sees.
-        if (coarse)
-            for (std::uint32_t n = parentStart_[t]; n < parentStart_[t + 1]; ++n) w += parentWeight_[n] * coarse[parentRow_[n]];
+        // The transposed operator skips rows whose weight is zero, and the padded slots add zeros:
+        // either changes at most the sign of a zero w, which neither |w - k| nor the slope sees.
+        if (coarse) {
+            const std::size_t first = t * static_cast<std::size_t>(parentSlots_);
+            w = addSlots<ParentSlots>(w, &parentRow_[first], &parentWeight_[first], coarse, parentSlots_);
+        }
         const double d = w - static_cast<double>(kernel[t]);
         sum += std::abs(d);
         if (tail.contains(t)) tailMass += w;
@@ -57,13 +82,12 @@ double DensePasses::measure(const std::vector<DownsampleOperator>& operators, st
             if (tail.contains(t)) slope[t] += step;
     }
     if (adjoint && top >= 1) {
-        // The first pull-up step as DownsampleOperator::apply, from the rows' indices and weights held apart.
+        // The first pull-up step as DownsampleOperator::apply, from the padded rows.
         const double* fine = (*adjoint)[0].data();
-        double* coarseAdjoint = (*adjoint)[1].data();
-        for (std::size_t r = 0; r + 1 < rowStart_.size(); ++r) {
-            double rowSum = 0.0;
-            for (std::uint32_t e = rowStart_[r]; e < rowStart_[r + 1]; ++e) rowSum += rowWeight_[e] * fine[rowIndex_[e]];
-            coarseAdjoint[r] = rowSum;
+        std::vector<double>& coarseAdjoint = (*adjoint)[1];
+        for (std::size_t r = 0; r < coarseAdjoint.size(); ++r) {
+            const std::size_t first = r * static_cast<std::size_t>(rowSlots_);
+            coarseAdjoint[r] = addSlots<RowSlots>(0.0, &rowIndex_[first], &rowWeight_[first], fine, rowSlots_);
         }
         for (int k = 2; k <= top; ++k) operators[k - 1].apply((*adjoint)[k - 1], (*adjoint)[k]);
     }

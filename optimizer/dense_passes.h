@@ -39,13 +39,19 @@ public:
                    double* tailError) const;
 
 private:
-    // The transpose of operators[0]: base texel t's parents (level-1 rows) and their weights in
-    // [parentStart[t], parentStart[t + 1]), rows ascending and in entry order within a row.
-    std::vector<std::uint32_t> parentStart_, parentRow_;
-    std::vector<double> parentWeight_;
-    // operators[0]'s rows with indices and weights in arrays of their own (12 bytes an entry, not 16).
-    std::vector<std::uint32_t> rowStart_, rowIndex_;
-    std::vector<double> rowWeight_;
+    template <int ParentSlots, int RowSlots>
+    double measureWith(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
+                       const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                       double* tailError) const;
+
+    // The transpose of operators[0]: base texel t's parents (level-1 rows) and their weights in slots
+    // [t * parentSlots_, (t + 1) * parentSlots_), rows ascending and in entry order within a row.
+    // operators[0]'s rows likewise in rowSlots_ slots each. Every texel and row has the same count
+    // but at the cube's corners, where the slots left are padded with weight 0 (index 0): loops of a
+    // fixed count, unrolled for the B-spline and box pyramids, run faster than the operators' lists.
+    int parentSlots_ = 0, rowSlots_ = 0;
+    std::vector<std::uint32_t> parentRow_, rowIndex_;
+    std::vector<double> parentWeight_, rowWeight_;
 };
 
 } // namespace probefit

@@ -273,12 +273,16 @@ std::string solverDescription(const FitSettings& s) {
                                          "reference's)",
                                          s.tailWeight, kTailTexels)
                            : "";
-    return fmt::format(
-        "Ceres {}: {} on the weighted mean impulse L1{} over the stratified output texels{}, per level; "
-        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
-        CERES_VERSION_STRING, method, tail, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
-        s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "");
+    return fmt::format("Ceres {}: {} on the weighted mean impulse L1{} over the stratified output texels{}, per level; "
+                       "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
+                       "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
+                       CERES_VERSION_STRING, method, tail, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
+                       s.starts > 1
+                           ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
+                                         s.solver == FitSolver::lmBfgs && !s.screenAll
+                                             ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)"
+                                             : "")
+                           : "");
 }
 
 struct SolveReport {
@@ -456,42 +460,55 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
         };
         SolveReport report;
-        double modelSeconds = 0.0, bestObjective = 1e300;
+        double modelSeconds = 0.0;
         int evaluations = 0;
-        std::vector<double> fitted;
-        for (const auto& [name, coefficients] : starts) {
-            level.coefficients = coefficients;
+        // Runs the Levenberg-Marquardt part (lm) and the BFGS part (bfgs) of the solver from
+        // level.coefficients; returns the objective at the end where `compare` (one more evaluation).
+        auto solve = [&](bool lm, bool bfgs, bool compare) {
             const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
                                            settings.seamWeight);
             reportSeam("at the start");
-            if (settings.solver != FitSolver::bfgs) {
+            if (lm && settings.solver != FitSolver::bfgs) {
                 ProgressCallback callback(progress, m, start, 2.0);
                 std::vector<double*> blocks;
                 for (const double* b : constBlocks) blocks.push_back(const_cast<double*>(b));
                 const int iterations = settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
-                const SolveReport lm =
+                const SolveReport r =
                     solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()), callback);
-                report.iterations += lm.iterations;
-                report.solverSeconds += lm.solverSeconds;
+                report.iterations += r.iterations;
+                report.solverSeconds += r.solverSeconds;
             }
-            if (settings.solver != FitSolver::lm) {
+            if (bfgs && settings.solver != FitSolver::lm) {
                 ProgressCallback callback(progress, m, start, 1.0);
-                const SolveReport bfgs = solveBfgs(model, objective, level.coefficients.data(),
-                                                   levelIterations(settings, settings.maxIterations, texels.size()), callback);
-                report.iterations += bfgs.iterations;
-                report.solverSeconds += bfgs.solverSeconds;
+                const SolveReport r = solveBfgs(model, objective, level.coefficients.data(),
+                                                levelIterations(settings, settings.maxIterations, texels.size()), callback);
+                report.iterations += r.iterations;
+                report.solverSeconds += r.solverSeconds;
             }
-            // With one start there is nothing to compare (and no evaluation to spend).
-            const double value = starts.size() > 1 ? objective.value(constBlocks.data()) : 0.0;
+            const double value = compare ? objective.value(constBlocks.data()) : 0.0;
             modelSeconds += objective.seconds();
             evaluations += objective.evaluations();
-            if (starts.size() > 1 && progress) progress({m, 0, value, secondsSince(start), "objective after the fit from " + name});
-            if (value < bestObjective) {
+            return value;
+        };
+        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
+        // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
+        // full and the lowest objective is kept).
+        const bool screen = starts.size() > 1 && settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+        double bestObjective = 1e300;
+        std::vector<double> fitted;
+        for (const auto& [name, coefficients] : starts) {
+            level.coefficients = coefficients;
+            const double value = solve(true, !screen, starts.size() > 1);
+            if (starts.size() > 1 && progress)
+                progress({m, 0, value, secondsSince(start),
+                          fmt::format("objective after {} from {}", screen ? "Levenberg-Marquardt" : "the fit", name)});
+            if (value < bestObjective || fitted.empty()) {
                 bestObjective = value;
                 fitted = level.coefficients;
             }
         }
         level.coefficients = fitted;
+        if (screen) solve(false, true, false);
 
         if (fallback && fitScore(model, constBlocks.data(), texels) > fallback->first) {
             level.coefficients = fallback->second;

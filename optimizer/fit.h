@@ -39,6 +39,9 @@ struct FitSettings {
     // Fits per level: from the best start candidate and, where > 1, also from starts - 1 importance
     // layouts (initial_layout.h) turned apart about the axis; the lowest objective is kept.
     int starts = 1;
+    // With several starts and lm-bfgs, only the start with the lowest objective after
+    // Levenberg-Marquardt goes on to BFGS; screenAll runs every start in full.
+    bool screenAll = false;
     bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
     // Levels to fit (empty: all); the others are copied from the first init, which then must have the

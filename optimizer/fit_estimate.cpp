@@ -33,9 +33,14 @@ FitEstimate estimateFit(const FitSettings& settings) {
     const std::size_t parameters = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(parameters), weightGradient(parameters);
     const double threads = std::max(1, omp_get_max_threads());
+    // Iterations per level over all starts (at the full texel budget): every start runs the first
+    // solver, and the second too unless only the best start after the first goes on (fit.h).
+    const int starts = std::max(1, settings.starts);
+    const bool screen = settings.solver == FitSolver::lmBfgs && !settings.screenAll;
     int iterations = 0;
-    if (settings.solver != FitSolver::bfgs) iterations += settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
-    if (settings.solver != FitSolver::lm) iterations += settings.maxIterations;
+    if (settings.solver != FitSolver::bfgs)
+        iterations += starts * (settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations);
+    if (settings.solver != FitSolver::lm) iterations += (screen ? 1 : starts) * settings.maxIterations;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         if (alpha <= 0.0) {
@@ -58,9 +63,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = kernel * fitTexels;
-        if (fitted)
-            seconds += perTexel * fitTexels * kEvaluationsPerIteration * std::max(1, settings.starts) *
-                       levelIterations(settings, iterations, stratified.size());
+        if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterations(settings, iterations, stratified.size());
         if (settings.measureAll) {
             const double all = static_cast<double>(texelCount(settings.baseSize >> m));
             seconds += (kernel + perTexel) * all;

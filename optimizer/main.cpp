@@ -236,6 +236,9 @@ int main(int argc, char** argv) {
                    "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
                    "turned apart); the lowest objective is kept")
         ->capture_default_str();
+    app.add_flag("--screen-all", settings.screenAll,
+                 "with several starts, run each through both solvers (default with lm-bfgs: only the lowest objective after "
+                 "Levenberg-Marquardt goes on to BFGS)");
     app.add_option("--fit-levels", settings.fitLevels,
                    "fit only these levels (comma-separated); the others are copied from the first --init, which must "
                    "have the table's taps and form")

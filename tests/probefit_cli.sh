@@ -36,14 +36,23 @@ awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(
 # --estimate says how long the fit takes and writes nothing.
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --estimate >"$work/estimate.log" || fail "--estimate: exit $?"
 grep -q '^estimate: about [0-9]* s' "$work/estimate.log" || fail "--estimate: no estimate line: $(cat "$work/estimate.log")"
-# --starts 2 fits each level from the best start and from an importance layout, and keeps the lower
-# objective (here the L1: no seam term, no --init).
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --out "$work/two" >"$work/two.log" ||
-    fail "two starts"
+# --starts 2 --screen-all fits each level from the best start and from an importance layout, and
+# keeps the lower objective (here the L1: no seam term, no --init).
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --screen-all --out "$work/two" \
+    >"$work/two.log" || fail "two starts"
 [[ $(grep -c '^level [1-3] objective after the fit from' "$work/two.log") -eq 6 ]] || fail "--starts 2: not two fits per level"
 awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2 in best) || f < best[$2]) best[$2] = f }
      / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best " best[$2]; bad = 1 } } END { exit bad }' \
     "$work/two.log" || fail "--starts 2 did not keep the best fit: $(grep -E 'objective|done' "$work/two.log")"
+# Without --screen-all both starts run Levenberg-Marquardt, and only the lower goes on to BFGS, which
+# only lowers it.
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --out "$work/screened" \
+    >"$work/screened.log" || fail "two screened starts"
+[[ $(grep -c '^level [1-3] objective after Levenberg-Marquardt from' "$work/screened.log") -eq 6 &&
+    $(grep -c 'objective after the fit' "$work/screened.log") -eq 0 ]] || fail "--starts 2: not two screened starts per level"
+awk '/objective after Levenberg-Marquardt from/ { f = $(NF - 2); if (!($2 in best) || f < best[$2]) best[$2] = f }
+     / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best start " best[$2]; bad = 1 } } END { exit bad }' \
+    "$work/screened.log" || fail "--starts 2 did not go on from the best start: $(grep -E 'objective|done' "$work/screened.log")"
 # --fit-levels refits only the levels named: the others keep the first --init's coefficients bit for bit.
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
     --out "$work/level2" >"$work/level2.log" || fail "--fit-levels 2"
