@@ -279,9 +279,7 @@ std::string solverDescription(const FitSettings& s) {
                        CERES_VERSION_STRING, method, tail, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
                        s.starts > 1
                            ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
-                                         s.solver == FitSolver::lmBfgs && !s.screenAll
-                                             ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)"
-                                             : "")
+                                         screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
                            : "");
 }
 
@@ -342,6 +340,10 @@ void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::v
 }
 
 } // namespace
+
+bool screensStarts(const FitSettings& settings) {
+    return settings.starts > 1 && settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+}
 
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels) {
     const double budget = settings.stratifiedBudget;
@@ -493,7 +495,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
         // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
         // full and the lowest objective is kept).
-        const bool screen = starts.size() > 1 && settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+        const bool screen = screensStarts(settings);
         double bestObjective = 1e300;
         std::vector<double> fitted;
         for (const auto& [name, coefficients] : starts) {

@@ -62,6 +62,9 @@ struct FitProgress {
     int evaluations = 0;            // model evaluations over all stratified texels
 };
 
+// Whether only the start with the lowest objective after Levenberg-Marquardt goes on to BFGS.
+bool screensStarts(const FitSettings& settings);
+
 // The iteration limit of a level with `texels` stratified texels, for `iterations` at the full budget.
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels);
 

@@ -36,7 +36,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
     // Iterations per level over all starts (at the full texel budget): every start runs the first
     // solver, and the second too unless only the best start after the first goes on (fit.h).
     const int starts = std::max(1, settings.starts);
-    const bool screen = settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+    const bool screen = screensStarts(settings);
     int iterations = 0;
     if (settings.solver != FitSolver::bfgs)
         iterations += starts * (settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations);
