@@ -9,6 +9,7 @@
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 
+#include "checker_term.h"
 #include "evaluate.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
@@ -36,13 +37,15 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 //   f = sum_R a_R e_R + sum_R a_R p_R^2 + (W / P) sum_pairs s_pair,
 //   p_R = kPenalty * max(0, kMinWeightSum - weightSum_R / scale),
 // the weighted mean L1, a penalty where the weight sum drops below kMinWeightSum of its mean at the
-// start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). Terms are
-// computed in parallel and summed in order, so the result does not depend on the number of threads.
+// start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). e_R includes
+// the tail term and, with --checker-weight C, C c_R (checker_term.h). Terms are computed in parallel
+// and summed in order, so the result does not depend on the number of threads.
 class LevelObjective {
 public:
     LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
-                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight)
-        : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight) {
+                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight, const CheckerTerm& checker)
+        : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight),
+          checker_(checker) {
         for (const OutputTexel& t : texels) weightTotal_ += t.weight;
     }
 
@@ -74,6 +77,14 @@ public:
                 Term& t = terms[n];
                 t.a = texels_[n].weight / weightTotal_;
                 t.error = r.error + model_.tailWeight() * r.tail;
+                if (checker_.weight > 0.0) {
+                    scratch.resize(p);
+                    const double c = checkerError(model_, blocks, texels_[n], checker_.reference[n], checker_.basis,
+                                                  errorGradient ? scratch.data() : nullptr);
+                    t.error += checker_.weight * c;
+                    if (errorGradient)
+                        for (std::size_t q = 0; q < p; ++q) errorGradient[n * p + q] += checker_.weight * scratch[q];
+                }
                 t.penalty = deficit > 0.0 ? kPenalty * deficit : 0.0;
                 t.penaltySlope = deficit > 0.0 ? -kPenalty / weightScale_ : 0.0;
             }
@@ -109,6 +120,7 @@ private:
     const std::vector<SeamPair>& pairs_;
     const MomentBasis& basis_;
     double seamWeight_;
+    const CheckerTerm& checker_;
     double weightTotal_ = 0.0;
     mutable double seconds_ = 0.0;
     mutable int evaluations_ = 0;
@@ -268,19 +280,24 @@ std::string solverDescription(const FitSettings& s) {
                                                "reference's)",
                                                s.seamWeight, s.seamPairBudget)
                                  : "";
+    const std::string checker = s.checkerWeight > 0.0
+                                    ? fmt::format(" (plus {} x the checker term: the error of the response on +-1 checkerboards of "
+                                                  "squares S/4 to S/32 texels, two phases each)",
+                                                  s.checkerWeight)
+                                    : "";
     const std::string tail =
         s.tailWeight > 0.0 ? fmt::format(" (each texel's L1 plus {} x |W - K|, its mass beyond {} texels of the lobe centre against the "
                                          "reference's)",
                                          s.tailWeight, kTailTexels)
                            : "";
-    return fmt::format("Ceres {}: {} on the weighted mean impulse L1{} over the stratified output texels{}, per level; "
-                       "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-                       "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
-                       CERES_VERSION_STRING, method, tail, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
-                       s.starts > 1
-                           ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
-                                         screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
-                           : "");
+    return fmt::format(
+        "Ceres {}: {} on the weighted mean impulse L1{}{} over the stratified output texels{}, per level; "
+        "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
+        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
+        CERES_VERSION_STRING, method, tail, checker, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
+        s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
+                                   screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
+                     : "");
 }
 
 struct SolveReport {
@@ -321,10 +338,13 @@ SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObject
     return {summary.num_successful_steps, summary.total_time_in_seconds};
 }
 
-// What decides between the fit and an exact --init: the mean L1, plus the tail term where it is on.
-double fitScore(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {
+// What decides between the fit and an exact --init: the mean L1, plus the tail and checker terms
+// where they are on.
+double fitScore(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels,
+                const CheckerTerm& checker) {
     const LevelEvaluation e = evaluatePrepared(model, blocks, texels);
-    return e.error.mean + model.tailWeight() * e.tailMean;
+    const double c = checker.weight > 0.0 ? checker.weight * meanCheckerError(model, blocks, texels, checker) : 0.0;
+    return e.error.mean + model.tailWeight() * e.tailMean + c;
 }
 
 // Records level m's L1 (stratified and, with `all`, over every texel) and lowest weight sum in the table.
@@ -382,6 +402,10 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     const MomentBasis basis(settings.baseSize, settings.pyramid);
+    const std::optional<MomentBasis> checkers =
+        settings.checkerWeight > 0.0
+            ? std::optional<MomentBasis>(std::in_place, settings.baseSize, settings.pyramid, MomentFunctions::checkers)
+            : std::nullopt;
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -393,6 +417,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const auto kernelStart = Clock::now();
         const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget),
                                                               settings.baseSize, m, alpha, settings.tailWeight > 0.0);
+        const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);
         if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
             startFromTable(table, m, settings.inits.front());
@@ -420,7 +445,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
             startFromTable(table, m, init);
             if (init.form == settings.form || init.form == TableForm::constant) {
-                const double score = fitScore(model, levelBlocks(table, m).data(), texels);
+                const double score = fitScore(model, levelBlocks(table, m).data(), texels, checker);
                 if (progress) progress({m, 0, score, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
                 if (!fallback || score < fallback->first) fallback.emplace(score, level.coefficients);
             }
@@ -461,6 +486,11 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, nullptr, scratch);
             progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
         };
+        auto reportChecker = [&](const char* when) {
+            if (checker.weight > 0.0 && progress)
+                progress({m, 0, meanCheckerError(model, constBlocks.data(), texels, checker), secondsSince(start),
+                          fmt::format("checker term {}", when)});
+        };
         SolveReport report;
         double modelSeconds = 0.0;
         int evaluations = 0;
@@ -468,8 +498,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         // level.coefficients; returns the objective at the end where `compare` (one more evaluation).
         auto solve = [&](bool lm, bool bfgs, bool compare) {
             const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
-                                           settings.seamWeight);
+                                           settings.seamWeight, checker);
             reportSeam("at the start");
+            reportChecker("at the start");
             if (lm && settings.solver != FitSolver::bfgs) {
                 ProgressCallback callback(progress, m, start, 2.0);
                 std::vector<double*> blocks;
@@ -512,11 +543,12 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         level.coefficients = fitted;
         if (screen) solve(false, true, false);
 
-        if (fallback && fitScore(model, constBlocks.data(), texels) > fallback->first) {
+        if (fallback && fitScore(model, constBlocks.data(), texels, checker) > fallback->first) {
             level.coefficients = fallback->second;
             if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
         }
         reportSeam("after the fit");
+        reportChecker("after the fit");
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));
         recordLevel(table, m, model, texels, false);

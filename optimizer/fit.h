@@ -36,6 +36,8 @@ struct FitSettings {
     int seamPairBudget = 128;
     // The tail term's weight T (impulse_model.h): each texel's e + T |W - K| (0: off).
     double tailWeight = 0.0;
+    // The checker term's weight C (checker_term.h): each texel's e + C c (0: off).
+    double checkerWeight = 0.0;
     // Fits per level: from the best start candidate and, where > 1, also from starts - 1 importance
     // layouts (initial_layout.h) turned apart about the axis; the lowest objective is kept.
     int starts = 1;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <omp.h>
 
+#include "checker_term.h"
 #include "evaluate.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
@@ -41,6 +43,11 @@ FitEstimate estimateFit(const FitSettings& settings) {
     if (settings.solver != FitSolver::bfgs)
         iterations += starts * (settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations);
     if (settings.solver != FitSolver::lm) iterations += (screen ? 1 : starts) * settings.maxIterations;
+    // The checker term's moments (and the reference's, once per texel) cost beside the L1.
+    const std::optional<MomentBasis> checkers =
+        settings.checkerWeight > 0.0
+            ? std::optional<MomentBasis>(std::in_place, settings.baseSize, settings.pyramid, MomentFunctions::checkers)
+            : std::nullopt;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         if (alpha <= 0.0) {
@@ -59,6 +66,11 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const double kernel = secondsSince(kernelStart) / static_cast<double>(timed.size());
         const auto modelStart = Clock::now();
         for (const OutputTexel& t : texels) model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
+        if (checkers) {
+            const CheckerTerm term = prepareCheckerTerm(texels, *checkers, settings.checkerWeight);
+            for (std::size_t n = 0; n < texels.size(); ++n)
+                checkerError(model, levelBlocks(table, m).data(), texels[n], term.reference[n], *checkers, gradient.data());
+        }
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();

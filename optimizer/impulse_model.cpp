@@ -104,7 +104,25 @@ void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps,
 
 } // namespace
 
-MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
+namespace {
+
+// Checkerboard j of MomentBasis at texel (face, i, j) of a face of `size`: +1 or -1.
+std::array<double, kMomentCount> checkerValues(const Texel& t, int size) {
+    std::array<double, kMomentCount> y{};
+    for (int n = 0; n < kMomentCount / 2; ++n) {
+        const int square = std::max(1, size >> (n + 2));
+        for (int shift = 0; shift < 2; ++shift) {
+            const int offset = shift * square / 2;
+            const int parity = ((t.i + offset) / square + (t.j + offset) / square + t.face) % 2;
+            y[2 * n + shift] = parity ? 1.0 : -1.0;
+        }
+    }
+    return y;
+}
+
+} // namespace
+
+MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid, MomentFunctions functions) {
     const CubeGeometry geometry(baseSize);
     const std::vector<DownsampleOperator> operators = pyramidOperators(baseSize, pyramid);
     const int top = pyramidLevelCount(baseSize) - 1;
@@ -113,10 +131,19 @@ MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
         component[k].assign(texelCount(baseSize >> k), 0.0);
         levels_.emplace_back(component[k].size() * kMomentCount);
     }
-    for (std::size_t t = 0; t < geometry.directions.size(); ++t) {
-        const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
-        std::copy(y.begin() + 1, y.end(), levels_[0].begin() + static_cast<std::ptrdiff_t>(t * kMomentCount));
-    }
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < baseSize; ++j)
+            for (int i = 0; i < baseSize; ++i) {
+                const std::size_t t = texelIndex({f, i, j}, baseSize);
+                const auto at = levels_[0].begin() + static_cast<std::ptrdiff_t>(t * kMomentCount);
+                if (functions == MomentFunctions::checkers) {
+                    const std::array<double, kMomentCount> y = checkerValues({f, i, j}, baseSize);
+                    std::copy(y.begin(), y.end(), at);
+                } else {
+                    const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
+                    std::copy(y.begin() + 1, y.end(), at);
+                }
+            }
     // Each function pulled up on its own: the pyramid operators act on one value per texel.
     for (int j = 0; j < kMomentCount; ++j) {
         for (std::size_t t = 0; t < component[0].size(); ++t) component[0][t] = levels_[0][t * kMomentCount + j];
@@ -124,6 +151,17 @@ MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid) {
         for (int k = 1; k <= top; ++k)
             for (std::size_t p = 0; p < component[k].size(); ++p) levels_[k][p * kMomentCount + j] = component[k][p];
     }
+}
+
+std::array<double, kMomentCount> kernelMoments(const OutputTexel& texel, const MomentBasis& basis) {
+    std::array<double, kMomentCount> m{};
+    for (std::size_t t = 0; t < texel.kernel.size(); ++t) {
+        const double k = static_cast<double>(texel.kernel[t]);
+        if (k == 0.0) continue;
+        const double* y = basis.at(static_cast<std::uint32_t>(t));
+        for (int j = 0; j < kMomentCount; ++j) m[j] += k * y[j];
+    }
+    return m;
 }
 
 ImpulseModel::Result ImpulseModel::evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,

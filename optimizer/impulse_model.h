@@ -39,14 +39,19 @@ OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::Cube
 std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha,
                                        bool tail = false);
 
-// The smooth functions whose moments the seam term of the fit compares: the order-1 and order-2 real
-// SH (probe/sh.h without the constant, which every normalized response reproduces), per base texel,
-// and pulled up the pyramid: since a moment is linear in the response, the moment of a weight on
-// pyramid texel p is that weight times the pulled-up basis at p, and no response needs building.
+// Functions of the base texels whose moments the fit's terms compare, pulled up the pyramid: since a
+// moment is linear in the response, the moment of a weight on pyramid texel p is that weight times
+// the pulled-up basis at p, and no response needs building.
+//   sh: the order-1 and order-2 real SH (probe/sh.h without the constant, which every normalized
+//       response reproduces): the smooth content of the seam term (seam_term.h).
+//   checkers: +-1 checkerboards of squares S/4, S/8, S/16 and S/32 texels (at least 1), each aligned
+//       with the face and shifted by half a square, the colour flipped from face to face: the sharp,
+//       high-frequency content of the checker term (checker_term.h).
 inline constexpr int kMomentCount = 8;
+enum class MomentFunctions { sh, checkers };
 class MomentBasis {
 public:
-    MomentBasis(int baseSize, probe::PyramidSettings pyramid);
+    MomentBasis(int baseSize, probe::PyramidSettings pyramid, MomentFunctions functions = MomentFunctions::sh);
     const double* at(std::uint32_t texel) const { return at(0, texel); }
     const double* at(int level, std::uint32_t texel) const {
         return &levels_[static_cast<std::size_t>(level)][static_cast<std::size_t>(texel) * kMomentCount];
@@ -112,6 +117,9 @@ private:
     std::vector<probe::DownsampleOperator> operators_;
     DensePasses dense_;
 };
+
+// The reference's moments: sum_t k(R, t) Y_j(t) over the texel's kernel.
+std::array<double, kMomentCount> kernelMoments(const OutputTexel& texel, const MomentBasis& basis);
 
 // Block pointers into one level's coefficients of a table.
 std::vector<const double*> levelBlocks(const probe::TapTable& table, int level);

@@ -56,6 +56,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
     if (settings.tailWeight < 0.0 || !std::isfinite(settings.tailWeight))
         throw ProbeError(fmt::format("--tail-weight: {} is not a weight >= 0", settings.tailWeight));
+    if (settings.checkerWeight < 0.0 || !std::isfinite(settings.checkerWeight))
+        throw ProbeError(fmt::format("--checker-weight: {} is not a weight >= 0", settings.checkerWeight));
     if (settings.starts < 1) throw ProbeError(fmt::format("--starts: {} is not a positive count", settings.starts));
     if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
@@ -86,8 +88,14 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     // solver's own work, and everything else (start candidates, the measurement over all texels).
     double kernels = 0.0, evaluation = 0.0, solverOwn = 0.0;
     int evaluations = 0;
-    const std::string objective =
-        fmt::format("L1{}{}", settings.tailWeight > 0.0 ? " + T tail" : "", settings.seamWeight > 0.0 ? " + W s" : "");
+    const std::string objective = fmt::format("L1{}{}{}", settings.tailWeight > 0.0 ? " + T tail" : "",
+                                              settings.checkerWeight > 0.0 ? " + C c" : "", settings.seamWeight > 0.0 ? " + W s" : "");
+    // What a progress line's value is: a term's mean, the objective, or the L1.
+    auto quantityOf = [](const std::string& stage) {
+        if (stage.starts_with("seam term")) return "mean s";
+        if (stage.starts_with("checker term")) return "mean c";
+        return stage.starts_with("objective") ? "f" : "L1";
+    };
     const TapTable table = probefit::fitTable(settings, [&](const probefit::FitProgress& p) {
         if (p.stage == "iteration")
             fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration, objective, p.l1, p.seconds);
@@ -99,9 +107,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
             evaluation += p.evaluationSeconds;
             solverOwn += p.solverSeconds;
             evaluations += p.evaluations;
-        } else
-            fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage,
-                       p.stage.starts_with("seam term") ? "mean s" : (p.stage.starts_with("objective") ? "f" : "L1"), p.l1, p.seconds);
+        } else fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, quantityOf(p.stage), p.l1, p.seconds);
         std::fflush(stdout);
     });
     fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
@@ -230,6 +236,10 @@ int main(int argc, char** argv) {
     app.add_option("--tail-weight", settings.tailWeight,
                    "weight of the tail term (per texel, the response's mass beyond 3 texels of the lobe centre against "
                    "the reference's) beside the L1; 0: off")
+        ->capture_default_str();
+    app.add_option("--checker-weight", settings.checkerWeight,
+                   "weight of the checker term (per texel, the response's error on +-1 checkerboards of several "
+                   "scales: the aliasing of sharp content) beside the L1; 0: off")
         ->capture_default_str();
     app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
     app.add_option("--starts", settings.starts,

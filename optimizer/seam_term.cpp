@@ -10,21 +10,6 @@ namespace probefit {
 
 using namespace probe;
 
-namespace {
-
-std::array<double, kMomentCount> kernelMoments(const OutputTexel& texel, const MomentBasis& basis) {
-    std::array<double, kMomentCount> m{};
-    for (std::size_t t = 0; t < texel.kernel.size(); ++t) {
-        const double k = static_cast<double>(texel.kernel[t]);
-        if (k == 0.0) continue;
-        const double* y = basis.at(static_cast<std::uint32_t>(t));
-        for (int j = 0; j < kMomentCount; ++j) m[j] += k * y[j];
-    }
-    return m;
-}
-
-} // namespace
-
 std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, int budget, const MomentBasis& basis) {
     const int size = baseSize >> level;
     // Every unordered pair of edge neighbours once: from the texel with the lower index.

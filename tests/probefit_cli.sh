@@ -54,8 +54,11 @@ awk '/objective after Levenberg-Marquardt from/ { f = $(NF - 2); if (!($2 in bes
      / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best start " best[$2]; bad = 1 } } END { exit bad }' \
     "$work/screened.log" || fail "--starts 2 did not go on from the best start: $(grep -E 'objective|done' "$work/screened.log")"
 # --fit-levels refits only the levels named: the others keep the first --init's coefficients bit for bit.
+# The fit takes the tail and checker terms too, and reports the checker term before and after.
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
-    --out "$work/level2" >"$work/level2.log" || fail "--fit-levels 2"
+    --checker-weight 4 --out "$work/level2" >"$work/level2.log" || fail "--fit-levels 2"
+[[ $(grep -c '^level 2 checker term \(at the start\|after the fit\): mean c [0-9.]' "$work/level2.log") -eq 2 ]] ||
+    fail "--checker-weight: no checker term reported: $(grep -E 'checker|done' "$work/level2.log")"
 [[ $(grep -c '^level [13] copied from --init' "$work/level2.log") -eq 2 && $(grep -c '^level 2 done' "$work/level2.log") -eq 1 ]] ||
     fail "--fit-levels 2: not level 2 alone fitted: $(grep -E 'copied|done' "$work/level2.log")"
 python3 - "$work/small.json" "$work/level2.json" <<'PY' || fail "--fit-levels 2 did not keep levels 0, 1 and 3"
@@ -111,6 +114,7 @@ expect_refused init-layout     "$work/wrong-layout.json" $(fit --size 16 --level
 expect_refused seam-weight     "--seam-weight"          $(fit --size 16 --seam-weight -1)
 expect_refused seam-pairs      "--seam-pairs"           $(fit --size 16 --seam-pairs 0)
 expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-weight nan)
+expect_refused checker-weight  "--checker-weight"       $(fit --size 16 --checker-weight -2)
 expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
 expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
