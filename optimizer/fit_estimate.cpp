@@ -63,14 +63,15 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const auto kernelStart = Clock::now();
         std::vector<OutputTexel> texels;
         for (const WeightedTexel& t : timed) texels.push_back(makeOutputTexel(t, geometry, m, alpha));
+        // The reference's checker moments are computed once per texel, like its kernel.
+        std::vector<std::array<double, kMomentCount>> checkerReference;
+        if (checkers) checkerReference = prepareCheckerTerm(texels, *checkers, settings.checkerWeight).reference;
         const double kernel = secondsSince(kernelStart) / static_cast<double>(timed.size());
         const auto modelStart = Clock::now();
         for (const OutputTexel& t : texels) model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
-        if (checkers) {
-            const CheckerTerm term = prepareCheckerTerm(texels, *checkers, settings.checkerWeight);
+        if (checkers)
             for (std::size_t n = 0; n < texels.size(); ++n)
-                checkerError(model, levelBlocks(table, m).data(), texels[n], term.reference[n], *checkers, gradient.data());
-        }
+                checkerError(model, levelBlocks(table, m).data(), texels[n], checkerReference[n], *checkers, gradient.data());
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();

@@ -8,6 +8,7 @@
 #include "probe/cube_sampling.h"
 #include "probe/reference.h"
 #include "probe/sh.h"
+#include "probe/synthetic.h"
 #include "tail_check.h"
 
 namespace probefit {
@@ -102,20 +103,12 @@ void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps,
     }
 }
 
-} // namespace
-
-namespace {
-
-// Checkerboard j of MomentBasis at texel (face, i, j) of a face of `size`: +1 or -1.
+// The checkerboards of MomentBasis at texel t of a face of `size`: +1 or -1 each.
 std::array<double, kMomentCount> checkerValues(const Texel& t, int size) {
     std::array<double, kMomentCount> y{};
     for (int n = 0; n < kMomentCount / 2; ++n) {
         const int square = std::max(1, size >> (n + 2));
-        for (int shift = 0; shift < 2; ++shift) {
-            const int offset = shift * square / 2;
-            const int parity = ((t.i + offset) / square + (t.j + offset) / square + t.face) % 2;
-            y[2 * n + shift] = parity ? 1.0 : -1.0;
-        }
+        for (int shift = 0; shift < 2; ++shift) y[2 * n + shift] = onLightSquare(t, square, shift * square / 2) ? 1.0 : -1.0;
     }
     return y;
 }

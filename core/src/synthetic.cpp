@@ -74,7 +74,7 @@ CubeImage checkerProbe(int faceSize) {
     for (int f = 0; f < kFaceCount; ++f)
         for (int j = 0; j < faceSize; ++j)
             for (int i = 0; i < faceSize; ++i)
-                cube.set(texelIndex({f, i, j}, faceSize), glm::vec3(((i / square + j / square + f) % 2) ? 1.0f : 0.05f));
+                cube.set(texelIndex({f, i, j}, faceSize), glm::vec3(onLightSquare({f, i, j}, square) ? 1.0f : 0.05f));
     return cube;
 }
 

@@ -26,6 +26,11 @@ CubeImage roomProbe(int faceSize);
 
 // A checkerboard of 8 x 8 squares per face, 0.05 and 1.
 CubeImage checkerProbe(int faceSize);
+// The checkerboard pattern: whether texel t lies on a light square, for squares of `square` texels
+// shifted by `offset` texels along both face axes; the colours flip from face to face.
+inline bool onLightSquare(const Texel& t, int square, int offset = 0) {
+    return ((t.i + offset) / square + (t.j + offset) / square + t.face) % 2 != 0;
+}
 
 // By name: constant, sky, sunsky, room, checker. Throws ProbeError for an unknown name.
 CubeImage syntheticProbe(std::string_view name, int faceSize);
