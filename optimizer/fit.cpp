@@ -8,6 +8,7 @@
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "checker_term.h"
 #include "evaluate.h"
@@ -383,6 +384,10 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
+    // A partial refit names the levels it fitted and keeps the provenance of those it copied.
+    if (!settings.fitLevels.empty() && !settings.inits.empty())
+        table.solver = fmt::format("levels {}: {}; the other levels copied from the first --init: [{}]",
+                                   fmt::join(settings.fitLevels, ", "), table.solver, settings.inits.front().solver);
     table.seamWeight = settings.seamWeight;
     for (const TapTable& init : settings.inits) {
         if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)

@@ -169,11 +169,12 @@ int runTail(const std::string& path) {
 }
 
 // Assembles a table level by level from fits of the same shape (seam_select.h) and prints the choice.
-int runSelect(const std::vector<std::string>& paths, const std::string& out) {
+int runSelect(const std::vector<std::string>& paths, const std::string& out, bool first) {
     std::vector<probefit::SeamCandidate> candidates;
     for (const std::string& path : paths) candidates.push_back({std::filesystem::path(path).stem().string(), readTable(path)});
     probefit::checkWritable(out);
-    const probefit::SeamSelection selection = probefit::selectWithinSeamBound(candidates);
+    const probefit::SeamSelection selection =
+        probefit::selectWithinSeamBound(candidates, first ? probefit::SelectOrder::first : probefit::SelectOrder::lowestL1);
     bool allWithin = true;
     for (int m = 0; m < selection.table.levelCount; ++m) {
         const probefit::LevelSelection& level = selection.levels[m];
@@ -281,6 +282,10 @@ int main(int argc, char** argv) {
     std::string selectOut;
     select->add_option("tables", selectSources, "candidate table files")->required();
     select->add_option("--out", selectOut, "output prefix")->required();
+    bool selectFirst = false;
+    select->add_flag("--first", selectFirst,
+                     "per level, the first table listed within the bound instead of the lowest L1 (for fits of another objective, "
+                     "listed before the fits they refine)");
 
     CLI::App* mix = app.add_subcommand("mix", "a table whose levels use different tap counts: level m from the m-th table, "
                                               "padded with taps of zero weight");
@@ -292,7 +297,7 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
         if (mix->parsed()) return runMix(mixSources, mixOut);
-        if (select->parsed()) return runSelect(selectSources, selectOut);
+        if (select->parsed()) return runSelect(selectSources, selectOut, selectFirst);
         if (eval->parsed()) return runEval(table, texels, tolerance);
         if (tail->parsed()) return runTail(tailTable);
         if (exportTable->parsed()) {

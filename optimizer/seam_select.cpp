@@ -41,7 +41,7 @@ std::vector<bool> tailReached(const TapTable& table) {
 
 } // namespace
 
-SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates) {
+SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates, SelectOrder order) {
     checkSameShape(candidates);
     const TapTable& shape = candidates.front().table;
     const CubeImage sky = skyProbe(shape.baseSize);
@@ -68,12 +68,13 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
             level.tailReached.push_back(tails[k][m]);
             if (level.seamRatios[k] < level.seamRatios[nearest]) nearest = k;
         }
-        // The lowest L1 within the seam bound among the fits that reach the tail, else among all.
+        // The lowest L1 (or the first) within the seam bound among the fits that reach the tail, else among all.
         bool found = false;
         for (const bool needTail : {true, false}) {
             for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
                 if (level.seamRatios[k] > level.bound || (needTail && !tails[k][m])) continue;
-                if (!found || levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all)) {
+                if (!found || (order == SelectOrder::lowestL1 &&
+                               levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all))) {
                     level.chosen = k;
                     found = true;
                 }
@@ -95,10 +96,11 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     std::vector<std::string> fits;
     for (const SeamCandidate& c : candidates)
         fits.push_back(fmt::format("[{}: seam weight {}, {}]", c.name, c.table.seamWeight, c.table.solver));
-    selection.table.solver = fmt::format("probefit select: per level, the lowest impulse L1 among {} fits whose seams stay within "
-                                         "the bound of seam_measure.h, those that reach the lobe's tail first (level: fit) {}; "
-                                         "the fits: {}",
-                                         candidates.size(), sources, fmt::join(fits, " "));
+    selection.table.solver =
+        fmt::format("probefit select: per level, the {} among {} fits whose seams stay within "
+                    "the bound of seam_measure.h, those that reach the lobe's tail first (level: fit) {}; "
+                    "the fits: {}",
+                    order == SelectOrder::first ? "first listed" : "lowest impulse L1", candidates.size(), sources, fmt::join(fits, " "));
     return selection;
 }
 

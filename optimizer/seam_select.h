@@ -1,6 +1,7 @@
 // `probefit select`: a table assembled level by level from several fits of the same shape (different
 // seam weights, iterations or starts). Output levels are independent filters, so each level takes the
-// fit with the lowest impulse L1 among those whose seams stay within the bound of seam_measure.h and,
+// fit with the lowest impulse L1 (or the first listed) among those whose seams stay within the bound of
+// seam_measure.h and,
 // where any of those does, that reach the lobe's tail (tail_check.h): multi-start under constraints
 // that the L1 alone does not see.
 #pragma once
@@ -31,8 +32,12 @@ struct SeamSelection {
     std::vector<LevelSelection> levels;
 };
 
+// What a level takes among the candidates within the bound: the lowest impulse L1, or the first in
+// order (for fits of another objective than the L1 alone, listed before the fits they refine).
+enum class SelectOrder { lowestL1, first };
+
 // Throws ProbeError naming the candidate unless every candidate has the first one's size, levels,
 // taps, form, mapping and pyramid. Costs the exact reference of the sky at the table's size.
-SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates);
+SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates, SelectOrder order = SelectOrder::lowestL1);
 
 } // namespace probefit

@@ -66,6 +66,12 @@ import json, sys
 a, b = (json.load(open(f))["levels"] for f in sys.argv[1:])
 sys.exit(0 if all(a[m]["coefficients"] == b[m]["coefficients"] for m in (0, 1, 3)) else "a level other than 2 changed")
 PY
+# Its solver text names the level it fitted and carries the init's for the levels it copied.
+python3 - "$work/small.json" "$work/level2.json" <<'PY' || fail "--fit-levels 2: solver text without its provenance"
+import json, sys
+init, refit = (json.load(open(f))["solver"] for f in sys.argv[1:])
+sys.exit(0 if refit.startswith("levels 2: ") and refit.endswith(f"the other levels copied from the first --init: [{init}]") else refit)
+PY
 # tail prints every level with alpha > 0 at the three texels, and exits 0 or 1 (in or out of the bound).
 "$PROBEFIT" tail "$work/small.json" >"$work/tail.log"
 code=$?

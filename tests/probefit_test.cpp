@@ -316,7 +316,7 @@ TEST(Evaluate, StratifiedMeanEstimatesTheAllTexelMean) {
     }
 }
 
-TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
+TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     // Candidates at 16^2: the committed quad 8x3 table (within the bound at every level), a short fit
     // without the seam term, and the committed table with big random offsets that claims an L1 of 0.
     // Every level must be one candidate's level, within the seam bound, with the lowest L1 among the
@@ -386,6 +386,28 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1WithinTheBound) {
         EXPECT_EQ(candidates[level.chosen].table.levels[m].stratified.mean, bestWithin) << "level " << m;
     }
     EXPECT_GT(roughRefused, 0) << "the rough candidate should step across the edges at some level";
+
+    // --first: per level the first candidate listed within the bound (those that reach the tail first),
+    // whatever its L1: the rough candidate where its seams allow, else the next.
+    const std::vector<std::size_t> order{3, 2, 1, 0};
+    std::vector<SeamCandidate> listed;
+    for (std::size_t k : order) listed.push_back(candidates[k]);
+    const SeamSelection first = selectWithinSeamBound(listed, SelectOrder::first);
+    int roughKept = 0;
+    for (int m = 1; m < settings.levelCount; ++m) {
+        int expected = -1;
+        for (const bool needTail : {true, false}) {
+            for (std::size_t i = 0; i < order.size() && expected < 0; ++i) {
+                const double ratio = seamRatio(tableFilter(sky, listed[i].table)[m]);
+                if ((bounds[m] == 0.0 || ratio <= bounds[m]) && (!needTail || reachesTail(order[i], m))) expected = static_cast<int>(i);
+            }
+            if (expected >= 0) break;
+        }
+        EXPECT_EQ(first.levels[m].chosen, expected) << "level " << m;
+        EXPECT_EQ(first.table.levels[m].coefficients, listed[first.levels[m].chosen].table.levels[m].coefficients);
+        roughKept += first.levels[m].chosen == 0;
+    }
+    EXPECT_GT(roughKept, 0) << "the rough candidate should be within the bound at some level";
 }
 
 TEST(SeamSelect, RefusesCandidatesOfAnotherShape) {
