@@ -1,9 +1,8 @@
 // `probefit select`: a table assembled level by level from several fits of the same shape (different
 // seam weights, iterations or starts). Output levels are independent filters, so each level takes the
 // fit with the lowest impulse L1 (or the first listed) among those whose seams stay within the bound of
-// seam_measure.h and,
-// where any of those does, that reach the lobe's tail (tail_check.h): multi-start under constraints
-// that the L1 alone does not see.
+// seam_measure.h and, where any of those does, that reach the lobe's tail (tail_check.h): multi-start
+// under constraints that the L1 alone does not see.
 #pragma once
 
 #include <string>
