@@ -294,11 +294,13 @@ std::string solverDescription(const FitSettings& s) {
     return fmt::format(
         "Ceres {}: {} on the weighted mean impulse L1{}{} over the stratified output texels{}, per level; "
         "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}",
+        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}{}",
         CERES_VERSION_STRING, method, tail, checker, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
                                    screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
-                     : "");
+                     : "",
+        s.hops > 0 ? fmt::format("; then {} hops (the fit's taps moved at random and refitted, kept where the objective is lower)", s.hops)
+                   : "");
 }
 
 struct SolveReport {
@@ -547,6 +549,18 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         }
         level.coefficients = fitted;
         if (screen) solve(false, true, false);
+        // Hops: refits from the best fit so far, moved at random; a hop that lowers the objective is kept.
+        if (settings.hops > 0) {
+            double current = solve(false, false, true);
+            for (int k = 0; k < settings.hops; ++k) {
+                const std::vector<double> kept = level.coefficients;
+                hopLayout(table, m, alpha, static_cast<unsigned>(1000 * m + k));
+                const double value = solve(true, true, true);
+                if (progress) progress({m, 0, value, secondsSince(start), fmt::format("objective after hop {}", k + 1)});
+                if (value < current) current = value;
+                else level.coefficients = kept;
+            }
+        }
 
         if (fallback && fitScore(model, constBlocks.data(), texels, checker) > fallback->first) {
             level.coefficients = fallback->second;

@@ -44,6 +44,9 @@ struct FitSettings {
     // With several starts and lm-bfgs, only the start with the lowest objective after
     // Levenberg-Marquardt goes on to BFGS; screenAll runs every start in full.
     bool screenAll = false;
+    // Hops per level after the fit (initial_layout.h's hopLayout): each refits from the best fit so
+    // far, moved at random, and is kept where its objective is lower.
+    int hops = 0;
     bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
     // Levels to fit (empty: all); the others are copied from the first init, which then must have the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "probe/importance_sampling.h"
 
@@ -60,6 +61,22 @@ void importanceLayout(TapTable& table, int level, double alpha, double rotation)
             setConstant(table, level, frame, t, tapDirZ, d.z);
             setConstant(table, level, frame, t, tapLevel, kept ? samples[t].level : 0.0);
             setConstant(table, level, frame, t, tapWeight, kept ? samples[t].weight : 0.0);
+        }
+}
+
+void hopLayout(TapTable& table, int level, double alpha, unsigned seed) {
+    std::mt19937 rng(seed);
+    // In [-1, 1), from the generator's bits alone, so that every standard library gives the same hop.
+    auto uniform = [&rng] { return 2.0 * static_cast<double>(rng()) / 4294967296.0 - 1.0; };
+    const double spread = 0.25 * std::tan(lobeAngle(alpha));
+    double* c = table.levels[level].coefficients.data();
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int t = 0; t < table.taps; ++t) {
+            const double z = std::abs(c[table.offset(frame, t, tapDirZ)]);
+            c[table.offset(frame, t, tapDirX)] += spread * z * uniform();
+            c[table.offset(frame, t, tapDirY)] += spread * z * uniform();
+            c[table.offset(frame, t, tapLevel)] += 0.5 * uniform();
+            c[table.offset(frame, t, tapWeight)] *= 1.0 + 0.2 * uniform();
         }
 }
 

@@ -20,6 +20,12 @@ void lobeLayout(probe::TapTable& table, int level, double alpha);
 // below the horizon (dropped by FIS) become taps of weight 0 on the axis.
 void importanceLayout(probe::TapTable& table, int level, double alpha, double rotation);
 
+// A hop from a fitted level: every tap's direction moved by about a quarter of the lobe angle, its
+// level by up to half a pyramid level and its weight by up to 20%, at random from `seed`
+// (deterministic); quadratic terms kept. The local gradient cannot carry a tap across a ridge of the
+// L1; a refit from a hop can land in another basin.
+void hopLayout(probe::TapTable& table, int level, double alpha, unsigned seed);
+
 // Level `level` from the already fitted level `from`: directions widened and levels raised by the
 // ratio of the two lobes.
 void warmStartFromLevel(probe::TapTable& table, int level, int from);

@@ -59,6 +59,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     if (settings.checkerWeight < 0.0 || !std::isfinite(settings.checkerWeight))
         throw ProbeError(fmt::format("--checker-weight: {} is not a weight >= 0", settings.checkerWeight));
     if (settings.starts < 1) throw ProbeError(fmt::format("--starts: {} is not a positive count", settings.starts));
+    if (settings.hops < 0) throw ProbeError(fmt::format("--hops: {} is negative", settings.hops));
     if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
     if (settings.stratifiedBudget < 24)
         throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
@@ -250,6 +251,10 @@ int main(int argc, char** argv) {
     app.add_flag("--screen-all", settings.screenAll,
                  "with several starts, run each through both solvers (default with lm-bfgs: only the lowest objective after "
                  "Levenberg-Marquardt goes on to BFGS)");
+    app.add_option("--hops", settings.hops,
+                   "refits per level from the best fit with its taps moved at random (a step the gradient cannot take); "
+                   "each is kept where the objective is lower")
+        ->capture_default_str();
     app.add_option("--fit-levels", settings.fitLevels,
                    "fit only these levels (comma-separated); the others are copied from the first --init, which must "
                    "have the table's taps and form")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # probefit from the command line: a small fit reaches the L1 it records, more --init taps and more
-# --starts are never worse, --estimate and tail report, and bad input gets exit code 2, a one-line
+# --starts and --hops are never worse, --estimate and tail report, and bad input gets exit code 2, a one-line
 # error naming the option or file, and no output files.
 set -u
 work=$(mktemp -d)
@@ -53,6 +53,20 @@ awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2
 awk '/objective after Levenberg-Marquardt from/ { f = $(NF - 2); if (!($2 in best) || f < best[$2]) best[$2] = f }
      / done: L1 / { if ($5 > best[$2] + 1e-9) { print "level " $2 ": kept " $5 ", best start " best[$2]; bad = 1 } } END { exit bad }' \
     "$work/screened.log" || fail "--starts 2 did not go on from the best start: $(grep -E 'objective|done' "$work/screened.log")"
+# --hops 2 refits a level twice from the fit moved at random, and keeps a hop only where it lowers the
+# objective: the level ends at or below the same fit without hops (one level, so both start alike).
+for hops in 0 2; do
+    "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --hops $hops \
+        --out "$work/hops$hops" >"$work/hops$hops.log" || fail "--hops $hops"
+done
+[[ $(grep -c '^level 2 objective after hop [12]:' "$work/hops2.log") -eq 2 ]] || fail "--hops 2: not two hops"
+grep -q '; then 2 hops' "$work/hops2.json" || fail "--hops: not in the table's solver text"
+awk '/^level 2 done: L1/ { l1[FILENAME] = $5 }
+     END { if (!(a in l1) || !(b in l1) || l1[b] > l1[a] + 1e-12) { print l1[a], l1[b]; exit 1 } }' \
+    a="$work/hops0.log" b="$work/hops2.log" "$work/hops0.log" "$work/hops2.log" ||
+    fail "--hops 2 ended above the fit without hops: $(grep -h '^level 2 done' "$work/hops0.log" "$work/hops2.log")"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --hops -1 --out "$work/neg" >"$work/neg.log" 2>&1
+[[ $? -eq 2 && $(wc -l <"$work/neg.log") -eq 1 && ! -e $work/neg.json ]] || fail "--hops -1: not one line and exit 2"
 # --fit-levels refits only the levels named: the others keep the first --init's coefficients bit for bit.
 # The fit takes the tail and checker terms too, and reports the checker term before and after.
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
