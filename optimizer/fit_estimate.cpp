@@ -43,7 +43,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
     if (settings.solver != FitSolver::bfgs)
         iterations += starts * (settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations);
     if (settings.solver != FitSolver::lm) iterations += (screen ? 1 : starts) * settings.maxIterations;
-    // Every hop runs both solvers.
+    // Every hop runs the whole solver (both parts of lm-bfgs).
     iterations += settings.hops * ((settings.solver == FitSolver::lmBfgs ? settings.lmIterations : 0) + settings.maxIterations);
     // The checker term's moments (and the reference's, once per texel) cost beside the L1.
     const std::optional<MomentBasis> checkers =
