@@ -316,6 +316,24 @@ TEST(Evaluate, StratifiedMeanEstimatesTheAllTexelMean) {
     }
 }
 
+TEST(SeamSelect, MeasuresALevelFromAnotherBudgetOnTheSelectionsBudget) {
+    // The committed 16^2 table twice, the second recorded on a smaller stratified budget and claiming a
+    // lower all-texel L1 at level 1, so that select takes that level from it: every level's stratified
+    // record must be what probefit eval measures on the selection's budget (the first candidate's).
+    const TapTable committed = readTable(std::filesystem::path(PROBE_TABLES_DIR) / "gltf16_quad8.json");
+    TapTable coarse = committed;
+    coarse.stratifiedBudget = 64;
+    for (int m = 0; m < coarse.levelCount; ++m) coarse.levels[m].stratified = evaluateLevel(coarse, m, TexelSet::stratified).error;
+    coarse.levels[1].all.mean -= 1e-3;
+    ASSERT_GT(std::abs(coarse.levels[1].stratified.mean - committed.levels[1].stratified.mean), 1e-4);
+    const SeamSelection selection = selectWithinSeamBound({{"committed", committed}, {"coarse", coarse}});
+    ASSERT_EQ(selection.levels[1].chosen, 1);
+    EXPECT_EQ(selection.table.stratifiedBudget, committed.stratifiedBudget);
+    for (int m = 0; m < selection.table.levelCount; ++m)
+        EXPECT_NEAR(selection.table.levels[m].stratified.mean, evaluateLevel(selection.table, m, TexelSet::stratified).error.mean, 1e-12)
+            << "level " << m;
+}
+
 TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     // Candidates at 16^2: the committed quad 8x3 table (within the bound at every level), a short fit
     // without the seam term, and the committed table with big random offsets that claims an L1 of 0.
