@@ -64,4 +64,11 @@ LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const*
     return combine(weighted, results);
 }
 
+void restratifyLevel(TapTable& table, int level) {
+    TableLevel& kept = table.levels[level];
+    const LevelEvaluation stratified = evaluateLevel(table, level, TexelSet::stratified);
+    kept.stratified = stratified.error;
+    kept.minWeightSum = kept.all.mean >= 0.0 ? std::min(kept.minWeightSum, stratified.minWeightSum) : stratified.minWeightSum;
+}
+
 } // namespace probefit

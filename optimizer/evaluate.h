@@ -26,4 +26,9 @@ LevelEvaluation evaluateLevel(const probe::TapTable& table, int level, TexelSet 
 // The same from prepared texels and coefficient blocks (what the fit uses).
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels);
 
+// Measures a level's stratified record (and its smallest weight sum) again on the table's own budget:
+// for a level taken from a table fitted on another (`probefit select`, `probefit mix`), so that the
+// record is what `probefit eval` finds. The all-texel record does not depend on the budget.
+void restratifyLevel(probe::TapTable& table, int level);
+
 } // namespace probefit

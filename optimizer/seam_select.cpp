@@ -1,7 +1,5 @@
 #include "seam_select.h"
 
-#include <algorithm>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -89,14 +87,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
             level.withinBound = false;
         }
         selection.table.levels[m] = candidates[level.chosen].table.levels[m];
-        // A level fitted on another stratified budget is measured again on the selection's (the first
-        // candidate's), so that its record is what `probefit eval` finds.
-        if (candidates[level.chosen].table.stratifiedBudget != shape.stratifiedBudget) {
-            TableLevel& kept = selection.table.levels[m];
-            const LevelEvaluation stratified = evaluateLevel(selection.table, m, TexelSet::stratified);
-            kept.stratified = stratified.error;
-            kept.minWeightSum = kept.all.mean >= 0.0 ? std::min(kept.minWeightSum, stratified.minWeightSum) : stratified.minWeightSum;
-        }
+        // The selection keeps the first candidate's stratified budget.
+        if (candidates[level.chosen].table.stratifiedBudget != shape.stratifiedBudget) restratifyLevel(selection.table, m);
         sources += fmt::format("{}{}: {}", m == 0 ? "" : ", ", m, candidates[level.chosen].name);
         selection.levels.push_back(std::move(level));
     }

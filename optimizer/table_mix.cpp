@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "evaluate.h"
 #include "probe/error.h"
 
 namespace probefit {
@@ -65,6 +66,8 @@ TapTable mixTables(const std::vector<MixSource>& perLevel) {
         TableLevel& level = mixed.levels[m];
         level = s.table.levels[m];
         level.coefficients = paddedLevel(s.table, m, mixed);
+        // The mix keeps the first source's stratified budget.
+        if (s.table.stratifiedBudget != mixed.stratifiedBudget) restratifyLevel(mixed, m);
         // The seam weight is recorded only where every level was fitted with the same one.
         if (s.table.seamWeight != mixed.seamWeight) mixed.seamWeight = 0.0;
         levels.push_back(fmt::format("{}: {} ({} taps)", m, s.name, s.table.taps));

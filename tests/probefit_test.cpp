@@ -466,6 +466,23 @@ TEST(TableMix, EachLevelFiltersAsItsSource) {
     EXPECT_NE(mixed.solver.find("1: eight (8 taps)"), std::string::npos) << mixed.solver;
 }
 
+TEST(TableMix, MeasuresALevelFromAnotherBudgetOnTheMixsBudget) {
+    // Level 1 from a source fitted on a smaller stratified budget: every level's stratified record
+    // must be what probefit eval measures on the mix's budget (the first source's).
+    TapTable four = lobeTable(16, 3, 4, TableForm::quadratic);
+    TapTable eight = lobeTable(16, 3, 8, TableForm::quadratic);
+    eight.stratifiedBudget = 64;
+    for (TapTable* t : {&four, &eight})
+        for (int m = 0; m < t->levelCount; ++m) t->levels[m].stratified = evaluateLevel(*t, m, TexelSet::stratified).error;
+    TapTable eightOnFours = eight;
+    eightOnFours.stratifiedBudget = four.stratifiedBudget;
+    ASSERT_GT(std::abs(eight.levels[1].stratified.mean - evaluateLevel(eightOnFours, 1, TexelSet::stratified).error.mean), 1e-4);
+    const TapTable mixed = mixTables({{"four", four}, {"eight", eight}, {"four", four}});
+    EXPECT_EQ(mixed.stratifiedBudget, four.stratifiedBudget);
+    for (int m = 0; m < mixed.levelCount; ++m)
+        EXPECT_NEAR(mixed.levels[m].stratified.mean, evaluateLevel(mixed, m, TexelSet::stratified).error.mean, 1e-9) << "level " << m;
+}
+
 TEST(TableMix, PaddingIsHarmlessWhereNotSkipped) {
     // A consumer that evaluates every tap of the published layout reads the padding as zero weight
     // along R: a finite direction, so nothing turns into NaN.
