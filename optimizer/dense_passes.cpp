@@ -18,6 +18,17 @@ double addSlots(double sum, const std::uint32_t* index, const double* weight, co
     return sum;
 }
 
+// The kernel the L1 is measured against: its values in floats (the fit's texels, which hold every
+// one), or a lobe evaluated in the pass (measured texels: no vector of the whole cube to fill).
+struct KernelValues {
+    const float* values;
+    double operator()(std::size_t t) const { return static_cast<double>(values[t]); }
+};
+struct KernelLobe {
+    const ReferenceLobe& lobe;
+    double operator()(std::size_t t) const { return lobe(t); }
+};
+
 } // namespace
 
 DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
@@ -47,14 +58,24 @@ DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
 double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
                             const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                             double* tailError) const {
-    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, kernel, tail, adjoint, tailError);
-    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, kernel, tail, adjoint, tailError);
-    return measureWith<0, 0>(operators, weights, top, kernel, tail, adjoint, tailError);
+    const KernelValues values{kernel.data()};
+    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, values, tail, adjoint, tailError);
+    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, values, tail, adjoint, tailError);
+    return measureWith<0, 0>(operators, weights, top, values, tail, adjoint, tailError);
 }
 
-template <int ParentSlots, int RowSlots>
+double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
+                            const ReferenceLobe& lobe) const {
+    const KernelLobe kernel{lobe};
+    double tailError = 0.0;
+    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, kernel, {}, nullptr, &tailError);
+    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, kernel, {}, nullptr, &tailError);
+    return measureWith<0, 0>(operators, weights, top, kernel, {}, nullptr, &tailError);
+}
+
+template <int ParentSlots, int RowSlots, typename Kernel>
 double DensePasses::measureWith(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                                const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                                const Kernel& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                                 double* tailError) const {
     for (int k = top; k > 1; --k) operators[k - 1].applyTranspose(weights[k], weights[k - 1]);
     std::vector<double>& base = weights[0];
@@ -70,7 +91,7 @@ double DensePasses::measureWith(const std::vector<DownsampleOperator>& operators
             const std::size_t first = t * static_cast<std::size_t>(parentSlots_);
             w = addSlots<ParentSlots>(w, &parentRow_[first], &parentWeight_[first], coarse, parentSlots_);
         }
-        const double d = w - static_cast<double>(kernel[t]);
+        const double d = w - kernel(t);
         sum += std::abs(d);
         if (tail.contains(t)) tailMass += w;
         if (slope) slope[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);

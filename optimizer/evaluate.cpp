@@ -1,8 +1,12 @@
 #include "evaluate.h"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
+#include <glm/common.hpp>
+
+#include "probe/cube.h"
 #include "probe/reference.h"
 
 namespace probefit {
@@ -15,6 +19,26 @@ std::vector<WeightedTexel> levelTexels(const TapTable& table, int level, TexelSe
 }
 
 namespace {
+
+// A texel's class under the cube's 48 symmetries: its cube point's absolute coordinates, sorted
+// (exact, since texel centres lie on a grid that the symmetries map onto itself).
+using SymmetryKey = std::array<double, 3>;
+SymmetryKey symmetryKey(const Texel& t, int size) {
+    const glm::dvec3 p = glm::abs(faceUvToCubePoint(t.face, texelCentreUv(t.i, size), texelCentreUv(t.j, size)));
+    SymmetryKey key{p.x, p.y, p.z};
+    std::ranges::sort(key);
+    return key;
+}
+
+// The distinct classes of `texels` of a level of face size `size`, sorted.
+std::vector<SymmetryKey> symmetryClasses(const std::vector<WeightedTexel>& texels, int size) {
+    std::vector<SymmetryKey> keys;
+    keys.reserve(texels.size());
+    for (const WeightedTexel& t : texels) keys.push_back(symmetryKey(t.texel, size));
+    std::ranges::sort(keys);
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
+}
 
 // Errors of texels in a fixed order, so the worst texel and the sums do not depend on threads.
 LevelEvaluation combine(const std::vector<WeightedTexel>& texels, const std::vector<ImpulseModel::Result>& results) {
@@ -31,20 +55,32 @@ LevelEvaluation combine(const std::vector<WeightedTexel>& texels, const std::vec
 
 } // namespace
 
+std::size_t symmetryClassCount(int size) { return symmetryClasses(allTexels(size), size).size(); }
+
 LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
     const double alpha = tableLevelAlpha(table, level);
     if (alpha <= 0.0) return {};
+    const int size = table.baseSize >> level;
     const std::vector<WeightedTexel> texels = levelTexels(table, level, set);
     const ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
     const CubeGeometry geometry(table.baseSize);
     const std::vector<const double*> blocks = levelBlocks(table, level);
+    // The kernels' normalizations, the one pass over every base texel: once per class, since the
+    // base texels are symmetric too (probe::ReferenceLobe). The rest reads only where the taps reach.
+    const std::vector<SymmetryKey> classes = symmetryClasses(texels, size);
+    std::vector<double> normalizations(classes.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t c = 0; c < classes.size(); ++c)
+        normalizations[c] = ReferenceLobe(glm::dvec3(classes[c][0], classes[c][1], classes[c][2]), geometry, alpha).normalization();
     std::vector<ImpulseModel::Result> results(texels.size());
 #pragma omp parallel
     {
         ImpulseModel::Workspace ws = model.workspace();
 #pragma omp for schedule(dynamic, 8)
-        for (std::size_t n = 0; n < texels.size(); ++n)
-            results[n] = model.evaluate(blocks.data(), makeOutputTexel(texels[n], geometry, level, alpha), ws);
+        for (std::size_t n = 0; n < texels.size(); ++n) {
+            const auto c = std::ranges::lower_bound(classes, symmetryKey(texels[n].texel, size)) - classes.begin();
+            results[n] = model.evaluate(blocks.data(), makeMeasuredTexel(texels[n], geometry, level, alpha, normalizations[c]), ws);
+        }
     }
     return combine(texels, results);
 }

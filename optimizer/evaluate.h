@@ -20,8 +20,13 @@ enum class TexelSet { all, stratified };
 // The texels a level is measured on (the stratified set with the table's budget).
 std::vector<probe::WeightedTexel> levelTexels(const probe::TapTable& table, int level, TexelSet set);
 
-// One level (alpha = 0 levels are copies, error 0), all cores; kernels are computed on the fly.
+// One level (alpha = 0 levels are copies, error 0), all cores. Each texel's kernel is read only
+// where its taps reach; its normalization, a pass over every base texel, is shared by the texels
+// that a symmetry of the cube maps onto each other (about 48 each).
 LevelEvaluation evaluateLevel(const probe::TapTable& table, int level, TexelSet set);
+
+// The number of those classes among all texels of a level of face size `size`.
+std::size_t symmetryClassCount(int size);
 
 // The same from prepared texels and coefficient blocks (what the fit uses).
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels);

@@ -75,14 +75,22 @@ FitEstimate estimateFit(const FitSettings& settings) {
             for (std::size_t n = 0; n < texels.size(); ++n)
                 checkerError(model, levelBlocks(table, m).data(), texels[n], checkerReference[n], *checkers, gradient.data());
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
+        // Measuring every texel: the model without its gradient, from the kernel's lobe (evaluate.h).
+        std::vector<OutputTexel> measured;
+        for (std::size_t n = 0; n < timed.size(); ++n) {
+            const double normalization = ReferenceLobe(texels[n].cubeVector, geometry, alpha).normalization();
+            measured.push_back(makeMeasuredTexel(timed[n], geometry, m, alpha, normalization));
+        }
+        const auto measureStart = Clock::now();
+        for (const OutputTexel& t : measured) model.evaluate(levelBlocks(table, m).data(), t, ws);
+        const double perMeasured = secondsSince(measureStart) / static_cast<double>(timed.size());
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = kernel * fitTexels;
         if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterations(settings, iterations, stratified.size());
-        if (settings.measureAll) {
-            const double all = static_cast<double>(texelCount(settings.baseSize >> m));
-            seconds += (kernel + perTexel) * all;
-        }
+        if (settings.measureAll) // a kernel's pass per class of symmetric texels (evaluate.h), the model per texel
+            seconds += kernel * static_cast<double>(symmetryClassCount(settings.baseSize >> m)) +
+                       perMeasured * static_cast<double>(texelCount(settings.baseSize >> m));
         estimate.levelSeconds.push_back(seconds / threads);
         estimate.seconds += seconds / threads;
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <ceres/jet.h>
 
@@ -20,15 +21,29 @@ namespace {
 // instead of lists of the touched ones, as a fraction of the base texel count (measured at 128^2:
 // lists are 3-5x faster at level 1, 2x slower where the taps reach most of the cube).
 constexpr double kSparseReach = 0.25;
-} // namespace
 
-OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, bool tail) {
-    const int size = geometry.size >> level;
+// An output texel's place: its cube point and frames, without a kernel.
+OutputTexel placedTexel(const WeightedTexel& texel, int size) {
     OutputTexel t;
     t.texel = texel.texel;
     t.weight = texel.weight;
     t.cubeVector = faceUvToCubePoint(t.texel.face, texelCentreUv(t.texel.i, size), texelCentreUv(t.texel.j, size));
     for (int a = 0; a < kFrameCount; ++a) t.frames[a] = frameSetup(t.cubeVector, a);
+    return t;
+}
+
+} // namespace
+
+OutputTexel makeMeasuredTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, double normalization) {
+    OutputTexel t = placedTexel(texel, geometry.size >> level);
+    t.lobe.emplace(t.cubeVector, geometry, alpha, normalization);
+    t.kernelSum = 1.0;
+    return t;
+}
+
+OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, bool tail) {
+    const int size = geometry.size >> level;
+    OutputTexel t = placedTexel(texel, size);
     const std::vector<double> k = referenceKernel(t.cubeVector, geometry, alpha);
     t.kernel.assign(k.begin(), k.end());
     for (const float v : t.kernel) t.kernelSum += static_cast<double>(v);
@@ -75,7 +90,7 @@ struct L1Measure {
     const OutputTexel& texel;
     double sum = 0.0, kernelVisited = 0.0;
     double visit(std::uint32_t t, double w) {
-        const double k = static_cast<double>(texel.kernel[t]);
+        const double k = texel.kernelAt(t);
         const double d = w - k;
         sum += std::abs(d);
         kernelVisited += k;
@@ -238,6 +253,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         result.weightSum += weight.a;
         records.push_back({block, weight, footprint});
     };
+    if (texel.lobe && gradient) throw std::logic_error("ImpulseModel::evaluate: a measured texel has no gradient");
     forEachTap<K>(texel, blocks, taps_, baseSize_, pyramidLevels_, visit);
     if (gradient) std::fill(gradient, gradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
     if (weightSumGradient) {
@@ -280,7 +296,8 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
     const TailTerm tail{texel.tail.empty() ? nullptr : texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
-    if (dense)
+    if (dense && texel.lobe) result.error = dense_.measure(operators_, ws.weights, top, *texel.lobe);
+    else if (dense)
         result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, gradient ? &ws.adjoint : nullptr, &result.tail);
     else {
         const std::vector<double>& w = ws.weights[0];

@@ -6,11 +6,13 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "dense_passes.h"
 #include "probe/frame.h"
 #include "probe/pyramid.h"
+#include "probe/reference.h"
 #include "probe/stratified_texels.h"
 #include "probe/tap_table.h"
 
@@ -22,8 +24,13 @@ struct OutputTexel {
     double weight = 0.0; // weight of its error in the level's mean
     glm::dvec3 cubeVector{0.0};
     std::array<probe::FrameSetup, probe::kFrameCount> frames;
-    std::vector<float> kernel; // reference k(R, t) over base texels, sum 1
-    double kernelSum = 0.0;    // sum of `kernel` (1 up to float rounding)
+    // The reference k(R, t) over base texels, sum 1: all of it in `kernel` (the fit's texels, whose
+    // terms and slope read every texel), or texel by texel from `lobe` (measured texels: the error
+    // alone, read only where the taps reach; kernelSum is then 1).
+    std::vector<float> kernel;
+    double kernelSum = 0.0; // sum of the kernel (1 up to float rounding)
+    std::optional<probe::ReferenceLobe> lobe;
+    double kernelAt(std::uint32_t t) const { return lobe ? (*lobe)(t) : static_cast<double>(kernel[t]); }
     // The lobe's tail (tail_check.h), for the tail term only (empty without it): bit t set where
     // base texel t lies beyond the tail radius of the level from R, and the reference's mass there.
     std::vector<std::uint64_t> tail;
@@ -34,6 +41,10 @@ struct OutputTexel {
 // is that of the base.
 OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
                             bool tail = false);
+
+// The same texel with the kernel as a lobe of known normalization (probe::ReferenceLobe), for measuring.
+OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
+                              double normalization);
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
 std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha,
@@ -91,7 +102,8 @@ public:
 
     // e(R) with coefficients in blocks[frame * taps + tap] (kTapParameterCount * coefficientCount
     // values each). With `gradient` (blockCount * blockSize values, overwritten) also d e / d coefficient
-    // and, with `weightSumGradient` (same size), d weightSum / d coefficient.
+    // and, with `weightSumGradient` (same size), d weightSum / d coefficient. A measured texel (one
+    // with a lobe) has no gradient: std::logic_error.
     Result evaluate(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient = nullptr,
                     double* weightSumGradient = nullptr) const;
 

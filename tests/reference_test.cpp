@@ -1,6 +1,7 @@
 // The exact reference: white furnace, impulse responses against the lobe, the lobe's peak and width,
 // rotational symmetry and the mirror level.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -101,6 +102,24 @@ TEST(Reference, KernelMatchesLobeAtCentreEdgeAndCorner) {
             for (std::size_t t = 0; t < k.size(); ++t) sum += textbookKernel(R, geometry.directions[t], alpha) * geometry.solidAngles[t];
             for (std::size_t t = 0; t < k.size(); ++t)
                 ASSERT_NEAR(k[t], textbookKernel(R, geometry.directions[t], alpha) * geometry.solidAngles[t] / sum, 1e-12);
+        }
+}
+
+TEST(Reference, LobeNormalizationIsTheLobesSumAndSymmetric) {
+    const int size = 16;
+    const CubeGeometry geometry(size);
+    for (double alpha : {0.05, 0.25, 1.0})
+        for (const Texel& at : {Texel{2, 8, 8}, Texel{2, 15, 7}, Texel{2, 0, 0}, Texel{5, 3, 11}}) {
+            const glm::dvec3 R = texelDirection(at, size);
+            const double z = ReferenceLobe(R, geometry, alpha).normalization();
+            double sum = 0.0;
+            for (std::size_t t = 0; t < geometry.directions.size(); ++t)
+                sum += textbookKernel(R, geometry.directions[t], alpha) * geometry.solidAngles[t];
+            EXPECT_NEAR(z, sum, 1e-12 * sum);
+            // Every signed permutation of R's coordinates (a symmetry of the cube) has the same sum.
+            const std::array<glm::dvec3, 4> images{glm::dvec3(-R.x, R.y, R.z), glm::dvec3(R.y, R.x, R.z), glm::dvec3(R.z, -R.x, -R.y),
+                                                   glm::dvec3(-R.y, R.z, -R.x)};
+            for (const glm::dvec3& image : images) EXPECT_NEAR(ReferenceLobe(image, geometry, alpha).normalization(), z, 1e-12 * z);
         }
 }
 

@@ -135,24 +135,33 @@ std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double 
 }
 
 std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& geometry, double alpha) {
-    const int sourceSize = geometry.size;
-    std::vector<double> weights(texelCount(sourceSize), 0.0);
-    const glm::dvec3 r = glm::normalize(R);
-    if (alpha <= 0.0) {
-        weights[texelIndex(directionToTexel(r, sourceSize), sourceSize)] = 1.0;
-        return weights;
-    }
-    const double alpha2 = alpha * alpha;
-    double sum = 0.0;
-    for (std::size_t t = 0; t < weights.size(); ++t) {
-        const glm::dvec3& l = geometry.directions[t];
-        const glm::dvec3 d = r - l;
-        weights[t] = ggxKernel(glm::dot(r, l), glm::dot(d, d), alpha2) * geometry.solidAngles[t];
-        sum += weights[t];
-    }
-    for (double& w : weights) w /= sum;
+    const ReferenceLobe lobe(R, geometry, alpha);
+    std::vector<double> weights(texelCount(geometry.size));
+    for (std::size_t t = 0; t < weights.size(); ++t) weights[t] = lobe(t);
     return weights;
 }
+
+ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha) : ReferenceLobe(R, source, alpha, 1.0) {
+    if (alpha2_ <= 0.0) return;
+    // In texel order, so the sum does not depend on how the caller visits texels.
+    const std::size_t faceTexels = texelCount(source.size) / kFaceCount;
+    double sum = 0.0;
+    for (int f = 0; f < kFaceCount; ++f) {
+        if (faceBehind(r_, f)) continue;
+        for (std::size_t t = f * faceTexels; t < (f + 1) * faceTexels; ++t) {
+            const glm::dvec3& l = source.directions[t];
+            const glm::dvec3 d = r_ - l;
+            sum += ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source.solidAngles[t];
+        }
+    }
+    normalization_ = sum;
+    inverseNormalization_ = 1.0 / sum;
+}
+
+ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha, double normalization)
+    : source_(&source), r_(glm::normalize(R)), alpha2_(alpha > 0.0 ? alpha * alpha : 0.0),
+      mirrorTexel_(alpha > 0.0 ? 0 : texelIndex(directionToTexel(r_, source.size), source.size)), normalization_(normalization),
+      inverseNormalization_(1.0 / normalization) {}
 
 CubeImage exactIrradiance(const CubeImage& source, int outSize) {
     const SourceTexels src(source);

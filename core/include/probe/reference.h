@@ -5,9 +5,11 @@
 #include <functional>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "probe/cube_image.h"
+#include "probe/ggx.h"
 #include "probe/roughness.h"
 
 namespace probe {
@@ -29,6 +31,31 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMap
 std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha);
 // The same with the source geometry computed once by the caller (for many output texels).
 std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& source, double alpha);
+
+// The same response texel by texel, for measuring without a vector over the whole cube:
+// k(R, t) = K(R, l_t) dOmega_t / Z with Z = sum_s K(R, l_s) dOmega_s. Z costs one pass over the
+// source texels (faces wholly behind R skipped, where K vanishes); a caller that knows it passes it.
+// The source texels are symmetric under the cube's 48 symmetries, so Z is too: Z(g R) = Z(R).
+class ReferenceLobe {
+public:
+    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha);
+    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha, double normalization);
+
+    double normalization() const { return normalization_; }
+    double operator()(std::size_t t) const { // inline: the dense passes read every texel
+        if (alpha2_ <= 0.0) return t == mirrorTexel_ ? 1.0 : 0.0;
+        const glm::dvec3& l = source_->directions[t];
+        const glm::dvec3 d = r_ - l;
+        return ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source_->solidAngles[t] * inverseNormalization_;
+    }
+
+private:
+    const CubeGeometry* source_;
+    glm::dvec3 r_;
+    double alpha2_;
+    std::size_t mirrorTexel_; // alpha = 0: the texel that holds all the weight
+    double normalization_, inverseNormalization_;
+};
 
 // The exact cosine convolution E(n) = sum_t L(t) max(n.l_t, 0) dOmega_t / pi at every texel centre
 // of a level of `outSize` (so a constant radiance L gives E = L).
