@@ -24,7 +24,7 @@ namespace {
 // (exact, since texel centres lie on a grid that the symmetries map onto itself).
 using SymmetryKey = std::array<double, 3>;
 SymmetryKey symmetryKey(const Texel& t, int size) {
-    const glm::dvec3 p = glm::abs(faceUvToCubePoint(t.face, texelCentreUv(t.i, size), texelCentreUv(t.j, size)));
+    const glm::dvec3 p = glm::abs(texelCubePoint(t, size));
     SymmetryKey key{p.x, p.y, p.z};
     std::ranges::sort(key);
     return key;

@@ -27,7 +27,7 @@ OutputTexel placedTexel(const WeightedTexel& texel, int size) {
     OutputTexel t;
     t.texel = texel.texel;
     t.weight = texel.weight;
-    t.cubeVector = faceUvToCubePoint(t.texel.face, texelCentreUv(t.texel.i, size), texelCentreUv(t.texel.j, size));
+    t.cubeVector = texelCubePoint(t.texel, size);
     for (int a = 0; a < kFrameCount; ++a) t.frames[a] = frameSetup(t.cubeVector, a);
     return t;
 }

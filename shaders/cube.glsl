@@ -32,6 +32,10 @@ void directionToFaceUv(vec3 d, out int face, out vec2 uv) {
 
 float texelCentreUv(int index, int size) { return 2.0 * (float(index) + 0.5) / float(size) - 1.0; }
 
+// The centre of texel (i, j) of `face` on the unit cube (probe::texelCubePoint); i or j may step one
+// texel beyond the face, onto its extended plane.
+vec3 texelCubePoint(int face, int i, int j, int size) { return faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size)); }
+
 // The texel (face, i, j) of a level of `size` whose footprint contains a direction.
 ivec3 directionToTexel(vec3 d, int size) {
     int face;

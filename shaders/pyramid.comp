@@ -64,14 +64,14 @@ vec3 box(ivec3 coarse, int fineSize) {
 
 // The value of texel t (inside its face) of the level written.
 vec3 levelTexel(ivec3 t, int size) {
-    if (params.level == 0) return sourceTexel(faceUvToCubePoint(t.x, texelCentreUv(t.y, size), texelCentreUv(t.z, size)));
+    if (params.level == 0) return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
     return kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
 }
 
 // Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre
 // beyond the edge, on the face's extended plane, projected onto the adjacent face.
 ivec3 texelAcrossEdge(int face, int i, int j, int size) {
-    return directionToTexel(faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size)), size);
+    return directionToTexel(texelCubePoint(face, i, j, size), size);
 }
 
 void main() {

@@ -69,7 +69,7 @@ void main() {
     if (index >= 6u * uint(size * size)) return;
     ivec3 t = texelCoordinates(index, size); // (i, j, face)
     vec3 value;
-    if (params.level == 0) value = sourceTexel(faceUvToCubePoint(t.z, texelCentreUv(t.x, size), texelCentreUv(t.y, size)));
+    if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
     else value = kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
     imageStore(pyramidMip, t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

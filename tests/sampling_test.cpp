@@ -176,7 +176,7 @@ TEST(Frame, SomeFrameAlwaysCounts) {
         for (int face = 0; face < kFaceCount; ++face)
             for (int j = 0; j < size; ++j)
                 for (int i = 0; i < size; ++i) {
-                    const glm::dvec3 d = faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size));
+                    const glm::dvec3 d = texelCubePoint({face, i, j}, size);
                     double sum = 0.0;
                     for (int axis = 0; axis < kFrameCount; ++axis) sum += std::max(frameSetup(d, axis).weight, 0.0);
                     EXPECT_GE(sum, 2.0) << face << " " << i << " " << j;

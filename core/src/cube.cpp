@@ -26,9 +26,11 @@ FaceUv directionToFaceUv(const glm::dvec3& d) {
     return d.z >= 0 ? FaceUv{4, d.x / az, -d.y / az} : FaceUv{5, -d.x / az, -d.y / az};
 }
 
-glm::dvec3 texelDirection(const Texel& t, int size) {
-    return glm::normalize(faceUvToCubePoint(t.face, texelCentreUv(t.i, size), texelCentreUv(t.j, size)));
+glm::dvec3 texelCubePoint(const Texel& t, int size) {
+    return faceUvToCubePoint(t.face, texelCentreUv(t.i, size), texelCentreUv(t.j, size));
 }
+
+glm::dvec3 texelDirection(const Texel& t, int size) { return glm::normalize(texelCubePoint(t, size)); }
 
 static int uvToIndex(double uv, int size) {
     const int index = static_cast<int>(std::floor((uv + 1.0) * 0.5 * size));
@@ -60,8 +62,7 @@ bool texelNeighbour(const Texel& t, int di, int dj, int size, Texel& neighbour) 
     if (!insideI && !insideJ) return false;
     // The texel centre beyond the edge, on the face's extended plane, projects into the first
     // texel row of the adjacent face at the same place along the edge.
-    const glm::dvec3 p = faceUvToCubePoint(t.face, texelCentreUv(i, size), texelCentreUv(j, size));
-    neighbour = directionToTexel(p, size);
+    neighbour = directionToTexel(texelCubePoint({t.face, i, j}, size), size);
     return true;
 }
 

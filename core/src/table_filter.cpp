@@ -25,9 +25,7 @@ TapGenerator tableTapGenerator(const TapTable& table) {
     for (int m = 0; m < table.levelCount; ++m) used.push_back(tapsInUse(table, m));
     return [&table, used](int level, const Texel& texel, std::vector<Tap>& taps) {
         if (tableLevelAlpha(table, level) <= 0.0) return false;
-        const int size = table.baseSize >> level;
-        tableTaps(table, level, used[level], faceUvToCubePoint(texel.face, texelCentreUv(texel.i, size), texelCentreUv(texel.j, size)),
-                  taps);
+        tableTaps(table, level, used[level], texelCubePoint(texel, table.baseSize >> level), taps);
         return true;
     };
 }

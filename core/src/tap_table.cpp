@@ -80,7 +80,7 @@ void validateTableValues(const TapTable& table, std::string_view what) {
         const int size = table.baseSize >> m, used = tapsInUse(table, m);
         for (const WeightedTexel& w : stratifiedTexels(size, kCheckedTexels)) {
             const Texel& t = w.texel;
-            tableTaps(table, m, used, faceUvToCubePoint(t.face, texelCentreUv(t.i, size), texelCentreUv(t.j, size)), taps);
+            tableTaps(table, m, used, texelCubePoint(t, size), taps);
             double sum = 0.0, magnitude = 0.0;
             for (const Tap& tap : taps) {
                 if (!std::isfinite(tap.direction.x + tap.direction.y + tap.direction.z + tap.level))

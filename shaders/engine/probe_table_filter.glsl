@@ -69,7 +69,7 @@ void main() {
     int size = PROBE_TABLE_BASE_SIZE >> probeParams.level;
     ivec3 t = ivec3(gl_GlobalInvocationID);
     if (t.x >= size || t.y >= size) return;
-    vec3 d = faceUvToCubePoint(t.z, texelCentreUv(t.x, size), texelCentreUv(t.y, size));
+    vec3 d = texelCubePoint(t.z, t.x, t.y, size);
     int groupsInUse = max(probeTableTapGroups[probeParams.level], 1);
     vec3 a = abs(d);
     int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);

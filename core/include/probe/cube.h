@@ -35,6 +35,10 @@ FaceUv directionToFaceUv(const glm::dvec3& direction);
 // Texel centre coordinate along one axis of a face of `size` texels: (index + 0.5) / size mapped to [-1, 1].
 inline double texelCentreUv(int index, int size) { return 2.0 * (index + 0.5) / size - 1.0; }
 
+// The centre of a texel on the unit cube (an unnormalized direction). Indices may step one texel
+// beyond the face, onto its extended plane.
+glm::dvec3 texelCubePoint(const Texel& texel, int size);
+
 // Unit direction through the centre of a texel.
 glm::dvec3 texelDirection(const Texel& texel, int size);
 
