@@ -159,44 +159,49 @@ TEST(SeamMeasure, CatchesAFivePercentStepAtOneFace) {
     }
 }
 
-TEST_F(HardCases, EveryCommittedTable) {
-    for (const std::filesystem::path& path : committedTables()) {
-        const TapTable table = readTable(path);
-        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
-        gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
-        for (const HardProbe& probe : hardProbes(table.baseSize)) {
-            expectStable(filter.run(probe.cube), probe, path.filename().string());
-            expectStable(hardware.run(probe.cube), probe, path.filename().string() + " (hardware sampling)");
+// One test per committed table, so that each has its own time limit and ctest runs them side by side.
+class EveryCommittedTable : public probetest::GpuTest, public testing::WithParamInterface<std::filesystem::path> {};
+
+TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
+    const std::filesystem::path& path = GetParam();
+    const TapTable table = readTable(path);
+    gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
+    gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
+    for (const HardProbe& probe : hardProbes(table.baseSize)) {
+        expectStable(filter.run(probe.cube), probe, path.filename().string());
+        expectStable(hardware.run(probe.cube), probe, path.filename().string() + " (hardware sampling)");
+    }
+    // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
+    // within it). Beside each ratio, the steepest steps across the edges and across the lines a
+    // quarter of the way into each face, over the exact reference's, show how much of a ratio is
+    // particular to the edges. The exact reference costs minutes at 256^2 and hours at 512^2, so
+    // bigger tables are held to the bound's cap k, which needs no reference at their size.
+    const SeamCheck* check = table.baseSize <= 128 ? &seamCheck(table.baseSize, table.levelCount, table.mapping) : nullptr;
+    const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
+    for (int m = 0; m < table.levelCount; ++m) {
+        const double k = check ? check->bounds[m] : out[m].size >= 4 ? seamCheckCap() : 0.0;
+        if (k == 0.0) continue;
+        std::string steps;
+        if (check) {
+            const SeamSteps s = steepestSteps(out[m]), exact = steepestSteps(check->reference[m]);
+            steps = fmt::format("; steepest step over the reference's: edges {:.3f}x, quarter lines {:.3f}x", s.edge / exact.edge,
+                                s.quarterLine / exact.quarterLine);
         }
-        // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
-        // within it). Beside each ratio, the steepest steps across the edges and across the lines a
-        // quarter of the way into each face, over the exact reference's, show how much of a ratio is
-        // particular to the edges. The exact reference costs minutes at 256^2 and hours at 512^2, so
-        // bigger tables are held to the bound's cap k, which needs no reference at their size.
-        const SeamCheck* check = table.baseSize <= 128 ? &seamCheck(table.baseSize, table.levelCount, table.mapping) : nullptr;
-        const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
-        for (int m = 0; m < table.levelCount; ++m) {
-            const double k = check ? check->bounds[m] : out[m].size >= 4 ? seamCheckCap() : 0.0;
-            if (k == 0.0) continue;
-            std::string steps;
-            if (check) {
-                const SeamSteps s = steepestSteps(out[m]), exact = steepestSteps(check->reference[m]);
-                steps = fmt::format("; steepest step over the reference's: edges {:.3f}x, quarter lines {:.3f}x", s.edge / exact.edge,
-                                    s.quarterLine / exact.quarterLine);
-            }
-            fmt::print("{} level {}: seam ratio {:.4f} ({} {:.4f}, {:.3f}x){}\n", path.filename().string(), m, seamRatio(out[m]),
-                       check ? "bound" : "cap k", k, seamRatio(out[m]) / k, steps);
-            EXPECT_LE(seamRatio(out[m]), k) << path.filename() << " level " << m;
-            EXPECT_LE(seamRatio(outHardware[m]), k) << path.filename() << " level " << m << " (hardware sampling)";
-        }
-        // The worst impulse L1 on the stratified texels, measured here through the generic tap
-        // path, against what the table's header records.
-        const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
-        for (int m = 0; m < table.levelCount; ++m) {
-            if (tableLevelAlpha(table, m) <= 0.0) continue;
-            const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.baseSize, table.levelCount, table.mapping, m,
-                                                stratifiedTexels(table.baseSize >> m, table.stratifiedBudget));
-            EXPECT_LE(e.max, 1.05 * table.levels[m].stratified.max) << path.filename() << " level " << m;
-        }
+        fmt::print("{} level {}: seam ratio {:.4f} ({} {:.4f}, {:.3f}x){}\n", path.filename().string(), m, seamRatio(out[m]),
+                   check ? "bound" : "cap k", k, seamRatio(out[m]) / k, steps);
+        EXPECT_LE(seamRatio(out[m]), k) << path.filename() << " level " << m;
+        EXPECT_LE(seamRatio(outHardware[m]), k) << path.filename() << " level " << m << " (hardware sampling)";
+    }
+    // The worst impulse L1 on the stratified texels, measured here through the generic tap
+    // path, against what the table's header records.
+    const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
+    for (int m = 0; m < table.levelCount; ++m) {
+        if (tableLevelAlpha(table, m) <= 0.0) continue;
+        const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.baseSize, table.levelCount, table.mapping, m,
+                                            stratifiedTexels(table.baseSize >> m, table.stratifiedBudget));
+        EXPECT_LE(e.max, 1.05 * table.levels[m].stratified.max) << path.filename() << " level " << m;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(HardCases, EveryCommittedTable, testing::ValuesIn(committedTables()),
+                         [](const testing::TestParamInfo<std::filesystem::path>& table) { return table.param.stem().string(); });
