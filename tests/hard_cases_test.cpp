@@ -2,6 +2,7 @@
 // and the smallest alpha of each), HDR extremes (65504 at a face centre, an edge and a corner;
 // values up to 1e30), black maps. Asserts no NaN or Inf, outputs >= 0, the white furnace, and
 // seams no steeper than the exact reference's own.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -100,14 +101,35 @@ std::string describe(const MethodCase& c) {
     return fmt::format("{} ({} sampling)", methodKindName(c.method), gpu::samplingName(c.sampling));
 }
 
-std::vector<std::filesystem::path> committedTables() {
+// The committed tables, grouped by the exact reference their seam bounds come from (base size,
+// level count, mapping), so that a group builds it once rather than once per table.
+struct TableGroup {
+    std::string name;
     std::vector<std::filesystem::path> tables;
+};
+
+std::vector<TableGroup> committedTableGroups() {
+    std::map<std::tuple<int, int, RoughnessMapping>, TableGroup> groups;
     const std::filesystem::path dir = PROBEFILTER_TABLES_DIR;
     if (std::filesystem::exists(dir))
-        for (const auto& entry : std::filesystem::directory_iterator(dir))
-            if (entry.path().extension() == ".json") tables.push_back(entry.path());
-    std::sort(tables.begin(), tables.end());
-    return tables;
+        for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+            if (entry.path().extension() != ".json") continue;
+            const TapTable table = readTable(entry.path());
+            TableGroup& group = groups[{table.baseSize, table.levelCount, table.mapping}];
+            group.name = fmt::format("{}{}_{}levels", roughnessMappingName(table.mapping), table.baseSize, table.levelCount);
+            group.tables.push_back(entry.path());
+        }
+    std::vector<TableGroup> sorted;
+    for (auto& [key, group] : groups) {
+        std::ranges::sort(group.tables);
+        sorted.push_back(std::move(group));
+    }
+    return sorted;
+}
+
+// What --gtest_list_tests shows for a group: its tables.
+void PrintTo(const TableGroup& group, std::ostream* os) {
+    for (const std::filesystem::path& table : group.tables) *os << table.stem().string() << ' ';
 }
 
 } // namespace
@@ -159,49 +181,54 @@ TEST(SeamMeasure, CatchesAFivePercentStepAtOneFace) {
     }
 }
 
-// One test per committed table, so that each has its own time limit and ctest runs them side by side.
-class EveryCommittedTable : public probetest::GpuTest, public testing::WithParamInterface<std::filesystem::path> {};
+// One test per group of committed tables, so that each group has its own time limit and ctest runs
+// them side by side; a failure names its table.
+class EveryCommittedTable : public probetest::GpuTest, public testing::WithParamInterface<TableGroup> {};
 
 TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
-    const std::filesystem::path& path = GetParam();
-    const TapTable table = readTable(path);
-    gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
-    gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
-    for (const HardProbe& probe : hardProbes(table.baseSize)) {
-        expectStable(filter.run(probe.cube), probe, path.filename().string());
-        expectStable(hardware.run(probe.cube), probe, path.filename().string() + " (hardware sampling)");
-    }
-    // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
-    // within it). Beside each ratio, the steepest steps across the edges and across the lines a
-    // quarter of the way into each face, over the exact reference's, show how much of a ratio is
-    // particular to the edges. The exact reference costs minutes at 256^2 and hours at 512^2, so
-    // bigger tables are held to the bound's cap k, which needs no reference at their size.
-    const SeamCheck* check = table.baseSize <= 128 ? &seamCheck(table.baseSize, table.levelCount, table.mapping) : nullptr;
-    const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
-    for (int m = 0; m < table.levelCount; ++m) {
-        const double k = check ? check->bounds[m] : out[m].size >= 4 ? seamCheckCap() : 0.0;
-        if (k == 0.0) continue;
-        std::string steps;
-        if (check) {
-            const SeamSteps s = steepestSteps(out[m]), exact = steepestSteps(check->reference[m]);
-            steps = fmt::format("; steepest step over the reference's: edges {:.3f}x, quarter lines {:.3f}x", s.edge / exact.edge,
-                                s.quarterLine / exact.quarterLine);
+    for (const std::filesystem::path& path : GetParam().tables) {
+        const std::string name = path.filename().string();
+        const TapTable table = readTable(path);
+        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
+        gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
+        for (const HardProbe& probe : hardProbes(table.baseSize)) {
+            expectStable(filter.run(probe.cube), probe, name);
+            expectStable(hardware.run(probe.cube), probe, name + " (hardware sampling)");
         }
-        fmt::print("{} level {}: seam ratio {:.4f} ({} {:.4f}, {:.3f}x){}\n", path.filename().string(), m, seamRatio(out[m]),
-                   check ? "bound" : "cap k", k, seamRatio(out[m]) / k, steps);
-        EXPECT_LE(seamRatio(out[m]), k) << path.filename() << " level " << m;
-        EXPECT_LE(seamRatio(outHardware[m]), k) << path.filename() << " level " << m << " (hardware sampling)";
-    }
-    // The worst impulse L1 on the stratified texels, measured here through the generic tap
-    // path, against what the table's header records.
-    const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
-    for (int m = 0; m < table.levelCount; ++m) {
-        if (tableLevelAlpha(table, m) <= 0.0) continue;
-        const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.baseSize, table.levelCount, table.mapping, m,
-                                            stratifiedTexels(table.baseSize >> m, table.stratifiedBudget));
-        EXPECT_LE(e.max, 1.05 * table.levels[m].stratified.max) << path.filename() << " level " << m;
+        // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
+        // within it). Beside each ratio, the steepest steps across the edges and across the lines a
+        // quarter of the way into each face, over the exact reference's, show how much of a ratio is
+        // particular to the edges. The exact reference costs minutes at 256^2 and hours at 512^2, so
+        // bigger tables are held to the bound's cap k, which needs no reference at their size.
+        const SeamCheck* check = table.baseSize <= 128 ? &seamCheck(table.baseSize, table.levelCount, table.mapping) : nullptr;
+        const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
+        for (int m = 0; m < table.levelCount; ++m) {
+            const double k = check ? check->bounds[m] : out[m].size >= 4 ? seamCheckCap() : 0.0;
+            if (k == 0.0) continue;
+            std::string steps;
+            if (check) {
+                const SeamSteps s = steepestSteps(out[m]), exact = steepestSteps(check->reference[m]);
+                steps = fmt::format("; steepest step over the reference's: edges {:.3f}x, quarter lines {:.3f}x", s.edge / exact.edge,
+                                    s.quarterLine / exact.quarterLine);
+            }
+            fmt::print("{} level {}: seam ratio {:.4f} ({} {:.4f}, {:.3f}x){}\n", name, m, seamRatio(out[m]), check ? "bound" : "cap k", k,
+                       seamRatio(out[m]) / k, steps);
+            EXPECT_LE(seamRatio(out[m]), k) << name << " level " << m;
+            EXPECT_LE(seamRatio(outHardware[m]), k) << name << " level " << m << " (hardware sampling)";
+        }
+        // The worst stratified texel that the header records, measured here through the generic tap
+        // path, has the recorded L1 (CTest's table_eval_* measures every stratified texel through
+        // probefit's model, which probefit_tests holds equal to this path).
+        const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
+        for (int m = 0; m < table.levelCount; ++m) {
+            if (tableLevelAlpha(table, m) <= 0.0) continue;
+            const ImpulseError& recorded = table.levels[m].stratified;
+            const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.baseSize, table.levelCount, table.mapping, m,
+                                                {{recorded.worst, 1.0}});
+            EXPECT_NEAR(e.max, recorded.max, 1e-6) << name << " level " << m;
+        }
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(HardCases, EveryCommittedTable, testing::ValuesIn(committedTables()),
-                         [](const testing::TestParamInfo<std::filesystem::path>& table) { return table.param.stem().string(); });
+INSTANTIATE_TEST_SUITE_P(HardCases, EveryCommittedTable, testing::ValuesIn(committedTableGroups()),
+                         [](const testing::TestParamInfo<TableGroup>& group) { return group.param.name; });
