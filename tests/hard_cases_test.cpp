@@ -216,7 +216,7 @@ TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
             EXPECT_LE(seamRatio(out[m]), k) << name << " level " << m;
             EXPECT_LE(seamRatio(outHardware[m]), k) << name << " level " << m << " (hardware sampling)";
         }
-        // The worst stratified texel that the header records, measured here through the generic tap
+        // The worst stratified texel that the table's file records, measured here through the generic tap
         // path, has the recorded L1 (CTest's table_eval_* measures every stratified texel through
         // probefit's model, which probefit_tests holds equal to this path).
         const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
