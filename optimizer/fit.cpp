@@ -256,6 +256,7 @@ void scaleWeights(TapTable& table, int level, double factor) {
 
 std::string initDescription(const FitSettings& s) {
     std::string text;
+    if (s.fresh) return text;
     for (const TapTable& init : s.inits)
         text += fmt::format(", --init table {} {}x3{}", tableFormName(init.form), init.taps,
                             init.taps != s.taps ? fmt::format(" (taps split {} texels apart)", 2 * kSplitSpread) : "");
@@ -406,6 +407,8 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             if (m < 0 || m >= settings.levelCount)
                 throw ProbeError(fmt::format("--fit-levels: level {} is not one of 0..{}", m, settings.levelCount - 1));
     }
+    if (settings.fresh && settings.fitLevels.empty())
+        throw ProbeError("--fresh: needs --fit-levels (the --init supplies the other levels)");
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     const MomentBasis basis(settings.baseSize, settings.pyramid);
@@ -445,9 +448,10 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         // An init table whose filter this table can express exactly (same form, or const into quad)
         // is kept aside: the fit keeps it where it cannot beat it, so more taps (or the quadratic
         // form) are never worse. With N/2 taps the fit starts from its taps split and moved apart
-        // (the exact split sits at the init's stationary point).
+        // (the exact split sits at the init's stationary point). With --fresh they take no part.
         std::optional<std::pair<double, std::vector<double>>> fallback;
-        for (std::size_t i = 0; i < settings.inits.size(); ++i) {
+        const std::size_t startInits = settings.fresh ? 0 : settings.inits.size();
+        for (std::size_t i = 0; i < startInits; ++i) {
             const TapTable& init = settings.inits[i];
             const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
             startFromTable(table, m, init);

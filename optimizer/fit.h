@@ -52,6 +52,10 @@ struct FitSettings {
     // Levels to fit (empty: all); the others are copied from the first init, which then must have the
     // table's taps and form, so one level can be refitted without paying for the rest.
     std::vector<int> fitLevels;
+    // The fitted levels start from the lobe layout and the previous level alone, and keep no init's
+    // filter: the inits only supply the levels not fitted. A refit that trades L1 for a stronger seam
+    // or tail term needs it, since the init's filter, with its lower L1, would otherwise be kept.
+    bool fresh = false;
 };
 
 struct FitProgress {

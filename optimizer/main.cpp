@@ -259,6 +259,9 @@ int main(int argc, char** argv) {
                    "fit only these levels (comma-separated); the others are copied from the first --init, which must "
                    "have the table's taps and form")
         ->delimiter(',');
+    app.add_flag("--fresh", settings.fresh,
+                 "the --fit-levels start from the lobe layout and the previous level alone and keep no --init's filter "
+                 "(for a refit at a stronger seam or tail weight, which the init's lower L1 would otherwise keep out)");
     bool estimateOnly = false;
     app.add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");

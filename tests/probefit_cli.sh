@@ -86,6 +86,24 @@ import json, sys
 init, refit = (json.load(open(f))["solver"] for f in sys.argv[1:])
 sys.exit(0 if refit.startswith("levels 2: ") and refit.endswith(f"the other levels copied from the first --init: [{init}]") else refit)
 PY
+# --fresh refits a level without the init's filter: from the lobe layout and the level before, none
+# kept aside. At a strong seam weight a plain refit keeps the init's filter, whose L1 is lower, and so
+# its seam term; the fresh refit keeps its own fit and a weaker seam term.
+for mode in plain fresh; do
+    "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --seam-weight 8 \
+        $([[ $mode == fresh ]] && echo --fresh) --out "$work/$mode" >"$work/$mode.log" || fail "--fit-levels 2 ($mode)"
+done
+grep -q '^level 2 kept the exact --init' "$work/plain.log" || fail "plain refit at seam weight 8 did not keep the --init's filter"
+grep -q '^level 2 \(start --init\|kept the exact --init\)' "$work/fresh.log" && fail "--fresh: the --init took part in level 2"
+awk '/^level 2 seam term after the fit/ { s[FILENAME] = $(NF - 2) }
+     END { if (!(a in s) || !(b in s) || s[b] >= s[a]) { print s[a], s[b]; exit 1 } }' \
+    a="$work/plain.log" b="$work/fresh.log" "$work/plain.log" "$work/fresh.log" ||
+    fail "--fresh: seam term not below the plain refit's: $(grep -h '^level 2 seam term after' "$work/plain.log" "$work/fresh.log")"
+python3 - "$work/small.json" "$work/fresh.json" <<'PY' || fail "--fresh did not keep levels 0, 1 and 3"
+import json, sys
+a, b = (json.load(open(f))["levels"] for f in sys.argv[1:])
+sys.exit(0 if all(a[m]["coefficients"] == b[m]["coefficients"] for m in (0, 1, 3)) else "a level other than 2 changed")
+PY
 # tail prints every level with alpha > 0 at the three texels, and exits 0 or 1 (in or out of the bound).
 "$PROBEFIT" tail "$work/small.json" >"$work/tail.log"
 code=$?
@@ -137,6 +155,7 @@ expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-w
 expect_refused checker-weight  "--checker-weight"       $(fit --size 16 --checker-weight -2)
 expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
 expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
+expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
