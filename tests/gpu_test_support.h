@@ -56,15 +56,16 @@ inline probe::gpu::FilterSettings tableSettings(const probe::TapTable& table, pr
 // - exact: the shader's float arithmetic on the same texels as the double model: float rounding of
 //   positions (~1e-7 texel), weights and sums.
 // - hardware: the sampler's bilinear and between-mip weights carry 8 fractional bits on the GPUs
-//   the runtime targets (the Vulkan minimum is 4: subTexelPrecisionBits, mipmapPrecisionBits), so a
-//   read may be off by 2^-9 of the contrast of the texels it blends in each of its three linear
-//   steps; at most 3 x 2^-9 = 0.6% on probes of contrast 1. Lavapipe's float weights come far
-//   closer (each test records what it measures).
+//   the runtime targets (the Vulkan minimum is 4: subTexelPrecisionBits, mipmapPrecisionBits), and
+//   Vulkan leaves their rounding open, so a read may be off by 2^-8 of the contrast of the texels it
+//   blends in each of its three linear steps: at most 3 x 2^-8 = 1.2% on probes of contrast 1. An
+//   NVIDIA H200 (driver 580) measures 0.61% at worst (FIS beside a FLT_MAX spike), above the 0.59%
+//   that rounding to nearest would allow; lavapipe's float weights come far closer.
 struct SamplingCase {
     probe::gpu::Sampling sampling;
     double tolerance;
 };
-inline constexpr SamplingCase kSamplingCases[] = {{probe::gpu::Sampling::exact, 1e-5}, {probe::gpu::Sampling::hardware, 6e-3}};
+inline constexpr SamplingCase kSamplingCases[] = {{probe::gpu::Sampling::exact, 1e-5}, {probe::gpu::Sampling::hardware, 1.2e-2}};
 
 // Independent uniform radiance in [0, 1) per texel and channel.
 inline probe::CubeImage randomProbe(int faceSize, unsigned seed) {
