@@ -60,7 +60,8 @@ inline probe::gpu::FilterSettings tableSettings(const probe::TapTable& table, pr
 //   Vulkan leaves their rounding open, so a read may be off by 2^-8 of the contrast of the texels it
 //   blends in each of its three linear steps: at most 3 x 2^-8 = 1.2% on probes of contrast 1. An
 //   NVIDIA H200 (driver 580) measures 0.61% at worst (FIS beside a FLT_MAX spike), above the 0.59%
-//   that rounding to nearest would allow; lavapipe's float weights come far closer.
+//   that rounding to nearest would allow; lavapipe's float weights come far closer (each test
+//   records what it measures).
 struct SamplingCase {
     probe::gpu::Sampling sampling;
     double tolerance;
