@@ -1,7 +1,8 @@
 // The buffers every pass binds (probe/runtime.h's layout, compute_pipeline.h's one descriptor set):
 // all levels of one cube are packed level after level, each level face-major and row-major
 // (probe::texelIndex), one RGBA32F texel per vec4. The buffers that the hot loops only read are read
-// as uniform texel buffers (tableEntry, pyramidTexel), which SIMD back ends gather without branches.
+// as uniform texel buffers (tableEntry, pyramidTexel), which a CPU device's SIMD back end gathers
+// without branches; the hardware-sampling pipelines read the table as a storage buffer instead.
 #ifndef PROBE_BUFFERS_GLSL
 #define PROBE_BUFFERS_GLSL
 
@@ -20,8 +21,17 @@ layout(std430, set = 0, binding = 2) readonly buffer GeometryBuffer { vec4 geome
 layout(set = 0, binding = 3) uniform samplerBuffer tableTexels;
 // The pyramid buffer of binding 0, for reads.
 layout(set = 0, binding = 4) uniform samplerBuffer pyramidTexels;
+// The buffer of binding 3 again, for the pipelines that sample the pyramid image (the GPU path):
+// their table reads have indices that the whole workgroup shares, which a GPU serves once per
+// wave from its scalar or constant path, where a texel fetch costs a texture-unit read per
+// invocation (docs/benchmarks.md, "Static GPU cost").
+layout(std430, set = 0, binding = 9) restrict readonly buffer TableBuffer { vec4 tableData[]; };
 
+#ifdef PROBE_HARDWARE_SAMPLING
+vec4 tableEntry(uint index) { return tableData[index]; }
+#else
 vec4 tableEntry(uint index) { return texelFetch(tableTexels, int(index)); }
+#endif
 vec3 pyramidTexel(uint index) { return texelFetch(pyramidTexels, int(index)).rgb; }
 
 // Index of the first texel of `level` in a packed cube whose level 0 has face size `baseSize` (a

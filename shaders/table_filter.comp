@@ -4,8 +4,10 @@
 // per constant level), each one trilinear read of the pyramid: with PROBE_HARDWARE_SAMPLING one
 // textureLod through the seamless sampler, else sampling.glsl's arithmetic over the bordered buffer.
 // After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
-// (probe::tapsInUse; the rest are zero-weight padding). Invocations take each face's interior
-// first, then its edge ring (texelOfInvocation).
+// (probe::tapsInUse; the rest are zero-weight padding). The dispatch is (groups, rows, 6): a
+// workgroup covers texels of one face, gl_WorkGroupID.z, so that the frames' axes and with them
+// every table index are the same across it, and its invocations take the face's interior first,
+// then its edge ring (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -18,8 +20,10 @@
 
 layout(local_size_x = 64) in;
 
-// The table's form, fixed per pipeline so that the other form's reads are compiled out.
+// The table's form and taps per frame N (a multiple of 4), fixed per pipeline: the other form's
+// reads are compiled out, and every table index is a base plus a constant offset.
 layout(constant_id = 0) const int kCoefficientCount = 3; // 3: quadratic, 1: constant
+layout(constant_id = 2) const int kTaps = 8;
 // 0: each level's tap groups in use, from the table (the runtime); n > 0: n groups of four taps per
 // frame at every level, a constant that unrolls the loops, so that tools/shader_stats measures the
 // cost of a tap as the difference between two counts.
@@ -29,15 +33,13 @@ layout(push_constant) uniform Params {
     int baseSize;      // S_0
     int pyramidLevels; // log2(S_0) + 1
     int level;         // the output level of this dispatch
-    int taps;          // N per frame, a multiple of 4
-    uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
-    uint endTexel;
-    uint usageFirst; // index of level 0's tap group count in `table`
+    uint firstTexel;   // the first packed output texel of the level
+    uint usageFirst;   // index of level 0's tap group count in `table`
 } params;
 
 uint levelFirst; // the level's first vec4 in `table`
 
-#define PROBE_TAPS params.taps
+#define PROBE_TAPS kTaps
 #define PROBE_COEFFICIENTS kCoefficientCount
 vec4 probeTableEntry(uint index) { return tableEntry(levelFirst + index); }
 vec3 probeSamplePyramid(vec3 direction, float level) {
@@ -49,16 +51,16 @@ vec3 probeSamplePyramid(vec3 direction, float level) {
 }
 #include "table_taps.glsl"
 
-// The texel (its index within the level) that invocation k computes, in a level of face size
-// `size`. Per face, the interior comes first and the ring where the face's own frame counts
+// The texel (its index within the face) that invocation k of a face computes, in a level of face
+// size `size`. The interior comes first and the ring where the face's own frame counts
 // (max(|u|, |v|) > PROBE_FRAME_BAND_START: size / 8 texels wide) last, so that a subgroup seldom
 // holds both and only the ring's subgroups take the third frame. In row order, every subgroup of a
 // face at most two subgroups wide would reach the ring (16^2 on lavapipe's 8 invocations, 64^2 for a
 // 32-wide warp), and many of a wider face's would. Outputs do not depend on the order.
 uint texelOfInvocation(uint k, int size) {
-    uint s = uint(size), perFace = s * s;
+    uint s = uint(size);
     uint w = uint(float(s) * 0.5 * (1.0 - PROBE_FRAME_BAND_START)), n = s - 2u * w;
-    uint face = k / perFace, r = k % perFace, i, j;
+    uint r = k, i, j;
     if (r < n * n) {
         i = w + r % n;
         j = w + r / n;
@@ -74,23 +76,24 @@ uint texelOfInvocation(uint k, int size) {
         i = r % side;
         i = i < w ? i : i + n;
     }
-    return (face * s + j) * s + i;
+    return j * s + i;
 }
 
 void main() {
-    uint invocation = invocationIndex();
-    if (invocation >= params.endTexel - params.firstTexel) return;
     int size = params.baseSize >> params.level;
-    uint texel = texelOfInvocation(invocation, size);
+    uint invocation = invocationIndex(), face = gl_WorkGroupID.z;
+    if (invocation >= uint(size * size)) return;
+    uint texel = face * uint(size * size) + texelOfInvocation(invocation, size);
+    // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is the
+    // face's); the frame about the face's own axis only near its edges, so it comes last. Faces are
+    // +X, -X, +Y, -Y, +Z, -Z.
+    int major = int(face) / 2;
     // The texel centre on the cube (major component +-1), from its unit direction: no integer
     // division to find the texel.
-    vec3 R = geometry[params.firstTexel + texel].xyz, a = abs(R);
-    vec3 d = R / max(max(a.x, a.y), a.z);
-    levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * params.taps / 4);
+    vec3 R = geometry[params.firstTexel + texel].xyz;
+    vec3 d = R / abs(R[major]);
+    levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * kTaps / 4);
     int groupsInUse = kFixedTapGroups > 0 ? kFixedTapGroups : int(tableEntry(params.usageFirst + uint(params.level)).x);
-    // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is d's
-    // major one); the frame about the face's own axis only near its edges, so it comes last.
-    int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
 #ifdef PROBE_HARDWARE_SAMPLING

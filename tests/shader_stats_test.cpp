@@ -86,6 +86,19 @@ TEST_F(ShaderStatsTest, HardwareSamplingCostsLessPerTapAndSample) {
     EXPECT_LT(hardware.runtimeInstructionsPerUnit(), exact.runtimeInstructionsPerUnit());
 }
 
+// With hardware sampling a tap or sample is one vector memory instruction, its image sample: the
+// table's coefficients and FIS's samples, the same for a whole workgroup, come through scalar loads
+// (the storage buffer of buffers.glsl, a face per workgroup). Exact sampling reads its eight texels
+// through the texel buffer.
+TEST_F(ShaderStatsTest, HardwareTapAndSampleReadOnlyThePyramidThroughVectorMemory) {
+    for (const char* name :
+         {"table_filter_hardware_rgba32f quad", "table_filter_hardware_rgba32f const", "importance_sampling_hardware_rgba32f"}) {
+        const LoopCost cost = loop(name);
+        EXPECT_GT(cost.runtime.vectorMemory, 0) << name;
+        EXPECT_EQ(cost.vectorMemoryPerUnit(), 1.0) << name;
+    }
+    EXPECT_GE(loop("table_filter_exact_rgba32f quad").vectorMemoryPerUnit(), 8.0);
+}
 // The fixed counts unroll (the code grows with the count), and the runtime's loop costs at least the
 // unrolled body and less than twice it.
 TEST_F(ShaderStatsTest, FixedCountsUnrollAndBoundTheRuntimeLoop) {

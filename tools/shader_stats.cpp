@@ -1,5 +1,6 @@
 #include "shader_stats.h"
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 
@@ -18,11 +19,13 @@ namespace {
 
 bool startsWith(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
-// table_filter.comp's constant_id 0 (kCoefficientCount) and 1 (kFixedTapGroups).
+// table_filter.comp's constant_id 0 (kCoefficientCount), 1 (kFixedTapGroups) and 2 (kTaps).
 constexpr int32_t kQuadCoefficients = 3, kConstantCoefficients = 1;
-// FIS's samples and the table's tap groups per frame in the two compilations of a loop cost.
+// FIS's samples and the table's tap groups per frame in the two compilations of a loop cost; every
+// table compilation has the taps per frame of the larger.
 constexpr int kSamplesA = 8, kSamplesB = 16;
 constexpr int kTapGroupsA = 2, kTapGroupsB = 4;
+constexpr int32_t kTableTaps = 4 * kTapGroupsB;
 
 } // namespace
 
@@ -33,8 +36,8 @@ std::vector<ShaderVariant> runtimeVariants() {
     std::vector<ShaderVariant> variants;
     for (const auto& [shader, spirv] : shaders) {
         if (startsWith(shader, "table_filter_")) {
-            variants.push_back({shader + " quad", spirv, {kQuadCoefficients}});
-            variants.push_back({shader + " const", spirv, {kConstantCoefficients}});
+            variants.push_back({shader + " quad", spirv, {kQuadCoefficients, 0, kTableTaps}});
+            variants.push_back({shader + " const", spirv, {kConstantCoefficients, 0, kTableTaps}});
         } else if (shader == "pyramid" || startsWith(shader, "pyramid_image_")) { // kBoxKind, kInverseSolidAngle
             variants.push_back({shader + " bspline", spirv, {0, 0}});
             variants.push_back({shader + " box", spirv, {1, 0}});
@@ -57,9 +60,9 @@ std::vector<LoopVariant> loopVariants() {
             loops.push_back({fmt::format("table_filter_{}_rgba32f {}", sampling, form),
                              "tap",
                              spirv,
-                             {coefficients},
-                             {coefficients, kTapGroupsA},
-                             {coefficients, kTapGroupsB},
+                             {coefficients, 0, kTableTaps},
+                             {coefficients, kTapGroupsA, kTableTaps},
+                             {coefficients, kTapGroupsB, kTableTaps},
                              4 * kTapGroupsA * frames,
                              4 * kTapGroupsB * frames,
                              4 * frames});
@@ -88,6 +91,7 @@ struct StatisticsDevice::Impl {
     std::string name, driver;
     PFN_vkGetPipelineExecutablePropertiesKHR executableProperties = nullptr;
     PFN_vkGetPipelineExecutableStatisticsKHR executableStatistics = nullptr;
+    PFN_vkGetPipelineExecutableInternalRepresentationsKHR executableRepresentations = nullptr;
     std::unique_ptr<gpu::FilterDescriptors> layout;
 };
 
@@ -110,6 +114,23 @@ int64_t statisticValue(const VkPipelineExecutableStatisticKHR& s) {
     case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: return static_cast<int64_t>(s.value.u64);
     default: return static_cast<int64_t>(s.value.f64);
     }
+}
+
+// The vector memory instructions of RADV's disassembly, one instruction per line.
+int64_t countVectorMemory(std::string_view disassembly) {
+    static constexpr std::string_view kPrefixes[] = {"buffer_", "tbuffer_", "image_", "global_", "flat_", "scratch_"};
+    int64_t count = 0;
+    std::size_t start = 0;
+    while (start < disassembly.size()) {
+        std::size_t end = disassembly.find('\n', start);
+        if (end == std::string_view::npos) end = disassembly.size();
+        std::string_view line = disassembly.substr(start, end - start);
+        start = end + 1;
+        line.remove_prefix(std::min(line.find_first_not_of(" \t"), line.size()));
+        for (std::string_view prefix : kPrefixes)
+            if (line.starts_with(prefix)) ++count;
+    }
+    return count;
 }
 
 } // namespace
@@ -169,6 +190,8 @@ StatisticsDevice::StatisticsDevice() : impl_(std::make_unique<Impl>()) {
         reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutablePropertiesKHR"));
     d.executableStatistics =
         reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutableStatisticsKHR"));
+    d.executableRepresentations = reinterpret_cast<PFN_vkGetPipelineExecutableInternalRepresentationsKHR>(
+        vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutableInternalRepresentationsKHR"));
     // The Filter's pipeline layout: its bindings 0-4 are shaders/buffers.glsl's, which the SH projector
     // and the sphere renderer bind too, so one layout serves every shader.
     d.layout = std::make_unique<gpu::FilterDescriptors>(d.device, 1);
@@ -186,7 +209,8 @@ std::string StatisticsDevice::driver() const { return impl_->driver; }
 PipelineStatistics StatisticsDevice::compile(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
     const Impl& d = *impl_;
     const gpu::ComputePipeline pipeline(d.device, d.layout->pipelineLayout(), spirv, specialization,
-                                        VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR);
+                                        VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR |
+                                            VK_PIPELINE_CREATE_CAPTURE_INTERNAL_REPRESENTATIONS_BIT_KHR);
     VkPipelineInfoKHR pipelineInfo{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
     pipelineInfo.pipeline = pipeline.handle();
     uint32_t executables = 0;
@@ -212,6 +236,22 @@ PipelineStatistics StatisticsDevice::compile(std::span<const uint32_t> spirv, st
                                                  {"Inverse Throughput", &result.inverseThroughput}};
     for (const VkPipelineExecutableStatisticKHR& s : statistics)
         if (const auto field = fields.find(s.name); field != fields.end()) *field->second = statisticValue(s);
+
+    // RADV names its disassembly "Assembly"; other drivers leave the count at -1.
+    gpu::vkCheck(d.executableRepresentations(d.device, &executable, &count, nullptr), "vkGetPipelineExecutableInternalRepresentationsKHR");
+    std::vector<VkPipelineExecutableInternalRepresentationKHR> representations(
+        count, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INTERNAL_REPRESENTATION_KHR});
+    gpu::vkCheck(d.executableRepresentations(d.device, &executable, &count, representations.data()),
+                 "vkGetPipelineExecutableInternalRepresentationsKHR");
+    std::vector<std::string> texts(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        texts[i].resize(representations[i].dataSize);
+        representations[i].pData = texts[i].data();
+    }
+    gpu::vkCheck(d.executableRepresentations(d.device, &executable, &count, representations.data()),
+                 "vkGetPipelineExecutableInternalRepresentationsKHR");
+    for (uint32_t i = 0; i < count; ++i)
+        if (std::strcmp(representations[i].name, "Assembly") == 0) result.vectorMemory = countVectorMemory(texts[i]);
     return result;
 }
 

@@ -34,6 +34,10 @@ struct PipelineStatistics {
     int64_t spilledSgprs = -1;
     int64_t latency = -1;           // ACO's estimate of one invocation's cycles, stalls included
     int64_t inverseThroughput = -1; // ACO's estimate of the cycles per invocation with the SIMD full
+    // Vector memory instructions in the disassembly (AMD: buffer_, image_, global_ ...): the reads
+    // that go through the texture units, one address per invocation; scalar loads (s_load,
+    // s_buffer_load) read one value for the whole wave.
+    int64_t vectorMemory = -1;
 };
 
 // A loop to measure, the table filter's taps or FIS's samples: the pipeline as the runtime creates it,
@@ -65,6 +69,8 @@ struct LoopCost {
     // The runtime's loop, its counting and branching included: its instructions beyond the fixed ones,
     // per tap or sample in one pass.
     double runtimeInstructionsPerUnit() const { return (double(runtime.instructions) - fixedInstructions()) / loop.unitsPerIteration; }
+    // The vector memory instructions per tap or sample, from the two fixed counts.
+    double vectorMemoryPerUnit() const { return double(b.vectorMemory - a.vectorMemory) / (loop.unitsB - loop.unitsA); }
     // The runtime pipeline's instructions for an output texel whose loop runs `units` taps or samples:
     // the code outside the loop once, the runtime loop per tap or sample.
     double instructionsPerTexel(double units) const { return fixedInstructions() + units * runtimeInstructionsPerUnit(); }

@@ -22,12 +22,14 @@ using probe::stats::PipelineStatistics;
 std::string value(int64_t v) { return v < 0 ? "n/a" : std::to_string(v); }
 
 void printPipelines(const probe::stats::StatisticsDevice& device) {
-    fmt::print("| pipeline | instructions | VGPRs | SGPRs | spilled VGPRs | spilled SGPRs | latency (cycles) | inverse throughput |\n");
-    fmt::print("|---|---|---|---|---|---|---|---|\n");
+    fmt::print("| pipeline | instructions | vector memory | VGPRs | SGPRs | spilled VGPRs | spilled SGPRs | latency (cycles) | "
+               "inverse throughput |\n");
+    fmt::print("|---|---|---|---|---|---|---|---|---|\n");
     for (const probe::stats::ShaderVariant& v : probe::stats::runtimeVariants()) {
         const PipelineStatistics s = device.compile(v.spirv, v.specialization);
-        fmt::print("| `{}` | {} | {} | {} | {} | {} | {} | {} |\n", v.name, value(s.instructions), value(s.vgprs), value(s.sgprs),
-                   value(s.spilledVgprs), value(s.spilledSgprs), value(s.latency), value(s.inverseThroughput));
+        fmt::print("| `{}` | {} | {} | {} | {} | {} | {} | {} | {} |\n", v.name, value(s.instructions), value(s.vectorMemory),
+                   value(s.vgprs), value(s.sgprs), value(s.spilledVgprs), value(s.spilledSgprs), value(s.latency),
+                   value(s.inverseThroughput));
     }
 }
 
@@ -56,14 +58,16 @@ int run(const std::vector<int>& taps, const std::vector<int>& samples) {
     std::vector<LoopCost> costs;
     fmt::print("\nPer tap (table) and per sample (FIS): the loop body is the difference between two compilations with fixed, unrolled "
                "counts; the runtime's loop adds its counting and branching (its pipeline's instructions beyond those outside the "
-               "loop).\n\n");
-    fmt::print("| pipeline | loop body | runtime loop | outside the loop | taps or samples in the code | instructions | VGPRs |\n"
-               "|---|---|---|---|---|---|---|\n");
+               "loop). Vector memory: the body's vector memory instructions (reads through the texture units) per tap or sample.\n\n");
+    fmt::print("| pipeline | loop body | runtime loop | vector memory | outside the loop | taps or samples in the code | instructions | "
+               "VGPRs |\n"
+               "|---|---|---|---|---|---|---|---|\n");
     for (const probe::stats::LoopVariant& loop : probe::stats::loopVariants()) {
         const LoopCost& cost = costs.emplace_back(probe::stats::measureLoop(device, loop));
-        fmt::print("| `{}` | {:.1f} per {} | {:.1f} per {} | {:.0f} | {} / {} | {} / {} | {} / {} |\n", loop.name,
-                   cost.instructionsPerUnit(), loop.unit, cost.runtimeInstructionsPerUnit(), loop.unit, cost.fixedInstructions(),
-                   loop.unitsA, loop.unitsB, cost.a.instructions, cost.b.instructions, value(cost.a.vgprs), value(cost.b.vgprs));
+        fmt::print("| `{}` | {:.1f} per {} | {:.1f} per {} | {:.2f} | {:.0f} | {} / {} | {} / {} | {} / {} |\n", loop.name,
+                   cost.instructionsPerUnit(), loop.unit, cost.runtimeInstructionsPerUnit(), loop.unit, cost.vectorMemoryPerUnit(),
+                   cost.fixedInstructions(), loop.unitsA, loop.unitsB, cost.a.instructions, cost.b.instructions, value(cost.a.vgprs),
+                   value(cost.b.vgprs));
     }
     printPerTexel(costs, taps, samples);
     return 0;

@@ -128,13 +128,14 @@ ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::
 
 ComputePipeline::~ComputePipeline() { vkDestroyPipeline(device_, pipeline_, nullptr); }
 
-void ComputePipeline::dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const {
+void ComputePipeline::dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups,
+                               uint32_t layers) const {
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
     vkCmdPushConstants(commandBuffer, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<uint32_t>(constants.size()), constants.data());
     // More than 65535 workgroups (the guaranteed maxComputeWorkGroupCount[0]) go over y; the shaders
     // flatten (x, y) with invocationIndex() and skip the invocations past the end.
     const uint32_t rows = (groups + kMaxGroupsX - 1) / kMaxGroupsX;
-    vkCmdDispatch(commandBuffer, rows > 1 ? kMaxGroupsX : groups, rows, 1);
+    vkCmdDispatch(commandBuffer, rows > 1 ? kMaxGroupsX : groups, rows, layers);
 }
 
 void computeBarrier(VkCommandBuffer commandBuffer) {

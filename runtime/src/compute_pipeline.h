@@ -3,7 +3,8 @@
 // descriptor set (the Filter adds images: filter_descriptors.h). Bindings 0-2 are storage buffers
 // (pyramid, output, geometry); the buffers that the hot loops only read are bound as uniform texel
 // buffers, whose reads SIMD back ends gather without branches (lavapipe runs them about twice as
-// fast as storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again.
+// fast as storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again. (The
+// Filter also binds the table as a storage buffer, binding 9, for its hardware-sampling pipelines.)
 #pragma once
 
 #include <array>
@@ -57,8 +58,8 @@ public:
     ComputePipeline& operator=(const ComputePipeline&) = delete;
 
     // Binds the pipeline, pushes `constants` and dispatches `groups` workgroups (split over y beyond
-    // kMaxGroupsX).
-    void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups) const;
+    // kMaxGroupsX) in each of `layers` layers over z.
+    void dispatch(VkCommandBuffer commandBuffer, std::span<const std::byte> constants, uint32_t groups, uint32_t layers = 1) const;
     VkPipeline handle() const { return pipeline_; }
 
 private:

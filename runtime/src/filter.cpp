@@ -180,7 +180,6 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     std::vector<float> tableData(4, 0.0f);
     if (kind == MethodKind::table) {
         tableData = tableBufferData(*s.method.table);
-        tableTaps = s.method.table->taps;
         tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
     } else if (kind == MethodKind::fis) {
         tableData = importanceSamplingBufferData(s, sampleOffsets);
@@ -276,6 +275,7 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         descriptors->writeBuffer(set, kAccumulator, accumulator.handle());
         descriptors->writeBuffer(set, kGeometry, geometry.handle());
         descriptors->writeTexelBuffer(set, kTableTexels, tableView.handle());
+        descriptors->writeBuffer(set, kTableBuffer, table.handle());
         descriptors->writeTexelBuffer(set, kPyramidTexels, pyramidView.handle());
         descriptors->writeSampled(set, kSourceCube, source, nearest->handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);

@@ -13,7 +13,8 @@ VkDescriptorType bindingType(uint32_t binding) {
     switch (binding) {
     case kPyramidBuffer:
     case kAccumulator:
-    case kGeometry: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    case kGeometry:
+    case kTableBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     case kTableTexels:
     case kPyramidTexels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
     case kSourceCube:
@@ -40,7 +41,7 @@ FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device
     layoutInfo.pPushConstantRanges = &range;
     vkCheck(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_), "vkCreatePipelineLayout");
 
-    const std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * maxSets},
+    const std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * maxSets},
                                                      {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2 * maxSets},
                                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * maxSets},
                                                      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * maxSets}}};

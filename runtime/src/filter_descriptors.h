@@ -1,4 +1,4 @@
-// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and shaders/images.glsl's 5-8 in
+// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 9 and shaders/images.glsl's 5-8 in
 // one set layout, one pipeline layout (with kPushConstantBytes of push constants), and sets from one
 // pool, each written with the resources of the dispatches that bind it.
 #pragma once
@@ -19,7 +19,8 @@ enum FilterBinding : uint32_t {
     kPyramidCube = 6,   // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
     kPyramidMip = 7,    // storage image: the pyramid mip written (hardware sampling)
     kOutputMip = 8,     // storage image: the output mip written (the conversion pass's packed words)
-    kFilterBindingCount = 9,
+    kTableBuffer = 9,   // storage buffer: the tap table or FIS samples again (hardware sampling)
+    kFilterBindingCount = 10,
 };
 
 class FilterDescriptors {

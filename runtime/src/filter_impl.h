@@ -74,7 +74,6 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
     std::unique_ptr<GpuTimer> timer;
     std::vector<Dispatch> dispatches;
-    int tableTaps = 0;                   // table method: N per frame
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
@@ -133,10 +132,10 @@ std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std
 // impl.dispatches.
 template <typename Constants>
 void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, std::string_view pass, int level,
-                  const Constants& constants, uint32_t groups) {
+                  const Constants& constants, uint32_t groups, uint32_t layers = 1) {
     static_assert(sizeof(Constants) <= kPushConstantBytes);
-    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups);
-    impl.dispatches.push_back({std::string(pass), level, groups});
+    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups, layers);
+    impl.dispatches.push_back({std::string(pass), level, groups * layers});
 }
 
 } // namespace probe::gpu

@@ -1,6 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): its upload in the published layout (then the
-// tap groups each level uses), and one dispatch per output level computed (copy_level_pass.cpp does
-// the levels with alpha = 0).
+// tap groups each level uses), and one dispatch per output level computed, a face per workgroup
+// layer (copy_level_pass.cpp does the levels with alpha = 0).
 #include <cstdint>
 
 #include <table_filter_exact_b10g11r11.spv.h>
@@ -21,9 +21,7 @@ struct TableConstants {
     int32_t baseSize;
     int32_t pyramidLevels;
     int32_t level;
-    int32_t taps;
     uint32_t firstTexel;
-    uint32_t endTexel;
     uint32_t usageFirst;
 };
 
@@ -34,8 +32,10 @@ std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
         impl.sampling == Sampling::hardware
             ? outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv})
             : outputVariant(impl, {kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
-    const std::array<int32_t, 1> form{coefficientCount(impl.settings.method.table->form)}; // the shader's kCoefficientCount
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv, form);
+    // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
+    const TapTable& table = *impl.settings.method.table;
+    const std::array<int32_t, 3> specialization{coefficientCount(table.form), 0, table.taps};
+    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv, specialization);
 }
 
 std::vector<float> tableBufferData(const TapTable& table) {
@@ -54,9 +54,10 @@ uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(t
 
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{
-        s.faceSize, impl.pyramidLevels, m, impl.tableTaps, impl.outputOffsets[m], impl.outputOffsets[m + 1], impl.tableUsageFirst};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
+    const TableConstants constants{s.faceSize, impl.pyramidLevels, m, impl.outputOffsets[m], impl.tableUsageFirst};
+    // A face per workgroup layer (table_filter.comp).
+    const uint32_t size = uint32_t(s.faceSize >> m);
+    dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(size * size), kFaceCount);
 }
 
 } // namespace probe::gpu

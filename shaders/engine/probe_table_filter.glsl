@@ -71,8 +71,9 @@ void main() {
     if (t.x >= size || t.y >= size) return;
     vec3 d = texelCubePoint(t.z, t.x, t.y, size);
     int groupsInUse = max(probeTableTapGroups[probeParams.level], 1);
-    vec3 a = abs(d);
-    int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    // The face's axis (faces +X, -X, +Y, -Y, +Z, -Z), from the workgroup: the same across it, so
+    // that a GPU reads the table entries its frames need once for all its invocations.
+    int major = int(gl_WorkGroupID.z) / 2;
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
     addTableFrame(d, (major + 1) % 3, groupsInUse, sum, weightSum);

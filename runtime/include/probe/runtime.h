@@ -135,7 +135,7 @@ struct Dispatch {
     int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source; the
                          // reference builds it alone, to read it texel by texel);
                          // "sh": the summation stage (0 projects the source)
-    uint32_t groups = 0; // workgroups (x; y = z = 1)
+    uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
 };
 
 // The caller's source cube for Filter::record: a view of type VK_IMAGE_VIEW_TYPE_CUBE whose first
