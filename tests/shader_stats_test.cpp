@@ -99,6 +99,18 @@ TEST_F(ShaderStatsTest, HardwareTapAndSampleReadOnlyThePyramidThroughVectorMemor
     }
     EXPECT_GE(loop("table_filter_exact_rgba32f quad").vectorMemoryPerUnit(), 8.0);
 }
+
+// The engine drop-in takes its face, and so its frames' axes, from the workgroup: its constant table
+// then comes through scalar loads too, and its vector memory instructions are the body of its rolled
+// tap loop, three frames of four image samples, and the output's store.
+TEST_F(ShaderStatsTest, EngineDropInReadsOnlyThePyramidThroughVectorMemory) {
+    for (const probe::stats::ShaderVariant& v : probe::stats::runtimeVariants())
+        if (v.name == "engine/probe_table_filter gltf128_quad8") {
+            EXPECT_EQ(device->compile(v.spirv, v.specialization).vectorMemory, 3 * 4 + 1);
+            return;
+        }
+    ADD_FAILURE() << "no engine drop-in among the variants";
+}
 // The fixed counts unroll (the code grows with the count), and the runtime's loop costs at least the
 // unrolled body and less than twice it.
 TEST_F(ShaderStatsTest, FixedCountsUnrollAndBoundTheRuntimeLoop) {

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 
+#include <engine_table_filter.spv.h>
 #include <fmt/format.h>
 #include <shader_list.h>
 
@@ -45,6 +46,7 @@ std::vector<ShaderVariant> runtimeVariants() {
             variants.push_back({shader, spirv, {}});
         }
     }
+    variants.push_back({"engine/probe_table_filter gltf128_quad8", kEngineTableFilterSpv, {}});
     return variants;
 }
 
