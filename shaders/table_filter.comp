@@ -97,9 +97,9 @@ void main() {
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
 #ifdef PROBE_HARDWARE_SAMPLING
-    addTableFrame(d, (major + 1) % 3, groupsInUse, sum, weightSum);
-    addTableFrame(d, (major + 2) % 3, groupsInUse, sum, weightSum);
-    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, sum, weightSum);
+    addTableFrame(d, (major + 1) % 3, groupsInUse, false, sum, weightSum);
+    addTableFrame(d, (major + 2) % 3, groupsInUse, false, sum, weightSum);
+    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, false, sum, weightSum);
 #else
     // Exact sampling is the mode for Mesa's lavapipe, a SIMD back end that runs a branch's body even
     // where no invocation takes it and a loop until every invocation has left it: the third frame is
@@ -109,7 +109,7 @@ void main() {
     int frames = subgroupAny(frameWeight(d, major) > 0.0) ? 3 : 2;
     int k = 0;
     do {
-        addTableFrame(d, (major + 1 + k) % 3, groupsInUse, sum, weightSum);
+        addTableFrame(d, (major + 1 + k) % 3, groupsInUse, true, sum, weightSum);
     } while (++k < frames);
 #endif
     storeOutput(texelCoordinates(texel, size), finishTapSum(sum, weightSum));

@@ -19,12 +19,14 @@ vec4 tablePolynomial(int parameter, uint group, FrameSetup f) {
 }
 
 // Adds the taps of frame `axis` at cube vector d (major component 1), the first `groupsInUse`
-// groups of four (at least one: the level's count from probe::tapsInUse). Where the frame does not
-// count, its taps weigh 0 at a direction that can be read. The loop unrolls where groupsInUse is a
+// groups of four (at least one: the level's count from probe::tapsInUse). With `mayWeighZero` the
+// frame may not count at d (a loop over frames that some texels of a subgroup need): there its taps
+// weigh 0 at a direction that can be read. A caller that only adds frames that count passes a
+// constant false, and the compiler drops those selects. The loop unrolls where groupsInUse is a
 // constant (the fixed counts that tools/shader_stats compiles to measure the cost of a tap).
-void addTableFrame(vec3 d, int axis, int groupsInUse, inout vec3 sum, inout float weightSum) {
+void addTableFrame(vec3 d, int axis, int groupsInUse, bool mayWeighZero, inout vec3 sum, inout float weightSum) {
     FrameSetup f = frameSetup(d, axis);
-    bool counts = f.weight > 0.0;
+    bool counts = !mayWeighZero || f.weight > 0.0;
     int g = 0;
     [[unroll]] do {
         uint group = uint(axis * PROBE_TAPS / 4 + g);

@@ -76,9 +76,9 @@ void main() {
     int major = int(gl_WorkGroupID.z) / 2;
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
-    addTableFrame(d, (major + 1) % 3, groupsInUse, sum, weightSum);
-    addTableFrame(d, (major + 2) % 3, groupsInUse, sum, weightSum);
-    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, sum, weightSum);
+    addTableFrame(d, (major + 1) % 3, groupsInUse, false, sum, weightSum);
+    addTableFrame(d, (major + 2) % 3, groupsInUse, false, sum, weightSum);
+    if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, false, sum, weightSum);
     // 65504: the largest finite half, so that an rgba16f output holds no Inf; define PROBE_OUTPUT_MAX
     // for a wider format.
 #ifndef PROBE_OUTPUT_MAX
