@@ -22,7 +22,8 @@
 //     as layers (a 2D-array view of one mip of the output cube), layout GENERAL.
 // Push constant: int level, the output level (1 .. PROBE_TABLE_LEVEL_COUNT - 1). Level 0 is a copy
 // of the source (alpha 0): copy mip 0 instead of dispatching.
-// Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level.
+// Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level; z is the
+// face, +X, -X, +Y, -Y, +Z, -Z (a workgroup's face gives the table entries all its invocations read).
 // Outputs are clamped to >= 0 and to the largest finite value of the format.
 #ifndef PROBE_ENGINE_TABLE_FILTER_GLSL
 #define PROBE_ENGINE_TABLE_FILTER_GLSL
