@@ -111,6 +111,7 @@ TEST_F(ShaderStatsTest, EngineDropInReadsOnlyThePyramidThroughVectorMemory) {
         }
     ADD_FAILURE() << "no engine drop-in among the variants";
 }
+
 // The fixed counts unroll (the code grows with the count), and the runtime's loop costs at least the
 // unrolled body and less than twice it.
 TEST_F(ShaderStatsTest, FixedCountsUnrollAndBoundTheRuntimeLoop) {
