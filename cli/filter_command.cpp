@@ -1,5 +1,5 @@
 // probefilter filter IN --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
-//   [--levels M] [--mapping NAME] [--sampling MODE] [--format F] [--repeat K] [--against-reference]
+//   [--levels M] [--mapping NAME] [--sampling MODE] [--format F] [--repeat K] [--level-times] [--against-reference]
 //   [--device X] --out DIR
 #include <algorithm>
 #include <fstream>
@@ -40,6 +40,7 @@ struct FilterOptions {
     std::string sampling = "automatic";
     std::string format = "rgba32f";
     int repeat = 1;
+    bool levelTimes = false;
     bool againstReference = false;
     std::string device;
     bool validate = false;
@@ -144,7 +145,8 @@ void runFilter(const FilterOptions& o) {
     probe::gpu::Device device(deviceOptions);
     probe::gpu::Filter filter(device, s);
     for (const std::string& warning : filter.warnings()) fmt::print(stderr, "probefilter: warning: {}\n", warning);
-    const probe::CubeLevels levels = filter.run(source, o.repeat);
+    const probe::CubeLevels levels =
+        filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
         throw probe::ProbeError(
@@ -176,7 +178,7 @@ void runFilter(const FilterOptions& o) {
     for (const probe::gpu::PassTime& p : filter.timings())
         passes.push_back({{"name", p.name}, {"gpu_ms_median", p.medianMs}, {"gpu_ms_runs", p.runsMs}});
     report["passes"] = passes;
-    // Pass 2 level by level (filter computes every level: entry k is level k).
+    // Pass 2 level by level, with --level-times (filter computes every level: entry k is level k).
     const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings();
     for (std::size_t k = 0; k < levelTimes.size(); ++k) report["levels"][k]["gpu_ms_median"] = levelTimes[k].medianMs;
 
@@ -235,6 +237,9 @@ void addFilterCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--repeat", o->repeat, fmt::format("Run the passes K times (1 to {}); GPU times are the median", probe::kMaxRepeat))
         ->capture_default_str();
+    cmd->add_flag("--level-times", o->levelTimes,
+                  "Also time each level's pass-2 dispatch alone (a timestamp after each level: on a GPU the levels then "
+                  "run one after another, so pass 2 takes longer)");
     cmd->add_flag("--against-reference", o->againstReference, "Also run the CPU reference and report the image L1 error per level");
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");

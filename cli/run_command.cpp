@@ -149,7 +149,7 @@ private:
             s.method.table = &table;
         }
         probe::gpu::Filter filter(device_, s);
-        result.levels = filter.run(result.source);
+        result.levels = filter.run(result.source, 1, probe::gpu::Timestamps::levels);
 
         std::vector<probe::gpu::Dispatch> pyramid, levels;
         for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : levels).push_back(d);

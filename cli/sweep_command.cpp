@@ -300,16 +300,19 @@ void runSweep(const SweepOptions& o) {
         printProgress("methods", k + 1, methods.size());
     }
 
-    // GPU time does not depend on the probe's content: every method runs the first probe once per
-    // round, --repeat rounds, so that a machine whose speed drifts during the sweep slows every
-    // method alike; the median over the rounds.
-    // Per method: the total, then each level's pass-2 dispatch, one entry per round.
+    // GPU time does not depend on the probe's content: every method runs the first probe in each of
+    // --repeat rounds, so that a machine whose speed drifts during the sweep slows every method
+    // alike; the median over the rounds. In a round a method runs three times back to back, as in
+    // scripts/bench-runtime: twice timed per pass, the first to warm the GPU up, for the total of the
+    // second; then once timed per level (timestamps that keep a GPU from overlapping levels) for
+    // each level's time. Per method: the total, then each level's pass-2 dispatch, one per round.
     std::vector<std::vector<std::vector<double>>> runsMs(methods.size(), std::vector<std::vector<double>>(levelCount + 1));
     for (int round = 0; round < o.repeat; ++round) {
         for (std::size_t k = 0; k < methods.size(); ++k) {
-            filters[k]->run(probes.front().cube);
+            filters[k]->run(probes.front().cube, 2);
             for (const probe::gpu::PassTime& t : filters[k]->timings())
-                if (t.name == "total") runsMs[k][0].push_back(t.medianMs);
+                if (t.name == "total") runsMs[k][0].push_back(t.runsMs.back());
+            filters[k]->run(probes.front().cube, 1, probe::gpu::Timestamps::levels);
             const std::vector<probe::gpu::PassTime> levels = filters[k]->levelTimings();
             for (std::size_t m = 0; m < levels.size(); ++m) runsMs[k][m + 1].push_back(levels[m].medianMs);
         }
@@ -349,9 +352,10 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--pyramid", o->pyramids, "FIS pyramids: bspline, box");
     cmd->add_option("--fis-maps", o->fisMaps, "What FIS reads: cube (the pyramids above), paraboloid (a dual-paraboloid map)")
         ->capture_default_str();
-    cmd->add_option(
-        "--repeat", o->repeat,
-        fmt::format("Timed runs per method (1 to {}), on the first probe, in rounds over the methods (median)", probe::kMaxRepeat));
+    cmd->add_option("--repeat", o->repeat,
+                    fmt::format("Timing rounds over the methods (1 to {}), on the first probe: a warm-up run, a run timed per pass and one "
+                                "timed per level each round (median over the rounds)",
+                                probe::kMaxRepeat));
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# probefilter filter on lavapipe with the validation layer: the three methods write every level
-# and a report naming the device, the dispatches, GPU times and errors; a table file and the same
-# table in the published text layout give the same output; the mappings' compiled-in tables at
-# 128^2 filter; a table that does not fit, a missing table and an unknown device are refused (exit
-# 2, reason on stderr, nothing written).
+# probefilter filter on lavapipe with the validation layer: the three methods write every level and a
+# report naming the device, the dispatches, GPU times (per level with --level-times) and errors; a table
+# file and the same table in the published text layout give the same output; the mappings' compiled-in
+# tables at 128^2 filter; a table that does not fit, a missing table and an unknown device are refused
+# (exit 2, reason on stderr, nothing written).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -15,7 +15,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 
 "$PROBEFILTER" synth sky --size 16 --out sky.exr >/dev/null
 
-"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --repeat 3 \
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --repeat 3 --level-times \
     --against-reference --validate --out table >/dev/null 2>&1 || fail "table method"
 for m in 0 1 2 3; do [[ -f table/level_$m.exr ]] || fail "table: level_$m.exr missing"; done
 python3 - table/report.json <<'PY' || fail "table: report.json"
@@ -34,6 +34,9 @@ PY
 "$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.txt" --table-taps 4 --table-form quad \
     --size 16 --validate --out published >/dev/null 2>&1 || fail "published layout"
 for m in 0 1 2 3; do cmp -s table/level_$m.exr published/level_$m.exr || fail "published layout differs at level $m"; done
+# Without --level-times: pass times only.
+python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); assert not any("gpu_ms_median" in l for l in r["levels"]), r["levels"]' \
+    published/report.json || fail "levels timed without --level-times"
 
 # Without --table, the compiled-in table for the settings (tables/*.json), quad 8 taps preferred.
 if [[ -f "$fixtures/../../tables/gltf16_quad8.json" ]]; then

@@ -41,7 +41,7 @@ void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, 
         s.pyramidDepth = deepestPyramidLevelRead(methodTapGenerator(s.method, kSize, kLevels, s.mapping), kSize, levels);
     depth = s.pyramidDepth;
     gpu::Filter partial(probetest::testDevice(), s);
-    const CubeLevels some = partial.run(source);
+    const CubeLevels some = partial.run(source, 1, gpu::Timestamps::levels);
     const std::string what =
         fmt::format("{} {} levels {}", methodKindName(method), gpu::samplingName(partial.sampling()), fmt::join(levels, ","));
 
@@ -77,8 +77,8 @@ void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, 
         EXPECT_EQ(partial.downloadPyramid().size(), std::size_t(s.pyramidDepth + 1)) << what;
     }
 
-    // One time per level computed, named by it, adding up to the pass-2 time (when the queue has
-    // timestamps at all).
+    // Timed per level: one time per level computed, named by it, adding up to the pass-2 time (when
+    // the queue has timestamps at all).
     const std::vector<gpu::PassTime> passes = partial.timings(), perLevel = partial.levelTimings();
     if (passes.empty()) return;
     ASSERT_EQ(perLevel.size(), levels.size()) << what;
@@ -91,6 +91,14 @@ void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, 
     const auto pass2 = std::find_if(passes.begin(), passes.end(), [&](const gpu::PassTime& p) { return p.name == methodKindName(method); });
     ASSERT_NE(pass2, passes.end()) << what;
     EXPECT_NEAR(sum, pass2->medianMs, 1e-9 + 1e-9 * pass2->medianMs) << what;
+
+    // Timed per pass (run()'s default): the same passes, no level times.
+    partial.run(source);
+    std::vector<std::string> names, perPassNames;
+    for (const gpu::PassTime& p : passes) names.push_back(p.name);
+    for (const gpu::PassTime& p : partial.timings()) perPassNames.push_back(p.name);
+    EXPECT_EQ(perPassNames, names) << what;
+    EXPECT_TRUE(partial.levelTimings().empty()) << what;
 }
 
 } // namespace

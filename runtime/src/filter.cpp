@@ -244,11 +244,16 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
         copy = makeCopyLevelPipeline(*this);
     if (convertOutput) convert = makeConvertPipeline(*this);
 
-    std::vector<std::string> segments;
-    if (pass1) segments.emplace_back("pyramid");
-    segments.resize(segments.size() + levels.size(), std::string(methodKindName(kind)));
-    if (convertOutput) segments.emplace_back("convert");
-    timer = std::make_unique<GpuTimer>(d, segments);
+    const auto segments = [&](std::size_t pass2Segments) {
+        std::vector<std::string> passes;
+        if (pass1) passes.emplace_back("pyramid");
+        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(kind)));
+        if (convertOutput) passes.emplace_back("convert");
+        return passes;
+    };
+    passTimer = std::make_unique<GpuTimer>(d, segments(1));
+    levelTimer = std::make_unique<GpuTimer>(d, segments(levels.size()));
+    timer = passTimer.get();
 
     submission = std::make_unique<Submission>(d);
     submission->upload(geometry, geometryData.data(), geometry.bytes());
@@ -323,8 +328,10 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     boundOutput = output;
 }
 
-void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
+void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
     dispatches.clear();
+    const bool perLevel = timestamps == Timestamps::levels;
+    timer = perLevel ? levelTimer.get() : passTimer.get();
     timer->reset(commandBuffer);
     computeBarrier(commandBuffer); // the Filter's resources, against a previous recording's use
     uint32_t boundary = 0;
@@ -340,8 +347,9 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
         else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
         else if (settings.method.kind == MethodKind::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
         else recordReferenceLevel(*this, commandBuffer, m);
-        timer->boundary(commandBuffer, boundary++);
+        if (perLevel) timer->boundary(commandBuffer, boundary++);
     }
+    if (!perLevel) timer->boundary(commandBuffer, boundary++);
     if (convertOutput) {
         recordConversion(*this, commandBuffer, boundOutput);
         timer->boundary(commandBuffer, boundary++);
@@ -351,7 +359,7 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer) {
 Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings)) {}
 Filter::~Filter() = default;
 
-CubeLevels Filter::run(const CubeImage& source, int repeat) {
+CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
     Impl& f = *impl_;
     const FilterSettings& s = f.settings;
     if (source.size != s.faceSize)
@@ -395,7 +403,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat) {
     imageBarrier(passes, f.runOutput.handle(), 0, allMips, VK_IMAGE_LAYOUT_UNDEFINED, written, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-    f.recordPasses(passes);
+    f.recordPasses(passes, timestamps);
     imageBarrier(passes, f.runOutput.handle(), 0, allMips, written, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
@@ -446,7 +454,7 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
         throw ParameterError("format", fmt::format("{}: the output cube's format, but the filter was built for {}",
                                                    formatName(output.format), formatName(f.settings.outputFormat)));
     f.bindImages(source.view, output.image);
-    f.recordPasses(commandBuffer);
+    f.recordPasses(commandBuffer, Timestamps::passes);
     f.timer->clear();
 }
 
@@ -464,7 +472,7 @@ std::vector<PassTime> Filter::timings() const {
 }
 
 std::vector<PassTime> Filter::levelTimings() const {
-    if (impl_->timer->timings().empty()) impl_->timer->collect();
+    if (impl_->timer != impl_->levelTimer.get()) return {};
     std::vector<std::string> names;
     if (impl_->pass1) names.push_back("pass 1");
     for (int m : impl_->levels) names.push_back(fmt::format("level {}", m));

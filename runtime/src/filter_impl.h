@@ -72,7 +72,9 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> pass2;         // table, fis or reference
     std::unique_ptr<ComputePipeline> copy;          // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
-    std::unique_ptr<GpuTimer> timer;
+    std::unique_ptr<GpuTimer> passTimer;            // a segment per pass
+    std::unique_ptr<GpuTimer> levelTimer;           // pass 2 in a segment per output level
+    GpuTimer* timer = nullptr;                      // the one the last recording wrote
     std::vector<Dispatch> dispatches;
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
@@ -85,9 +87,10 @@ struct Filter::Impl {
     // the ones bound already.
     void bindImages(VkImageView source, VkImage output);
     // Timer reset, a barrier against earlier use of the Filter's resources, boundary 0, pass 1 and a
-    // barrier, a boundary; then each output level and a boundary after it (no barrier between
-    // levels: they write disjoint mips and read only the pyramid); then the conversion, if any.
-    void recordPasses(VkCommandBuffer commandBuffer);
+    // barrier, a boundary; then the output levels with no barrier between them (they write disjoint
+    // mips and read only the pyramid) and a boundary after the last, or after each with
+    // Timestamps::levels; then the conversion, if any, and a boundary.
+    void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
 };
 
 // Pass recorders, one per file (pyramid_pass.cpp; for pass 2, one output level at a time:

@@ -24,6 +24,8 @@
 // of the source (alpha 0): copy mip 0 instead of dispatching.
 // Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level; z is the
 // face, +X, -X, +Y, -Y, +Z, -Z (a workgroup's face gives the table entries all its invocations read).
+// Dispatch every level with no barrier or timestamp between them (they write different mips and read
+// only the pyramid): a GPU then overlaps the small levels, which alone leave it mostly idle.
 // Outputs are clamped to >= 0 and to the largest finite value of the format.
 #ifndef PROBE_ENGINE_TABLE_FILTER_GLSL
 #define PROBE_ENGINE_TABLE_FILTER_GLSL

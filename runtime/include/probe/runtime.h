@@ -122,6 +122,13 @@ struct FilterSettings {
     int pyramidDepth = -1;
 };
 
+// Where Filter::run writes its timestamp queries. `passes`: at the boundaries of the passes, all that
+// record() writes. `levels`: after each output level's pass-2 dispatch too (levelTimings()), which
+// makes a GPU finish a level before it starts the next: each level is then timed alone, and pass 2
+// takes longer than it does with `passes` wherever a GPU would have overlapped the small levels (2.8x
+// at 128^2 on an NVIDIA H200, docs/benchmarks.md).
+enum class Timestamps { passes, levels };
+
 // GPU time of one pass: the median over the repeats, from timestamp queries.
 struct PassTime {
     std::string name; // "pyramid", "table", "fis", "reference", "convert" or "total"
@@ -164,10 +171,10 @@ public:
     Filter(const Filter&) = delete;
     Filter& operator=(const Filter&) = delete;
 
-    // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time) and
-    // returns the M output levels (those outside FilterSettings::levels empty), read back from the
-    // output format.
-    CubeLevels run(const CubeImage& source, int repeat = 1);
+    // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time, at
+    // the places `timestamps` names) and returns the M output levels (those outside
+    // FilterSettings::levels empty), read back from the output format.
+    CubeLevels run(const CubeImage& source, int repeat = 1, Timestamps timestamps = Timestamps::passes);
 
     // Engines: records the passes into `commandBuffer`, from `source` to mips 0..M-1 of `output`
     // (only the mips of FilterSettings::levels are written). What the caller owes:
@@ -198,9 +205,9 @@ public:
     // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
     // the queue has no timestamps.
     std::vector<PassTime> timings() const;
-    // Per output level computed, named "level <m>": the time of its pass-2 dispatch (timestamps around
-    // it), over the same runs. Levels run with no barrier between them, so on a GPU that overlaps
-    // dispatches the split is approximate; their sum is the pass-2 time.
+    // Per output level computed, named "level <m>": the time of its pass-2 dispatch alone, over the
+    // runs of the last run(), when that asked for Timestamps::levels; their sum is that run's pass-2
+    // time. Empty after any other run() or a record().
     std::vector<PassTime> levelTimings() const;
     // The dispatches of one run.
     const std::vector<Dispatch>& dispatches() const;
