@@ -4,10 +4,12 @@
 // per constant level), each one trilinear read of the pyramid: with PROBE_HARDWARE_SAMPLING one
 // textureLod through the seamless sampler, else sampling.glsl's arithmetic over the bordered buffer.
 // After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
-// (probe::tapsInUse; the rest are zero-weight padding). The dispatch is (groups, rows, 6): a
-// workgroup covers texels of one face, gl_WorkGroupID.z, so that the frames' axes and with them
-// every table index are the same across it, and its invocations take the face's interior first,
-// then its edge ring (texelOfInvocation).
+// (probe::tapsInUse; the rest are zero-weight padding). With hardware sampling the dispatch is
+// (groups, rows, 6): a workgroup covers texels of one face, gl_WorkGroupID.z, so that the frames'
+// axes and with them every table index are the same across it (a GPU reads them once per wave). Exact
+// sampling, whose frame loop takes each invocation's axes, runs (groups, rows, 1) over the six faces
+// one after another, so that the smallest levels fill a workgroup instead of six. Within a face the
+// invocations take its interior first, then its edge ring (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -81,9 +83,15 @@ uint texelOfInvocation(uint k, int size) {
 
 void main() {
     int size = params.baseSize >> params.level;
+    uint faceTexels = uint(size * size);
+#ifdef PROBE_HARDWARE_SAMPLING
     uint invocation = invocationIndex(), face = gl_WorkGroupID.z;
-    if (invocation >= uint(size * size)) return;
-    uint texel = face * uint(size * size) + texelOfInvocation(invocation, size);
+    if (invocation >= faceTexels) return;
+#else
+    uint invocation = invocationIndex() % faceTexels, face = invocationIndex() / faceTexels;
+    if (face >= 6u) return;
+#endif
+    uint texel = face * faceTexels + texelOfInvocation(invocation, size);
     // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is the
     // face's); the frame about the face's own axis only near its edges, so it comes last. Faces are
     // +X, -X, +Y, -Y, +Z, -Z.

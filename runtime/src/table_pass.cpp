@@ -1,6 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): its upload in the published layout (then the
-// tap groups each level uses), and one dispatch per output level computed, a face per workgroup
-// layer (copy_level_pass.cpp does the levels with alpha = 0).
+// tap groups each level uses), and one dispatch per output level computed (copy_level_pass.cpp does
+// the levels with alpha = 0).
 #include <cstdint>
 
 #include <table_filter_exact_b10g11r11.spv.h>
@@ -55,9 +55,11 @@ uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(t
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const TableConstants constants{s.faceSize, impl.pyramidLevels, m, impl.outputOffsets[m], impl.tableUsageFirst};
-    // A face per workgroup layer (table_filter.comp).
+    // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp).
     const uint32_t size = uint32_t(s.faceSize >> m);
-    dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(size * size), kFaceCount);
+    if (impl.sampling == Sampling::hardware)
+        dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(size * size), kFaceCount);
+    else dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(kFaceCount * size * size));
 }
 
 } // namespace probe::gpu
