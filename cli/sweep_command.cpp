@@ -302,7 +302,7 @@ void runSweep(const SweepOptions& o) {
 
     // GPU time does not depend on the probe's content: every method runs the first probe in each of
     // --repeat rounds, so that a machine whose speed drifts during the sweep slows every method
-    // alike; the median over the rounds. In a round a method runs three times back to back, as in
+    // alike; the median over the rounds. In a round a method runs three times in a row, as in
     // scripts/bench-runtime: twice timed per pass, the first to warm the GPU up, for the total of the
     // second; then once timed per level (timestamps that keep a GPU from overlapping levels) for
     // each level's time. Per method: the total, then each level's pass-2 dispatch, one per round.
