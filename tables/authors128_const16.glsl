@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[420] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[420] = vec4[](
     vec4(2.9629713e-05f, -0.000459403003f, 7.2984144e-06f, -0.000254073238f), vec4(2.6421767e-05f, 0.0074045402f, -3.39608073e-06f, 0.000714967144f),
     vec4(3.89803836e-06f, 4.37670724e-06f, 9.73791321e-05f, -0.00690996926f), vec4(-0.0343232043f, -0.117969826f, -0.0480829328f, 0.0103418827f),
     vec4(-0.00128590921f, 4.85797282e-05f, -3.32251079e-06f, -0.00239637727f), vec4(1.68074548e-05f, 0.00266572856f, -0.00111594494f, 0.00117833051f),
@@ -234,6 +237,6 @@ const vec4 probeTableCoeffs[420] = vec4[](
     vec4(0.0283217728f, 0.0487383008f, 0.0319312885f, 0.0282091089f), vec4(0.0432049409f, -0.9905352f, 0.00850743428f, 0.0035942907f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
+int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
 
 #endif

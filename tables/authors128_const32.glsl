@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[840] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[840] = vec4[](
     vec4(0.000992929679f, 7.67498132e-05f, 0.000294356054f, 0.0146810599f), vec4(-0.000546728494f, -0.0015612155f, -1.71484553e-05f, -0.000566758332f),
     vec4(0.000217014385f, 0.000169491279f, -0.0028917992f, -0.00490397215f), vec4(-1.53260244e-05f, 0.00592685165f, -0.000126020197f, -0.0185708776f),
     vec4(-0.00276057259f, -8.7361921e-05f, 0.00413024332f, -0.00650575245f), vec4(-0.000653896248f, 9.57513912e-05f, 0.00403087726f, -0.0494636372f),
@@ -444,6 +447,6 @@ const vec4 probeTableCoeffs[840] = vec4[](
     vec4(0.0284382887f, 0.0320858732f, 0.0116380742f, 0.0120060639f), vec4(0.0486810617f, -0.0140552549f, 0.00420930702f, 0.00301777688f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
+int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
 
 #endif

@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[105] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[105] = vec4[](
     vec4(-0.000762197946f, 0.00144022575f, 2.66199194e-12f, 0.00687735807f), vec4(-0.00354219088f, 0.00111175491f, -6.6341795e-06f, 0.00217926293f),
     vec4(0.00128138962f, -0.00202698982f, -3.40013071e-06f, -0.00142400572f), vec4(1.96913825e-05f, 0.00129457342f, -0.00155484304f, -0.0143367238f),
     vec4(0.00309242005f, 2.81735684e-05f, -0.000778454123f, -0.00468670717f), vec4(0.000151995715f, 0.00147361599f, -0.00232890947f, 0.0114140185f),
@@ -77,6 +80,6 @@ const vec4 probeTableCoeffs[105] = vec4[](
     vec4(0.0654646754f, 0.202565208f, 0.159723684f, -0.0575661287f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
+int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
 
 #endif

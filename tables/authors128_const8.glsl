@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[210] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[210] = vec4[](
     vec4(2.62289086e-06f, -1.84312512e-07f, 0.000102892001f, 8.14009472e-05f), vec4(-4.39241967e-06f, -0.00829830579f, -0.0041610715f, -0.000550911471f),
     vec4(0.00024042408f, -0.00229317346f, 0.000134643022f, -3.17761994e-09f), vec4(4.33808793e-08f, -0.00506229838f, 0.000122488374f, 0.00323166489f),
     vec4(0.000918656238f, 4.26146398e-05f, 6.68251814e-05f, 0.000126987332f), vec4(-1.64727248e-06f, -0.0183914267f, -0.240969077f, 0.0234113298f),
@@ -129,6 +132,6 @@ const vec4 probeTableCoeffs[210] = vec4[](
     vec4(0.0450262651f, 0.0460935459f, 0.0408003256f, 0.0152961314f), vec4(0.139976621f, 0.136236235f, 0.0388645306f, 0.0410683714f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
+int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
 
 #endif

@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[1260] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[1260] = vec4[](
     vec4(0.0208086502f, -0.00119325134f, 0.00161629019f, -0.0013477169f), vec4(0.00012246659f, 0.00938698277f, -0.0016477746f, -8.28289994e-05f),
     vec4(-0.000241270012f, -7.34263085e-05f, 0.00310840411f, -0.0173004977f), vec4(-0.0248468444f, 0.0201325901f, -0.0497248285f, 0.0348663926f),
     vec4(-0.00481997896f, 0.00347512634f, 0.00170385034f, -8.06737298e-05f), vec4(-0.000137660463f, 0.0129097449f, -0.000322741398f, 0.000212863335f),
@@ -654,6 +657,6 @@ const vec4 probeTableCoeffs[1260] = vec4[](
     vec4(0.0205725469f, 0.0133513333f, 0.0210712161f, 0.0223330371f), vec4(0.0157493576f, -0.0411427915f, -0.000921389554f, 0.00433786632f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
+int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
 
 #endif

@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[2520] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[2520] = vec4[](
     vec4(2.45796218e-05f, -0.0013566683f, -0.00311383838f, 0.000557277468f), vec4(-0.00168549584f, 6.53440748e-06f, -0.000705246755f, 0.00276061893f),
     vec4(0.000752251304f, -0.000380942976f, -0.000141602242f, -0.00178357447f), vec4(0.000224619595f, 0.000583884772f, 0.000133727706f, 0.000194640394f),
     vec4(7.74378204e-05f, -0.000180966977f, 0.0136139123f, -0.0110498723f), vec4(-9.90172266e-05f, 0.021140432f, 0.0535808839f, -0.0238563139f),
@@ -1284,6 +1287,6 @@ const vec4 probeTableCoeffs[2520] = vec4[](
     vec4(-8.67208794e-09f, 3.41560691e-09f, 2.25599894e-08f, -4.67673189e-08f), vec4(-4.05720151e-08f, -2.40851183e-09f, -3.97484605e-08f, -8.48928838e-09f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
+int probeTableTapGroups[7] = int[](8, 8, 8, 8, 8, 8, 8);
 
 #endif

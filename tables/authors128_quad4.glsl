@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[315] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[315] = vec4[](
     vec4(-0.00148186239f, -4.49260988e-05f, 0.00503757549f, 0.00510770176f), vec4(-0.00182488351f, -3.93896153e-05f, 0.00495401956f, -0.00136428839f),
     vec4(0.000570969016f, -2.69634188e-06f, -0.000645979482f, 0.00354383769f), vec4(-0.00166284805f, -0.000241118687f, 0.00350858783f, -0.0160189774f),
     vec4(-0.0013561697f, 0.000114651768f, 0.000912846299f, -0.00335768959f), vec4(0.00128229684f, -0.000115561132f, -0.00171753031f, 0.0249618944f),
@@ -182,6 +185,6 @@ const vec4 probeTableCoeffs[315] = vec4[](
     vec4(-5.81872769e-07f, 5.63625804e-07f, -2.41980615e-06f, -2.12382815e-07f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
+int probeTableTapGroups[7] = int[](1, 1, 1, 1, 1, 1, 1);
 
 #endif

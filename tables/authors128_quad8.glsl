@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[630] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[630] = vec4[](
     vec4(0.000560941815f, 0.0324399471f, 0.000342782267f, -0.00149749778f), vec4(0.00321053434f, -0.0543831773f, -0.0012369419f, 0.000471532927f),
     vec4(0.000101817401f, 0.0363661647f, -0.00194344239f, 0.00139975525f), vec4(0.000535955245f, -0.0400116816f, -0.0601605177f, 0.00207226421f),
     vec4(0.00171803578f, 0.0454425924f, -0.000485786586f, -0.0294871405f), vec4(-0.00194245449f, -0.0333455205f, 0.063935928f, -0.0127442004f),
@@ -339,6 +342,6 @@ const vec4 probeTableCoeffs[630] = vec4[](
     vec4(0.00961906277f, -0.0111107612f, 0.0213437825f, 0.0345875546f), vec4(0.0350637771f, 0.0180912986f, 0.0220766999f, 0.00549115753f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
+int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
 
 #endif

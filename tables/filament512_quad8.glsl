@@ -23,7 +23,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[810] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[810] = vec4[](
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
@@ -431,6 +434,6 @@ const vec4 probeTableCoeffs[810] = vec4[](
     vec4(0.0516990088f, 0.133651346f, 0.0874458179f, 0.0346691012f), vec4(0.0329538807f, 0.051132258f, 0.00708927261f, 0.0416385904f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[9] = int[](0, 2, 2, 2, 2, 2, 2, 2, 2);
+int probeTableTapGroups[9] = int[](0, 2, 2, 2, 2, 2, 2, 2, 2);
 
 #endif

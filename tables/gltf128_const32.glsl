@@ -21,7 +21,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[840] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[840] = vec4[](
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
@@ -444,6 +447,6 @@ const vec4 probeTableCoeffs[840] = vec4[](
     vec4(0.0163041446f, 0.0039293468f, -0.0164323263f, 0.0165631417f), vec4(0.0202659462f, -0.0444358587f, 0.0417309143f, -0.0591151193f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[7] = int[](0, 8, 8, 8, 8, 8, 8);
+int probeTableTapGroups[7] = int[](0, 8, 8, 8, 8, 8, 8);
 
 #endif

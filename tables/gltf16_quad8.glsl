@@ -18,7 +18,10 @@
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
-const vec4 probeTableCoeffs[360] = vec4[](
+// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a
+// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers
+// that fold read-only arrays into constant data (RADV) compile both to the same code.
+vec4 probeTableCoeffs[360] = vec4[](
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
     vec4(0.0f, 0.0f, 0.0f, 0.0f), vec4(0.0f, 0.0f, 0.0f, 0.0f),
@@ -201,6 +204,6 @@ const vec4 probeTableCoeffs[360] = vec4[](
     vec4(-0.000396727468f, 0.00619307114f, 0.021207206f, -0.000540434849f), vec4(0.00143640232f, -0.0124475127f, 0.00593647873f, 0.0275507029f)
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
-const int probeTableTapGroups[4] = int[](0, 2, 2, 2);
+int probeTableTapGroups[4] = int[](0, 2, 2, 2);
 
 #endif

@@ -363,9 +363,12 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += "// vec4 index of (level, parameter, coefficient, frame, tap / 4):\n"
            "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
            "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";
-    out += fmt::format("const vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
+    out += "// Globals with initializers rather than `const` arrays: glslang copies a `const` array into a\n"
+           "// function variable at each dynamic index, which Mesa's lavapipe compiles for many minutes; drivers\n"
+           "// that fold read-only arrays into constant data (RADV) compile both to the same code.\n";
+    out += fmt::format("vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
     out += "// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).\n";
-    out += fmt::format("const int probeTableTapGroups[{}] = int[]({});\n", table.levelCount, fmt::join(tapGroups(table), ", "));
+    out += fmt::format("int probeTableTapGroups[{}] = int[]({});\n", table.levelCount, fmt::join(tapGroups(table), ", "));
     out += "\n#endif\n";
     return out;
 }

@@ -39,8 +39,8 @@ std::vector<std::string> tableSummary(const TapTable& table);
 
 // Generated sources: a C++ header (constants in namespace probe_tables::<name>: the table's shape,
 // solver and fit, kTapGroups and kCoefficients; the runtime compiles tables in from these) and a GLSL
-// include (PROBE_TABLE_* defines, `const vec4 probeTableCoeffs[]` and `const int
-// probeTableTapGroups[]`), both in the published layout, level after level, opening with
+// include (PROBE_TABLE_* defines, `vec4 probeTableCoeffs[]` and `int probeTableTapGroups[]`,
+// read-only globals), both in the published layout, level after level, opening with
 // tableSummary as a comment. `name` must be a C identifier.
 inline constexpr int kLevelFitColumns = 11; // the columns of the header's kLevelFits
 std::string tableCppHeader(const TapTable& table, std::string_view name);
