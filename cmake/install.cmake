@@ -2,7 +2,8 @@
 # the command-line tools, and for engines the drop-in shaders and the generated tables, with a CMake
 # package so that an engine writes find_package(probefilter) and links probefilter::runtime.
 #   <prefix>/include/probe/                      public headers
-#   <prefix>/share/probefilter/shaders/          engine/probe_table_filter.glsl and what it includes
+#   <prefix>/share/probefilter/shaders/          engine/probe_table_filter.glsl, engine/probe_pyramid.glsl and
+#                                                what they include
 #   <prefix>/share/probefilter/tables/           every committed table (.json, .h, .glsl)
 #   <prefix>/lib/cmake/probefilter/              probefilterConfig.cmake
 include(GNUInstallDirs)
@@ -14,8 +15,9 @@ install(TARGETS probecore proberuntime probe_shader_spirv EXPORT probefilterTarg
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS probefilter probefit RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY core/include/probe runtime/include/probe DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(FILES shaders/engine/probe_table_filter.glsl DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/shaders/engine)
-install(FILES shaders/table_taps.glsl shaders/frame.glsl shaders/tap_sum.glsl shaders/cube.glsl
+install(FILES shaders/engine/probe_table_filter.glsl shaders/engine/probe_pyramid.glsl
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/shaders/engine)
+install(FILES shaders/table_taps.glsl shaders/frame.glsl shaders/tap_sum.glsl shaders/cube.glsl shaders/pyramid_bspline.glsl
         DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/shaders)
 install(FILES core/include/probe/shared_constants.h DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/shaders/probe)
 install(DIRECTORY tables/ DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/tables FILES_MATCHING PATTERN "*.json" PATTERN "*.h"

@@ -1,8 +1,7 @@
 // Pass 1 with exact sampling: one level of the bordered pyramid buffer, mirroring
 // core/src/pyramid.cpp. Level 0 is the source, read texel by texel from the source cube. A coarser
 // level comes from the finer one:
-// bspline: four seamless bilinear taps at +-0.75 fine texels around the coarse texel centre, tap k
-// weighing 0.5 J_k / sum(J) + 0.125 with J = (1 + u^2 + v^2)^(-3/2) at the tap (or its inverse).
+// bspline: pyramid_bspline.glsl, its bilinear taps seamless through the border.
 // box: the 2x2 children on the same face, each weighing its exact solid angle (or its inverse),
 // normalized.
 // A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
@@ -25,27 +24,8 @@ layout(push_constant) uniform Params {
     int level;    // the level written: 0 (the source) to log2(S_0)
 } params;
 
-float jacobianWeight(float u, float v) {
-    float r = inversesqrt(1.0 + u * u + v * v);
-    float density = r * r * r; // (1 + u^2 + v^2)^(-3/2)
-    return kInverseSolidAngle == 0 ? density : 1.0 / density;
-}
-
-vec3 bspline(ivec3 coarse, int fineSize) {
-    vec3 value[4];
-    float j[4];
-    float jSum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        float x = 2.0 * float(coarse.y) + 1.0 + ((k & 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
-        float y = 2.0 * float(coarse.z) + 1.0 + ((k >> 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
-        value[k] = sampleBilinear(params.baseSize, params.level - 1, coarse.x, x, y);
-        j[k] = jacobianWeight(2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
-        jSum += j[k];
-    }
-    vec3 sum = vec3(0.0);
-    for (int k = 0; k < 4; ++k) sum += (PROBE_PYRAMID_JACOBIAN_SHARE * j[k] / jSum + PROBE_PYRAMID_BASE_WEIGHT) * value[k];
-    return sum;
-}
+vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.baseSize, params.level - 1, face, x, y); }
+#include "pyramid_bspline.glsl"
 
 vec3 box(ivec3 coarse, int fineSize) {
     uint first = pyramidLevelOffset(params.baseSize, params.level - 1);
@@ -65,7 +45,7 @@ vec3 box(ivec3 coarse, int fineSize) {
 // The value of texel t (inside its face) of the level written.
 vec3 levelTexel(ivec3 t, int size) {
     if (params.level == 0) return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
-    return kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
+    return kBoxKind == 0 ? pyramidBspline(t.x, t.y, t.z, 2 * size, kInverseSolidAngle != 0) : box(t, 2 * size);
 }
 
 // Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre

@@ -1,9 +1,8 @@
 // Pass 1 with hardware sampling: one mip of the pyramid cube image, the arithmetic of pyramid.comp
 // with the sampler's seamless bilinear reads in place of the bordered buffer's. Level 0 is the
 // source, texel by texel. A coarser level comes from the finer one, bound alone as pyramidCube:
-// bspline: four bilinear taps at +-0.75 fine texels around the coarse texel centre, tap k weighing
-// 0.5 J_k / sum(J) + 0.125 with J = (1 + u^2 + v^2)^(-3/2) at the tap (or its inverse); across a
-// face edge the sampler reads the adjacent face, at a cube corner it follows the Vulkan rule.
+// bspline: pyramid_bspline.glsl, each tap one read of the sampler: across a face edge it reads the
+// adjacent face, at a cube corner it follows the Vulkan rule.
 // box: the 2x2 children on the same face (read at their centres, where the bilinear weights are
 // 1, 0, 0, 0), each weighing its exact solid angle (or its inverse), normalized.
 #version 450
@@ -23,31 +22,12 @@ layout(push_constant) uniform Params {
     int level;    // the mip written: 0 (the source) to log2(S_0)
 } params;
 
-float jacobianWeight(float u, float v) {
-    float r = inversesqrt(1.0 + u * u + v * v);
-    float density = r * r * r; // (1 + u^2 + v^2)^(-3/2)
-    return kInverseSolidAngle == 0 ? density : 1.0 / density;
-}
-
 // The fine level at face coordinates (u, v) of `face`.
 vec3 fine(int face, float u, float v) { return textureLod(pyramidCube, faceUvToCubePoint(face, u, v), 0.0).rgb; }
-
-vec3 bspline(ivec3 coarse, int fineSize) {
-    vec3 value[4];
-    float j[4];
-    float jSum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        float x = 2.0 * float(coarse.x) + 1.0 + ((k & 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
-        float y = 2.0 * float(coarse.y) + 1.0 + ((k >> 1) != 0 ? PROBE_PYRAMID_TAP_OFFSET : -PROBE_PYRAMID_TAP_OFFSET);
-        float u = 2.0 * x / float(fineSize) - 1.0, v = 2.0 * y / float(fineSize) - 1.0;
-        value[k] = fine(coarse.z, u, v);
-        j[k] = jacobianWeight(u, v);
-        jSum += j[k];
-    }
-    vec3 sum = vec3(0.0);
-    for (int k = 0; k < 4; ++k) sum += (PROBE_PYRAMID_JACOBIAN_SHARE * j[k] / jSum + PROBE_PYRAMID_BASE_WEIGHT) * value[k];
-    return sum;
+vec3 probeSampleFine(int face, float x, float y, int fineSize) {
+    return fine(face, 2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
 }
+#include "pyramid_bspline.glsl"
 
 vec3 box(ivec3 coarse, int fineSize) {
     uint firstGeometry = levelOffset(params.baseSize, params.level - 1);
@@ -70,6 +50,6 @@ void main() {
     ivec3 t = texelCoordinates(index, size); // (i, j, face)
     vec3 value;
     if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
-    else value = kBoxKind == 0 ? bspline(t, 2 * size) : box(t, 2 * size);
+    else value = kBoxKind == 0 ? pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0) : box(t, 2 * size);
     imageStore(pyramidMip, t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

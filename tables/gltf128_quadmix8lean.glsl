@@ -18,6 +18,9 @@
 #define PROBE_TABLE_LEVEL_COUNT 7
 #define PROBE_TABLE_TAPS 32
 #define PROBE_TABLE_COEFFICIENT_COUNT 3
+// The pyramid pass the table was fitted for (engine/probe_pyramid.glsl builds the B-spline one).
+#define PROBE_TABLE_PYRAMID_BSPLINE 1
+#define PROBE_TABLE_PYRAMID_INVERSE_SOLID_ANGLE 0
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The drop-in engine shader (shaders/engine/probe_table_filter.glsl) compiles to SPIR-V against a
-# generated table include, for each output format an engine would write, with the include paths an
-# installed package gives (the shaders folder with probe/shared_constants.h, the tables folder).
+# The drop-in engine shaders (shaders/engine/probe_table_filter.glsl, probe_pyramid.glsl) compile to
+# SPIR-V against a generated table include, for each image format an engine would write, with the
+# include paths an installed package gives (the shaders folder with probe/shared_constants.h, the
+# tables folder).
 # Usage: engine_shader.sh GLSLANG SHADERS_DIR CORE_INCLUDE_DIR TABLES_DIR TABLE_NAME
 set -euo pipefail
 glslang=$1 shaders=$2 include=$3 tables=$4 table=$5
@@ -12,5 +13,9 @@ for format in rgba16f rgba32f r11f_g11f_b10f; do
         "#include \"$table.glsl\"" '#include "engine/probe_table_filter.glsl"' >"$work/filter.comp"
     "$glslang" -V --target-env vulkan1.1 --quiet -I"$shaders" -I"$include" -I"$tables" "$work/filter.comp" -o "$work/filter.spv" ||
         { echo "FAIL: $table with $format"; exit 1; }
+    printf '%s\n' '#version 450' '#extension GL_GOOGLE_include_directive : require' "#define PROBE_PYRAMID_FORMAT $format" \
+        "#include \"$table.glsl\"" '#include "engine/probe_pyramid.glsl"' >"$work/pyramid.comp"
+    "$glslang" -V --target-env vulkan1.1 --quiet -I"$shaders" -I"$include" -I"$tables" "$work/pyramid.comp" -o "$work/pyramid.spv" ||
+        { echo "FAIL: $table with a $format pyramid"; exit 1; }
 done
-echo "engine shader compiles with $table"
+echo "engine shaders compile with $table"

@@ -360,6 +360,10 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += fmt::format("#define PROBE_TABLE_LEVEL_COUNT {}\n", table.levelCount);
     out += fmt::format("#define PROBE_TABLE_TAPS {}\n", table.taps);
     out += fmt::format("#define PROBE_TABLE_COEFFICIENT_COUNT {}\n", coefficientCount(table.form));
+    out += "// The pyramid pass the table was fitted for (engine/probe_pyramid.glsl builds the B-spline one).\n";
+    out += fmt::format("#define PROBE_TABLE_PYRAMID_BSPLINE {}\n", table.pyramid.kind == PyramidKind::bspline ? 1 : 0);
+    out += fmt::format("#define PROBE_TABLE_PYRAMID_INVERSE_SOLID_ANGLE {}\n",
+                       table.pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0);
     out += "// vec4 index of (level, parameter, coefficient, frame, tap / 4):\n"
            "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
            "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";

@@ -12,9 +12,9 @@
 // Set 0 (PROBE_SET to change it):
 //   binding 0 (PROBE_PYRAMID_BINDING)  samplerCube: the pyramid, a cube with the full mip chain of
 //     face size PROBE_TABLE_BASE_SIZE, mip k made from mip k - 1 by the pyramid pass the table was
-//     fitted for (the table's comment names it; probefilter's is the B-spline pass of
-//     docs/design.md). Sampler: linear min/mag filter, linear mipmap mode, clamp to edge, no LOD
-//     bias, maxLod at least the last mip; seamless cube filtering, which Vulkan always does.
+//     fitted for (engine/probe_pyramid.glsl: the B-spline pass of docs/design.md). Sampler: linear
+//     min/mag filter, linear mipmap mode, clamp to edge, no LOD bias, maxLod at least the last mip;
+//     seamless cube filtering, which Vulkan always does.
 //     Layout SHADER_READ_ONLY_OPTIMAL. Its values must lie within +-2^64 (clamp them where mip 0 is
 //     made from the source, as probefilter's own passes do): then every tap's weighted sum stays
 //     finite, for any finite source.
