@@ -112,6 +112,22 @@ TEST_F(ShaderStatsTest, EngineDropInReadsOnlyThePyramidThroughVectorMemory) {
     ADD_FAILURE() << "no engine drop-in among the variants";
 }
 
+// The engine drop-in pyramid pass reads four bilinear taps and stores one texel, and costs no more
+// than the runtime's B-spline pass over the same cube image, which also copies the source at level 0.
+TEST_F(ShaderStatsTest, EngineDropInPyramidCostsNoMoreThanTheRuntimePass) {
+    const auto compiled = [&](const std::string& name) {
+        for (const probe::stats::ShaderVariant& v : probe::stats::runtimeVariants())
+            if (v.name == name) return device->compile(v.spirv, v.specialization);
+        ADD_FAILURE() << "no variant " << name;
+        return probe::stats::PipelineStatistics{};
+    };
+    const probe::stats::PipelineStatistics dropIn = compiled("engine/probe_pyramid gltf128_quad8");
+    const probe::stats::PipelineStatistics runtime = compiled("pyramid_image_rgba32f bspline");
+    EXPECT_EQ(dropIn.vectorMemory, 4 + 1);
+    EXPECT_LE(dropIn.instructions, runtime.instructions);
+    EXPECT_LE(dropIn.vgprs, runtime.vgprs);
+}
+
 // The fixed counts unroll (the code grows with the count), and the runtime's loop costs at least the
 // unrolled body and less than twice it.
 TEST_F(ShaderStatsTest, FixedCountsUnrollAndBoundTheRuntimeLoop) {

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 
+#include <engine_pyramid.spv.h>
 #include <engine_table_filter.spv.h>
 #include <fmt/format.h>
 #include <shader_list.h>
@@ -46,6 +47,7 @@ std::vector<ShaderVariant> runtimeVariants() {
             variants.push_back({shader, spirv, {}});
         }
     }
+    variants.push_back({"engine/probe_pyramid gltf128_quad8", kEnginePyramidSpv, {}});
     variants.push_back({"engine/probe_table_filter gltf128_quad8", kEngineTableFilterSpv, {}});
     return variants;
 }

@@ -23,7 +23,7 @@ struct ShaderVariant {
 
 // Every compute pipeline the runtime creates: each SPIR-V it embeds, the table filter with quadratic
 // and with constant tables, the pyramid passes with the B-spline and the box kernel; and the engine
-// drop-in shader with the default table (tools/engine_table_filter.comp).
+// drop-in shaders with the default table (tools/engine_pyramid.comp, tools/engine_table_filter.comp).
 std::vector<ShaderVariant> runtimeVariants();
 
 // The driver's statistics of one compiled pipeline (-1 where the driver does not report one).
