@@ -2,8 +2,9 @@
 // pipelines of their own, as an engine builds them: two bindings each, the filter's push constant, a
 // dispatch per mip of the pyramid with a barrier between, then a dispatch per output level with none.
 // Compiled with the default table (gltf128_quad8) and with a constant one (gltf128_const8), from the
-// source in mip 0 of an RGBA32F cube they build the CPU model's pyramid and give its levels, within
-// the hardware sampling tolerance of gpu_test_support.h (every tap a read of a seamless sampler).
+// source in mip 0 of an RGBA32F cube (and of an RGBA16F one, the drop-ins' default format) they build
+// the CPU model's pyramid and give its levels, within the hardware sampling tolerance of
+// gpu_test_support.h (every tap a read of a seamless sampler).
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -11,10 +12,13 @@
 #include <span>
 
 #include <engine_gltf128_const8.spv.h>
+#include <engine_gltf128_const8_half.spv.h>
 #include <engine_gltf128_quad8.spv.h>
 #include <engine_pyramid_gltf128_const8.spv.h>
+#include <engine_pyramid_gltf128_const8_half.spv.h>
 #include <engine_pyramid_gltf128_quad8.spv.h>
 #include <fmt/format.h>
+#include <glm/gtc/packing.hpp>
 
 #include "buffer.h"
 #include "gpu_test_support.h"
@@ -117,8 +121,8 @@ struct DropInPipelines {
     }
 };
 
-// Regions of a buffer that holds `mips` levels of RGBA32F texels one after another, from face size `size`.
-std::vector<VkBufferImageCopy> levelRegions(int size, int mips) {
+// Regions of a buffer that holds `mips` levels of `format` texels one after another, from face size `size`.
+std::vector<VkBufferImageCopy> levelRegions(int size, int mips, VkFormat format) {
     std::vector<VkBufferImageCopy> regions;
     VkDeviceSize offset = 0;
     for (int m = 0; m < mips; ++m) {
@@ -127,7 +131,7 @@ std::vector<VkBufferImageCopy> levelRegions(int size, int mips) {
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
         region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
         regions.push_back(region);
-        offset += texelCount(size >> m) * 4 * sizeof(float);
+        offset += texelCount(size >> m) * gpu::texelBytes(format);
     }
     return regions;
 }
@@ -139,39 +143,46 @@ struct DropInResult {
     CubeLevels levels;
 };
 
-// Unpacks `regions` of `buffer` (RGBA32F) into cube images.
-CubeLevels unpackLevels(const gpu::Buffer& buffer, const std::vector<VkBufferImageCopy>& regions, int first) {
+// Unpacks `regions` of `buffer` (`format` texels) into cube images, from region `first` on.
+CubeLevels unpackLevels(const gpu::Buffer& buffer, const std::vector<VkBufferImageCopy>& regions, VkFormat format, int first) {
     CubeLevels result;
     const auto* data = static_cast<const std::byte*>(buffer.mapped());
     for (int m = 0; m < int(regions.size()); ++m) {
         CubeImage level(int(regions[m].imageExtent.width));
         level.rgb.clear();
-        if (m >= first) gpu::unpackTexels(data + regions[m].bufferOffset, texelCount(level.size), VK_FORMAT_R32G32B32A32_SFLOAT, level.rgb);
+        if (m >= first) gpu::unpackTexels(data + regions[m].bufferOffset, texelCount(level.size), format, level.rgb);
         result.push_back(std::move(level));
     }
     return result;
 }
 
 DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramidSpirv, std::span<const uint32_t> filterSpirv,
-                        const CubeImage& source) {
+                        const CubeImage& source, VkFormat format) {
     const gpu::Device& device = probetest::testDevice();
     const VkDevice vk = device.device();
     const int size = table.baseSize, levels = table.levelCount, mips = int(std::log2(size)) + 1;
-    const VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT;
     const gpu::CubeImageResource pyramidImage(device, size, mips, format,
                                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     const gpu::CubeImageResource outputImage(device, size, levels, format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    const std::vector<VkBufferImageCopy> pyramidRegions = levelRegions(size, mips), outputRegions = levelRegions(size, levels);
-    const auto bytes = [](const std::vector<VkBufferImageCopy>& regions) {
+    const std::vector<VkBufferImageCopy> pyramidRegions = levelRegions(size, mips, format),
+                                         outputRegions = levelRegions(size, levels, format);
+    const auto bytes = [&](const std::vector<VkBufferImageCopy>& regions) {
         const VkBufferImageCopy& last = regions.back();
-        return last.bufferOffset + texelCount(int(last.imageExtent.width)) * 4 * sizeof(float);
+        return last.bufferOffset + texelCount(int(last.imageExtent.width)) * gpu::texelBytes(format);
     };
-    std::vector<float> texels;
-    for (std::size_t t = 0; t < texelCount(size); ++t)
-        texels.insert(texels.end(), {source.rgb[3 * t], source.rgb[3 * t + 1], source.rgb[3 * t + 2], 1.0f});
-    gpu::Buffer staging(device, texels.size() * sizeof(float), gpu::Buffer::Kind::staging);
-    std::memcpy(staging.mapped(), texels.data(), texels.size() * sizeof(float));
+    gpu::Buffer staging(device, texelCount(size) * gpu::texelBytes(format), gpu::Buffer::Kind::staging);
+    auto* texels = static_cast<std::byte*>(staging.mapped());
+    for (std::size_t t = 0; t < texelCount(size); ++t) {
+        const float rgba[4] = {source.rgb[3 * t], source.rgb[3 * t + 1], source.rgb[3 * t + 2], 1.0f};
+        if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
+            const uint16_t half[4] = {glm::packHalf1x16(rgba[0]), glm::packHalf1x16(rgba[1]), glm::packHalf1x16(rgba[2]),
+                                      glm::packHalf1x16(rgba[3])};
+            std::memcpy(texels + t * sizeof(half), half, sizeof(half));
+        } else {
+            std::memcpy(texels + t * sizeof(rgba), rgba, sizeof(rgba));
+        }
+    }
     gpu::Buffer pyramidBack(device, bytes(pyramidRegions), gpu::Buffer::Kind::staging);
     gpu::Buffer outputBack(device, bytes(outputRegions), gpu::Buffer::Kind::staging);
 
@@ -228,16 +239,25 @@ DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramid
                            pyramidRegions.data());
     submission.submitAndWait(cmd);
     submission.release(cmd);
-    return {unpackLevels(pyramidBack, pyramidRegions, 0), unpackLevels(outputBack, outputRegions, 1)};
+    return {unpackLevels(pyramidBack, pyramidRegions, format, 0), unpackLevels(outputBack, outputRegions, format, 1)};
 }
 
-void expectDropInsEqualModel(const std::string& tableName, std::span<const uint32_t> pyramidSpirv, std::span<const uint32_t> filterSpirv) {
+// The drop-ins with `tableName` on a random probe against the CPU model of the same table, on the
+// probe as the images hold it (rounded to half floats in RGBA16F). Within hardware sampling's
+// tolerance; in RGBA16F each stored value may also be off by 2^-10 of itself (Vulkan lets a conversion
+// to a 16-bit float take either neighbour; lavapipe's mip 1 is off by that), at most 9 times over (the
+// source and eight mips at 128^2, or a level).
+void expectDropInsEqualModel(const std::string& tableName, std::span<const uint32_t> pyramidSpirv, std::span<const uint32_t> filterSpirv,
+                             VkFormat format) {
     const TapTable table = readTable(std::filesystem::path(PROBE_TEST_TABLES) / (tableName + ".json"));
-    const CubeImage source = probetest::randomProbe(table.baseSize, 31);
+    CubeImage source = probetest::randomProbe(table.baseSize, 31);
+    const bool half = format == VK_FORMAT_R16G16B16A16_SFLOAT;
+    if (half)
+        for (float& v : source.rgb) v = glm::unpackHalf1x16(glm::packHalf1x16(v));
     const CubeLevels pyramid = buildPyramid(source, table.pyramid);
     const CubeLevels expected = tableFilter(pyramid, table);
-    const DropInResult result = runDropIns(table, pyramidSpirv, filterSpirv, source);
-    const double tolerance = probetest::kSamplingCases[1].tolerance; // hardware sampling's
+    const DropInResult result = runDropIns(table, pyramidSpirv, filterSpirv, source, format);
+    const double tolerance = probetest::kSamplingCases[1].tolerance + (half ? 9 * std::ldexp(1.0, -10) : 0.0);
     ASSERT_EQ(result.pyramid.size(), pyramid.size());
     for (std::size_t k = 1; k < pyramid.size(); ++k) {
         const double error = probetest::maxRelativeError(result.pyramid[k], pyramid[k]);
@@ -252,11 +272,17 @@ void expectDropInsEqualModel(const std::string& tableName, std::span<const uint3
 }
 
 TEST_F(GpuTest, EngineDropInShadersWithTheDefaultTableEqualCpuModel) {
-    expectDropInsEqualModel("gltf128_quad8", kEnginePyramidGltf128Quad8Spv, kEngineGltf128Quad8Spv);
+    expectDropInsEqualModel("gltf128_quad8", kEnginePyramidGltf128Quad8Spv, kEngineGltf128Quad8Spv, VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 TEST_F(GpuTest, EngineDropInShadersWithAConstantTableEqualCpuModel) {
-    expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8Spv, kEngineGltf128Const8Spv);
+    expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8Spv, kEngineGltf128Const8Spv, VK_FORMAT_R32G32B32A32_SFLOAT);
+}
+
+// Compiled with no defines, as the README shows them: RGBA16F images.
+TEST_F(GpuTest, EngineDropInShadersWithTheirDefaultFormatEqualCpuModel) {
+    expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv,
+                            VK_FORMAT_R16G16B16A16_SFLOAT);
 }
 
 } // namespace
