@@ -24,6 +24,7 @@
 #include "gpu_test_support.h"
 #include "image.h"
 #include "probe/pyramid.h"
+#include "probe/shared_constants.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
 #include "submission.h"
@@ -283,6 +284,40 @@ TEST_F(GpuTest, EngineDropInShadersWithAConstantTableEqualCpuModel) {
 TEST_F(GpuTest, EngineDropInShadersWithTheirDefaultFormatEqualCpuModel) {
     expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv,
                             VK_FORMAT_R16G16B16A16_SFLOAT);
+}
+
+// Finite input gives finite output through the drop-ins too: a source at the largest magnitude they
+// accept (+-2^64 in RGBA32F, whose mip 0 the engine clamps there; +-65504, the largest half, in
+// RGBA16F) with 0 and -0 beside it gives finite pyramid mips and levels no larger in magnitude, and a
+// source all at that value gives it back at every mip and level (the weights sum to 1 without
+// overflow): to float rounding, or in RGBA16F to 2^-10 per stored value as above.
+TEST_F(GpuTest, EngineDropInShadersStayFiniteAtTheLargestValuesTheyAccept) {
+    const TapTable table = readTable(std::filesystem::path(PROBE_TEST_TABLES) / "gltf128_const8.json");
+    const struct {
+        VkFormat format;
+        float largest;
+        std::span<const uint32_t> pyramid, filter;
+    } cases[] = {{VK_FORMAT_R32G32B32A32_SFLOAT, float(PROBE_FILTER_RANGE_LIMIT), kEnginePyramidGltf128Const8Spv, kEngineGltf128Const8Spv},
+                 {VK_FORMAT_R16G16B16A16_SFLOAT, 65504.0f, kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv}};
+    for (const auto& c : cases) {
+        const double tolerance = c.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 9 * std::ldexp(1.0, -10) : 1e-6;
+        CubeImage mixed(table.baseSize);
+        for (std::size_t t = 0; t < texelCount(mixed.size); ++t) {
+            const float values[4] = {c.largest, 0.0f, -c.largest, -0.0f};
+            mixed.set(t, {values[t % 4], values[(t + 1) % 4], values[(t + 2) % 4]});
+        }
+        const DropInResult result = runDropIns(table, c.pyramid, c.filter, mixed, c.format);
+        for (const CubeLevels* images : {&result.pyramid, &result.levels})
+            for (const CubeImage& image : *images)
+                for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v) && std::abs(v) <= c.largest) << v << " at size " << image.size;
+        const DropInResult flat = runDropIns(table, c.pyramid, c.filter, CubeImage(table.baseSize, glm::vec3(c.largest)), c.format);
+        for (std::size_t k = 1; k < flat.pyramid.size(); ++k)
+            EXPECT_LT(probetest::maxRelativeError(flat.pyramid[k], CubeImage(flat.pyramid[k].size, glm::vec3(c.largest))), tolerance)
+                << "mip " << k;
+        for (int m = 1; m < table.levelCount; ++m)
+            EXPECT_LT(probetest::maxRelativeError(flat.levels[m], CubeImage(flat.levels[m].size, glm::vec3(c.largest))), tolerance)
+                << "level " << m;
+    }
 }
 
 } // namespace
