@@ -1,10 +1,10 @@
 // The drop-in engine shaders (shaders/engine/probe_pyramid.glsl and probe_table_filter.glsl) in
 // pipelines of their own, as an engine builds them: two bindings each, the filter's push constant, a
 // dispatch per mip of the pyramid with a barrier between, then a dispatch per output level with none.
-// Compiled with the default table (gltf128_quad8) and with a constant one (gltf128_const8), from the
-// source in mip 0 of an RGBA32F cube (and of an RGBA16F one, the drop-ins' default format) they build
-// the CPU model's pyramid and give its levels, within the hardware sampling tolerance of
-// gpu_test_support.h (every tap a read of a seamless sampler).
+// Compiled with the default table (gltf128_quad8), a constant one (gltf128_const8) and a mixed one
+// (levels of 4 and 8 taps), from the source in mip 0 of an RGBA32F cube (and of an RGBA16F one, the
+// drop-ins' default format) they build the CPU model's pyramid and give its levels, within the
+// hardware sampling tolerance of gpu_test_support.h (every tap a read of a seamless sampler).
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -13,9 +13,11 @@
 
 #include <engine_gltf128_const8.spv.h>
 #include <engine_gltf128_const8_half.spv.h>
+#include <engine_gltf128_constmix.spv.h>
 #include <engine_gltf128_quad8.spv.h>
 #include <engine_pyramid_gltf128_const8.spv.h>
 #include <engine_pyramid_gltf128_const8_half.spv.h>
+#include <engine_pyramid_gltf128_constmix.spv.h>
 #include <engine_pyramid_gltf128_quad8.spv.h>
 #include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
@@ -243,14 +245,17 @@ DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramid
     return {unpackLevels(pyramidBack, pyramidRegions, format, 0), unpackLevels(outputBack, outputRegions, format, 1)};
 }
 
-// The drop-ins with `tableName` on a random probe against the CPU model of the same table, on the
+std::filesystem::path committedTable(const std::string& name) { return std::filesystem::path(PROBE_TEST_TABLES) / (name + ".json"); }
+
+// The drop-ins with the table of `tableFile` on a random probe against the CPU model of the same table, on the
 // probe as the images hold it (rounded to half floats in RGBA16F). Within hardware sampling's
 // tolerance; in RGBA16F each stored value may also be off by 2^-10 of itself (Vulkan lets a conversion
 // to a 16-bit float take either neighbour; lavapipe's mip 1 is off by that), at most 9 times over (the
 // source and eight mips at 128^2, or a level).
-void expectDropInsEqualModel(const std::string& tableName, std::span<const uint32_t> pyramidSpirv, std::span<const uint32_t> filterSpirv,
-                             VkFormat format) {
-    const TapTable table = readTable(std::filesystem::path(PROBE_TEST_TABLES) / (tableName + ".json"));
+void expectDropInsEqualModel(const std::filesystem::path& tableFile, std::span<const uint32_t> pyramidSpirv,
+                             std::span<const uint32_t> filterSpirv, VkFormat format) {
+    const TapTable table = readTable(tableFile);
+    const std::string tableName = tableFile.stem().string();
     CubeImage source = probetest::randomProbe(table.baseSize, 31);
     const bool half = format == VK_FORMAT_R16G16B16A16_SFLOAT;
     if (half)
@@ -273,17 +278,26 @@ void expectDropInsEqualModel(const std::string& tableName, std::span<const uint3
 }
 
 TEST_F(GpuTest, EngineDropInShadersWithTheDefaultTableEqualCpuModel) {
-    expectDropInsEqualModel("gltf128_quad8", kEnginePyramidGltf128Quad8Spv, kEngineGltf128Quad8Spv, VK_FORMAT_R32G32B32A32_SFLOAT);
+    expectDropInsEqualModel(committedTable("gltf128_quad8"), kEnginePyramidGltf128Quad8Spv, kEngineGltf128Quad8Spv,
+                            VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 TEST_F(GpuTest, EngineDropInShadersWithAConstantTableEqualCpuModel) {
-    expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8Spv, kEngineGltf128Const8Spv, VK_FORMAT_R32G32B32A32_SFLOAT);
+    expectDropInsEqualModel(committedTable("gltf128_const8"), kEnginePyramidGltf128Const8Spv, kEngineGltf128Const8Spv,
+                            VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 // Compiled with no defines, as the README shows them: RGBA16F images.
 TEST_F(GpuTest, EngineDropInShadersWithTheirDefaultFormatEqualCpuModel) {
-    expectDropInsEqualModel("gltf128_const8", kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv,
+    expectDropInsEqualModel(committedTable("gltf128_const8"), kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv,
                             VK_FORMAT_R16G16B16A16_SFLOAT);
+}
+
+// A table whose levels use one and two groups of four taps in turn (probefit mix of gltf128_const8 and
+// gltf128_const4, padded with zero weights): the filter reads each level's count.
+TEST_F(GpuTest, EngineDropInShadersWithAMixedTableEqualCpuModel) {
+    expectDropInsEqualModel(PROBE_TEST_MIXED_TABLE, kEnginePyramidGltf128ConstMixSpv, kEngineGltf128ConstMixSpv,
+                            VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
 // Finite input gives finite output through the drop-ins too: a source at the largest magnitude they
@@ -292,7 +306,7 @@ TEST_F(GpuTest, EngineDropInShadersWithTheirDefaultFormatEqualCpuModel) {
 // source all at that value gives it back at every mip and level (the weights sum to 1 without
 // overflow): to float rounding, or in RGBA16F to 2^-10 per stored value as above.
 TEST_F(GpuTest, EngineDropInShadersStayFiniteAtTheLargestValuesTheyAccept) {
-    const TapTable table = readTable(std::filesystem::path(PROBE_TEST_TABLES) / "gltf128_const8.json");
+    const TapTable table = readTable(committedTable("gltf128_const8"));
     const struct {
         VkFormat format;
         float largest;
