@@ -17,8 +17,8 @@
 //     GENERAL.
 // Push constant: none. Mip 0 is the source, its values within +-2^64 (clamp them where it is made).
 // Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S the face size of mip k, for k = 1 .. log2(S_0)
-// in order, with a barrier between (mip k reads mip k - 1). Outputs are clamped to the format's
-// largest finite value.
+// in order, with a barrier between (mip k reads mip k - 1). Outputs are clamped to +-PROBE_PYRAMID_MAX,
+// the format's largest finite value (default 65504, the largest half: define it for a wider format).
 #ifndef PROBE_ENGINE_PYRAMID_GLSL
 #define PROBE_ENGINE_PYRAMID_GLSL
 
