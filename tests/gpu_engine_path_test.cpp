@@ -183,16 +183,7 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
-    std::vector<VkBufferImageCopy> back;
-    VkDeviceSize offset = 0;
-    for (int m = 0; m < levels; ++m) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
-        region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
-        back.push_back(region);
-        offset += texelCount(size >> m) * texelBytes(outputFormat);
-    }
+    const std::vector<VkBufferImageCopy> back = probetest::levelRegions(size, levels, texelBytes(outputFormat));
     vkCmdCopyImageToBuffer(cmd, out.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, uint32_t(back.size()), back.data());
     VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);

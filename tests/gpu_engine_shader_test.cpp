@@ -124,21 +124,6 @@ struct DropInPipelines {
     }
 };
 
-// Regions of a buffer that holds `mips` levels of `format` texels one after another, from face size `size`.
-std::vector<VkBufferImageCopy> levelRegions(int size, int mips, VkFormat format) {
-    std::vector<VkBufferImageCopy> regions;
-    VkDeviceSize offset = 0;
-    for (int m = 0; m < mips; ++m) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
-        region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
-        regions.push_back(region);
-        offset += texelCount(size >> m) * gpu::texelBytes(format);
-    }
-    return regions;
-}
-
 // What the drop-ins wrote: the pyramid (mip 0 the source) and the output levels (level 0 left empty:
 // an engine copies it).
 struct DropInResult {
@@ -168,8 +153,8 @@ DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramid
                                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     const gpu::CubeImageResource outputImage(device, size, levels, format, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    const std::vector<VkBufferImageCopy> pyramidRegions = levelRegions(size, mips, format),
-                                         outputRegions = levelRegions(size, levels, format);
+    const std::vector<VkBufferImageCopy> pyramidRegions = probetest::levelRegions(size, mips, gpu::texelBytes(format)),
+                                         outputRegions = probetest::levelRegions(size, levels, gpu::texelBytes(format));
     const auto bytes = [&](const std::vector<VkBufferImageCopy>& regions) {
         const VkBufferImageCopy& last = regions.back();
         return last.bufferOffset + texelCount(int(last.imageExtent.width)) * gpu::texelBytes(format);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -67,6 +68,22 @@ struct SamplingCase {
     double tolerance;
 };
 inline constexpr SamplingCase kSamplingCases[] = {{probe::gpu::Sampling::exact, 1e-5}, {probe::gpu::Sampling::hardware, 1.2e-2}};
+
+// The copy regions of `mips` levels of a cube image (every face of a level in one region) from face
+// size `size`, packed one after another in a buffer of `texelBytes`-byte texels.
+inline std::vector<VkBufferImageCopy> levelRegions(int size, int mips, std::size_t texelBytes) {
+    std::vector<VkBufferImageCopy> regions;
+    VkDeviceSize offset = 0;
+    for (int m = 0; m < mips; ++m) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
+        region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
+        regions.push_back(region);
+        offset += probe::texelCount(size >> m) * texelBytes;
+    }
+    return regions;
+}
 
 // Independent uniform radiance in [0, 1) per texel and channel.
 inline probe::CubeImage randomProbe(int faceSize, unsigned seed) {
