@@ -24,6 +24,9 @@ layout(set = 0, binding = 5) uniform samplerCube sourceCube;
 layout(set = 0, binding = 6) uniform samplerCube pyramidCube;
 // Pass 1 (hardware sampling): the pyramid mip written, faces as layers.
 layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMip;
+// Pass 1 (hardware sampling), its last dispatch (pyramid_tail.comp): the mips of face size
+// PROBE_PYRAMID_TAIL_SIZE (8) and below that it writes, the largest first, faces as layers.
+layout(set = 0, binding = 10, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidTailMips[4];
 // Pass 2: the output cube's mip of the dispatch's level, faces as layers.
 layout(set = 0, binding = 8, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
 

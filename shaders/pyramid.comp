@@ -2,8 +2,7 @@
 // core/src/pyramid.cpp. Level 0 is the source, read texel by texel from the source cube. A coarser
 // level comes from the finer one:
 // bspline: pyramid_bspline.glsl, its bilinear taps seamless through the border.
-// box: the 2x2 children on the same face, each weighing its exact solid angle (or its inverse),
-// normalized.
+// box: pyramid_box.glsl, the 2x2 children on the same face.
 // A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
 // than copied, so one dispatch with no barrier writes a level's faces and edges; a border corner,
 // which has no counterpart, is left to pyramid_corners.comp.
@@ -26,26 +25,16 @@ layout(push_constant) uniform Params {
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.baseSize, params.level - 1, face, x, y); }
 #include "pyramid_bspline.glsl"
-
-vec3 box(ivec3 coarse, int fineSize) {
-    uint first = pyramidLevelOffset(params.baseSize, params.level - 1);
-    uint firstGeometry = levelOffset(params.baseSize, params.level - 1);
-    vec3 sum = vec3(0.0);
-    float weightSum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        int i = 2 * coarse.y + (k & 1), j = 2 * coarse.z + (k >> 1);
-        float area = geometry[firstGeometry + texelIndex(coarse.x, i, j, fineSize)].w;
-        float w = kInverseSolidAngle == 0 ? area : 1.0 / area;
-        sum += w * pyramidTexel(first + pyramidTexelIndex(coarse.x, i, j, fineSize));
-        weightSum += w;
-    }
-    return sum / weightSum;
+vec3 probeFineTexel(int face, int i, int j, int fineSize) {
+    return pyramidTexel(pyramidLevelOffset(params.baseSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
 }
+#include "pyramid_box.glsl"
 
 // The value of texel t (inside its face) of the level written.
 vec3 levelTexel(ivec3 t, int size) {
     if (params.level == 0) return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
-    return kBoxKind == 0 ? pyramidBspline(t.x, t.y, t.z, 2 * size, kInverseSolidAngle != 0) : box(t, 2 * size);
+    if (kBoxKind == 0) return pyramidBspline(t.x, t.y, t.z, 2 * size, kInverseSolidAngle != 0);
+    return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
 }
 
 // Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre

@@ -3,8 +3,7 @@
 // source, texel by texel. A coarser level comes from the finer one, bound alone as pyramidCube:
 // bspline: pyramid_bspline.glsl, each tap one read of the sampler: across a face edge it reads the
 // adjacent face, at a cube corner it follows the Vulkan rule.
-// box: the 2x2 children on the same face (read at their centres, where the bilinear weights are
-// 1, 0, 0, 0), each weighing its exact solid angle (or its inverse), normalized.
+// box: pyramid_box.glsl, the 2x2 children on the same face, each read at its centre.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -28,20 +27,9 @@ vec3 probeSampleFine(int face, float x, float y, int fineSize) {
     return fine(face, 2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
 }
 #include "pyramid_bspline.glsl"
-
-vec3 box(ivec3 coarse, int fineSize) {
-    uint firstGeometry = levelOffset(params.baseSize, params.level - 1);
-    vec3 sum = vec3(0.0);
-    float weightSum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        int i = 2 * coarse.x + (k & 1), j = 2 * coarse.y + (k >> 1);
-        float area = geometry[firstGeometry + texelIndex(coarse.z, i, j, fineSize)].w;
-        float w = kInverseSolidAngle == 0 ? area : 1.0 / area;
-        sum += w * fine(coarse.z, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize));
-        weightSum += w;
-    }
-    return sum / weightSum;
-}
+// A child texel, read at its centre, where the bilinear weights are 1, 0, 0, 0.
+vec3 probeFineTexel(int face, int i, int j, int fineSize) { return fine(face, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize)); }
+#include "pyramid_box.glsl"
 
 void main() {
     int size = params.baseSize >> params.level;
@@ -50,6 +38,7 @@ void main() {
     ivec3 t = texelCoordinates(index, size); // (i, j, face)
     vec3 value;
     if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
-    else value = kBoxKind == 0 ? pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0) : box(t, 2 * size);
+    else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
+    else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
     imageStore(pyramidMip, t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

@@ -10,18 +10,32 @@
 #include "buffers.glsl"
 #include "cube.glsl"
 
-// Bilinear value of the bordered level of face size `size` whose first texel is `first` in the
-// pyramid buffer, at continuous texel coordinates (x, y) of `face`.
-vec3 sampleBilinearAt(uint first, int size, int face, float x, float y) {
+// The 2x2 footprint of a bilinear read at continuous texel coordinates (x, y) of `face` in a bordered
+// level of face size `size`: its first texel's index within the level (pyramidTexelIndex), and in
+// `f` the weights of its second column and row. Shared with pyramid_tail.comp's reads of the levels
+// it keeps in shared memory.
+uint bilinearFootprint(int size, int face, float x, float y, out vec2 f) {
     x = clamp(x, 0.0, float(size));
     y = clamp(y, 0.0, float(size));
     int i0 = int(floor(x - 0.5));
     int j0 = int(floor(y - 0.5));
-    float fx = x - (float(i0) + 0.5), fy = y - (float(j0) + 0.5);
-    uint t = first + pyramidTexelIndex(face, i0, j0, size);
+    f = vec2(x - (float(i0) + 0.5), y - (float(j0) + 0.5));
+    return pyramidTexelIndex(face, i0, j0, size);
+}
+
+// The footprint's texels (first, next in its row, first and next of the next row) weighed by the
+// fractions f.
+vec3 bilinearBlend(vec2 f, vec3 t00, vec3 t10, vec3 t01, vec3 t11) {
+    return ((1.0 - f.x) * (1.0 - f.y)) * t00 + (f.x * (1.0 - f.y)) * t10 + ((1.0 - f.x) * f.y) * t01 + (f.x * f.y) * t11;
+}
+
+// Bilinear value of the bordered level of face size `size` whose first texel is `first` in the
+// pyramid buffer, at continuous texel coordinates (x, y) of `face`.
+vec3 sampleBilinearAt(uint first, int size, int face, float x, float y) {
+    vec2 f;
+    uint t = first + bilinearFootprint(size, face, x, y, f);
     uint row = uint(size + 2);
-    return ((1.0 - fx) * (1.0 - fy)) * pyramidTexel(t) + (fx * (1.0 - fy)) * pyramidTexel(t + 1u) +
-           ((1.0 - fx) * fy) * pyramidTexel(t + row) + (fx * fy) * pyramidTexel(t + row + 1u);
+    return bilinearBlend(f, pyramidTexel(t), pyramidTexel(t + 1u), pyramidTexel(t + row), pyramidTexel(t + row + 1u));
 }
 
 // Bilinear value of pyramid level `level` (face size baseSize >> level) at continuous texel

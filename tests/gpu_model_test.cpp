@@ -15,6 +15,7 @@
 #include "probe/importance_sampling.h"
 #include "probe/pyramid.h"
 #include "probe/reference.h"
+#include "probe/shared_constants.h"
 #include "probe/synthetic.h"
 #include "probe/table_filter.h"
 
@@ -89,6 +90,28 @@ TEST_F(GpuTest, PyramidEqualsCpuModel) {
             expectLevelsEqual(filter.downloadPyramid(), buildPyramid(source, pyramid), c.tolerance,
                               describe(c.sampling) + " pyramid " + describe(pyramid));
         }
+}
+
+// Hardware sampling builds the mips from face size PROBE_PYRAMID_TAIL_SIZE down in one workgroup
+// that reads each from the one before in shared memory with the exact path's arithmetic, not the
+// sampler's: from its first mip (which the sampler's reads made) the model gives its others to
+// float rounding, the tolerance of exact sampling, on every device (an RGBA16F pyramid stores
+// rounded mips, which the workgroup does not read: half rounding).
+TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
+    const int size = 64, tailLevel = 3; // 8x8
+    const CubeImage source = probetest::randomProbe(size, 12);
+    for (const PyramidSettings& pyramid : kAllPyramids) {
+        gpu::Filter filter(probetest::testDevice(),
+                           settingsFor(MethodKind::fis, size, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware));
+        filter.run(source);
+        const CubeLevels gpuLevels = filter.downloadPyramid();
+        ASSERT_EQ(gpuLevels.size(), 7u);
+        ASSERT_EQ(gpuLevels[tailLevel].size, PROBE_PYRAMID_TAIL_SIZE);
+        const CubeLevels model = buildPyramid(gpuLevels[tailLevel], pyramid);
+        const double tolerance = filter.pyramidFormat() == VK_FORMAT_R32G32B32A32_SFLOAT ? 1e-5 : 2e-3;
+        expectLevelsEqual(CubeLevels(gpuLevels.begin() + tailLevel, gpuLevels.end()), model, tolerance,
+                          "pyramid tail " + describe(pyramid));
+    }
 }
 
 TEST_F(GpuTest, ConstantProbeStaysConstantInEveryPyramidLevel) {

@@ -2,6 +2,7 @@
 // read (probe::deepestPyramidLevelRead), gives exactly the bits of the same levels of a full run,
 // for every method; the levels left out come back empty and nothing else is dispatched.
 #include <algorithm>
+#include <bit>
 
 #include <fmt/ranges.h>
 
@@ -9,6 +10,7 @@
 #include "probe/error.h"
 #include "probe/importance_sampling.h"
 #include "probe/plan.h"
+#include "probe/shared_constants.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
 
@@ -57,15 +59,19 @@ void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, 
     }
 
     // Exactly the dispatches asked for: the pyramid to the depth (exact sampling: two per level, its
-    // faces and edges, then its border corners; hardware: one per mip; the reference: level 0, the
-    // source, alone), then one per output level (the reference's filtered levels: one per chunk of
-    // source rows, here one per face).
+    // faces and edges, then its border corners; hardware: one per mip down to face size
+    // PROBE_PYRAMID_TAIL_SIZE, then one for the rest, named by its first; the reference: level 0,
+    // the source, alone), then one per output level (the reference's filtered levels: one per chunk
+    // of source rows, here one per face).
     std::vector<std::pair<std::string, int>> expected;
     const bool copiesOnly = std::all_of(levels.begin(), levels.end(), [&](int m) { return levelAlpha(s.mapping, m, kLevels) == 0.0; });
     if (method == MethodKind::reference && !copiesOnly) expected.emplace_back("pyramid", 0);
-    if (method != MethodKind::reference && !copiesOnly)
-        for (int k = 0; k <= s.pyramidDepth; ++k)
-            expected.insert(expected.end(), partial.sampling() == gpu::Sampling::exact ? 2 : 1, {"pyramid", k});
+    if (method != MethodKind::reference && !copiesOnly) {
+        const bool exact = partial.sampling() == gpu::Sampling::exact;
+        const int tailLevel = std::max(1, std::countr_zero(unsigned(kSize / PROBE_PYRAMID_TAIL_SIZE)));
+        for (int k = 0; k <= s.pyramidDepth && (exact || k <= tailLevel); ++k)
+            expected.insert(expected.end(), exact ? 2 : 1, {"pyramid", k});
+    }
     for (int m : levels) {
         const bool chunked = method == MethodKind::reference && levelAlpha(s.mapping, m, kLevels) > 0.0;
         expected.insert(expected.end(), chunked ? kFaceCount : 1, {std::string(methodKindName(method)), m});

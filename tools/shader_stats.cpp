@@ -40,7 +40,8 @@ std::vector<ShaderVariant> runtimeVariants() {
         if (startsWith(shader, "table_filter_")) {
             variants.push_back({shader + " quad", spirv, {kQuadCoefficients, 0, kTableTaps}});
             variants.push_back({shader + " const", spirv, {kConstantCoefficients, 0, kTableTaps}});
-        } else if (shader == "pyramid" || startsWith(shader, "pyramid_image_")) { // kBoxKind, kInverseSolidAngle
+        } else if (shader == "pyramid" || startsWith(shader, "pyramid_image_") ||
+                   startsWith(shader, "pyramid_tail_")) { // kBoxKind, kInverseSolidAngle
             variants.push_back({shader + " bspline", spirv, {0, 0}});
             variants.push_back({shader + " box", spirv, {1, 0}});
         } else {

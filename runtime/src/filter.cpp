@@ -215,6 +215,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
             pyramidMipCubes.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
             pyramidMipArrays.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
         }
+        // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
+        pyramidTailLevel = std::max(1, pyramidLevels - kPyramidTailMipCount);
     }
     if (convertOutput) {
         intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
@@ -286,6 +288,8 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
         descriptors->writeStorage(set, kPyramidMip, placeholderArray.handle());
         descriptors->writeStorage(set, kOutputMip, placeholderArray.handle());
+        for (int e = 0; e < kPyramidTailMipCount; ++e)
+            descriptors->writeStorage(set, kPyramidTailMips, placeholderArray.handle(), uint32_t(e));
     };
     const bool hardware = buildsPyramid && sampling == Sampling::hardware;
     pyramidSets.clear();
@@ -298,6 +302,11 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
                     descriptors->writeSampled(set, kPyramidCube, pyramidMipCubes[k - 1].handle(), linear->handle(),
                                               VK_IMAGE_LAYOUT_GENERAL);
                 descriptors->writeStorage(set, kPyramidMip, pyramidMipArrays[k].handle());
+                // The tail's mips; the elements past the depth repeat the last, which it does not write.
+                if (k == pyramidTailLevel)
+                    for (int e = 0; e < kPyramidTailMipCount; ++e)
+                        descriptors->writeStorage(set, kPyramidTailMips, pyramidMipArrays[std::min(k + e, pyramidDepth)].handle(),
+                                                  uint32_t(e));
             }
             pyramidSets.push_back(set);
         }

@@ -27,7 +27,9 @@ VkDescriptorType bindingType(uint32_t binding) {
 
 FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device_(device) {
     std::array<VkDescriptorSetLayoutBinding, kFilterBindingCount> bindings{};
-    for (uint32_t b = 0; b < kFilterBindingCount; ++b) bindings[b] = {b, bindingType(b), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    for (uint32_t b = 0; b < kFilterBindingCount; ++b)
+        bindings[b] = {b, bindingType(b), b == kPyramidTailMips ? uint32_t(kPyramidTailMipCount) : 1u, VK_SHADER_STAGE_COMPUTE_BIT,
+                       nullptr};
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.bindingCount = kFilterBindingCount;
     setInfo.pBindings = bindings.data();
@@ -44,7 +46,7 @@ FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device
     const std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * maxSets},
                                                      {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2 * maxSets},
                                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * maxSets},
-                                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2 * maxSets}}};
+                                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (2 + kPyramidTailMipCount) * maxSets}}};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = maxSets;
     poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
@@ -93,18 +95,22 @@ void FilterDescriptors::writeTexelBuffer(VkDescriptorSet set, FilterBinding bind
 
 void FilterDescriptors::writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler,
                                      VkImageLayout layout) const {
-    const VkDescriptorImageInfo info{sampler, view, layout};
+    writeImage(set, binding, 0, {sampler, view, layout});
+}
+
+void FilterDescriptors::writeStorage(VkDescriptorSet set, FilterBinding binding, VkImageView view, uint32_t element) const {
+    writeImage(set, binding, element, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+}
+
+void FilterDescriptors::writeImage(VkDescriptorSet set, FilterBinding binding, uint32_t element, const VkDescriptorImageInfo& info) const {
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = set;
     write.dstBinding = binding;
+    write.dstArrayElement = element;
     write.descriptorCount = 1;
     write.descriptorType = bindingType(binding);
     write.pImageInfo = &info;
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
-}
-
-void FilterDescriptors::writeStorage(VkDescriptorSet set, FilterBinding binding, VkImageView view) const {
-    writeSampled(set, binding, view, VK_NULL_HANDLE, VK_IMAGE_LAYOUT_GENERAL);
 }
 
 void FilterDescriptors::bind(VkCommandBuffer commandBuffer, VkDescriptorSet set) const {

@@ -27,6 +27,7 @@ struct Filter::Impl {
     std::vector<std::string> warnings;
     int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                 // pass 1 builds levels 1..pyramidDepth
+    int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
     std::vector<int> levels;              // the output levels computed, ascending
     std::vector<uint32_t> pyramidOffsets; // exact sampling: first texel of each bordered pyramid level, and the total
     std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
@@ -67,6 +68,7 @@ struct Filter::Impl {
     std::vector<VkDescriptorSet> convertSets; // per output level
 
     std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
+    std::unique_ptr<ComputePipeline> pass1Tail;     // hardware sampling: the mips from pyramidTailLevel down, in one workgroup
     std::unique_ptr<ComputePipeline> pass1Corners;  // exact sampling: the border corners of each pyramid level
     std::unique_ptr<ComputePipeline> paraboloidMap; // fis on a paraboloid map: its levels, after the source's level
     std::unique_ptr<ComputePipeline> pass2;         // table, fis or reference

@@ -2,7 +2,9 @@
 // - exact sampling (shaders/pyramid.comp, then shaders/pyramid_corners.comp): each level of the
 //   bordered buffer, faces and edges, then its border corners; the reference builds level 0 alone,
 //   the source it reads texel by texel, with no corners;
-// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image;
+// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image down to face
+//   size PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the mips from there down in one
+//   workgroup, which saves the GPU a dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source.
 #include <cstdint>
@@ -12,6 +14,8 @@
 #include <pyramid_corners.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
+#include <pyramid_tail_rgba16f.spv.h>
+#include <pyramid_tail_rgba32f.spv.h>
 
 #include "filter_impl.h"
 #include "probe/paraboloid.h"
@@ -25,6 +29,12 @@ struct PyramidConstants {
     int32_t level;
 };
 
+struct PyramidTailConstants {
+    int32_t baseSize;
+    int32_t level;     // the first mip written
+    int32_t lastLevel; // the last
+};
+
 } // namespace
 
 void makePyramidPipelines(Filter::Impl& impl) {
@@ -35,10 +45,12 @@ void makePyramidPipelines(Filter::Impl& impl) {
     const VkDevice device = impl.device.device();
     const VkPipelineLayout layout = impl.descriptors->pipelineLayout();
     if (impl.sampling == Sampling::hardware) {
-        const std::span<const uint32_t> spirv = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT
-                                                    ? std::span<const uint32_t>(kPyramidImageRgba16fSpv)
-                                                    : kPyramidImageRgba32fSpv;
-        impl.pass1 = std::make_unique<ComputePipeline>(device, layout, spirv, specialization);
+        const bool half = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+        impl.pass1 = std::make_unique<ComputePipeline>(
+            device, layout, half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
+        if (impl.pyramidDepth >= impl.pyramidTailLevel)
+            impl.pass1Tail = std::make_unique<ComputePipeline>(
+                device, layout, half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, specialization);
         return;
     }
     impl.pass1 = std::make_unique<ComputePipeline>(device, layout, kPyramidSpv, specialization);
@@ -50,7 +62,8 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     const bool hardware = impl.sampling == Sampling::hardware;
     const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
-    for (int level = 0; level <= depth; ++level) {
+    const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
+    for (int level = 0; level <= lastSingle; ++level) {
         if (level > 0) computeBarrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
@@ -61,6 +74,12 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         if (!impl.pass1Corners) continue;
         computeBarrier(commandBuffer);
         dispatchPass(impl, commandBuffer, *impl.pass1Corners, "pyramid", level, constants, groupsFor(kFaceCount * 4));
+    }
+    if (impl.pass1Tail) {
+        computeBarrier(commandBuffer);
+        impl.descriptors->bind(commandBuffer, impl.pyramidSets[impl.pyramidTailLevel]);
+        const PyramidTailConstants constants{s.faceSize, impl.pyramidTailLevel, depth};
+        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.pyramidTailLevel, constants, 1);
     }
     if (!impl.paraboloidMap) return;
     for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {

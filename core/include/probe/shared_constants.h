@@ -20,6 +20,9 @@
 #define PROBE_PYRAMID_TAP_OFFSET 0.75
 #define PROBE_PYRAMID_JACOBIAN_SHARE 0.5
 #define PROBE_PYRAMID_BASE_WEIGHT 0.125
+// The GPU runtime's pass 1 builds the mips of this face size and smaller in one workgroup
+// (shaders/pyramid_tail.comp), keeping two of them in shared memory.
+#define PROBE_PYRAMID_TAIL_SIZE 8
 
 // Dual-paraboloid FIS (probe/paraboloid.h): the image square holds the mapping's (u, v) times this,
 // so the unit disc of a hemisphere ends inside it.
