@@ -140,7 +140,8 @@ struct PassTime {
 struct Dispatch {
     std::string pass;
     int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source; the
-                         // reference builds it alone, to read it texel by texel);
+                         // reference builds it alone, to read it texel by texel; hardware sampling's
+                         // last pyramid dispatch writes this mip, 8x8 or smaller, and all below it);
                          // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
 };
