@@ -1,5 +1,6 @@
 // probefilter filter IN --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
-//   [--levels M] [--mapping NAME] [--sampling MODE] [--format F] [--repeat K] [--level-times] [--against-reference]
+//   [--levels M] [--mapping NAME] [--sampling MODE] [--pyramid-format F] [--format F] [--repeat K] [--level-times]
+//   [--against-reference]
 //   [--device X] --out DIR
 #include <algorithm>
 #include <fstream>
@@ -38,6 +39,7 @@ struct FilterOptions {
     int levels = 0; // 0: the default for the size
     std::string mapping = "gltf";
     std::string sampling = "automatic";
+    std::string pyramidFormat = "auto";
     std::string format = "rgba32f";
     int repeat = 1;
     bool levelTimes = false;
@@ -110,6 +112,7 @@ void runFilter(const FilterOptions& o) {
     s.levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
     probe::validateSizeAndLevels(s.faceSize, s.levelCount);
     s.sampling = probe::gpu::parseSampling(o.sampling);
+    s.pyramidFormat = probe::gpu::parsePyramidFormat(o.pyramidFormat);
     s.outputFormat = probe::gpu::parseFormat(o.format);
     const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     s.method.fis.samples = o.samples.front();
@@ -232,6 +235,10 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--pyramid-format", o->pyramidFormat,
+                    "Hardware sampling's pyramid image: rgba32f, rgba16f (half the bytes the sampler reads; values beyond "
+                    "65504 are clamped there) or auto (rgba32f where the device can filter and store it)")
+        ->capture_default_str();
     cmd->add_option("--format", o->format,
                     "The GPU's output cube format, which the written levels keep: rgba32f, rgba16f (what engines use) or b10g11r11")
         ->capture_default_str();

@@ -2,8 +2,9 @@
 # probefilter filter on lavapipe with the validation layer: the three methods write every level and a
 # report naming the device, the dispatches, GPU times (per level with --level-times) and errors; a table
 # file and the same table in the published text layout give the same output; the mappings' compiled-in
-# tables at 128^2 filter; a table that does not fit, a missing table and an unknown device are refused
-# (exit 2, reason on stderr, nothing written).
+# tables at 128^2 filter; a pyramid format asked for is used; a table that does not fit, a missing
+# table, an unknown device and a format that does not apply are refused (exit 2, reason on stderr,
+# nothing written).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -84,6 +85,15 @@ refused "--sampling fast" --method fis --sampling fast --size 16
 refused "one count, or one per output level (4)" --method fis --samples 8 16 --size 16
 refused "--fis-map sphere" --method fis --fis-map sphere --size 16
 refused "reads it exactly" --method fis --fis-map paraboloid --sampling hardware --size 16
+refused "--pyramid-format b10g11r11" --method fis --sampling hardware --pyramid-format b10g11r11 --size 16
+refused "--pyramid-format rgba16f: only hardware sampling" --method fis --sampling exact --pyramid-format rgba16f --size 16
+
+# The pyramid format asked for: the report names it.
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --sampling hardware \
+    --pyramid-format rgba16f --validate --out half-pyramid >/dev/null 2>&1 || fail "--pyramid-format rgba16f"
+python3 -c "import json,sys; r=json.load(open('half-pyramid/report.json'))
+sys.exit(r['pyramid']['format'] != 'rgba16f' or r['warnings'] != [])" ||
+    fail "--pyramid-format rgba16f: the report does not name the format, or warns"
 
 # FIS with a count per level: the report lists them.
 "$PROBEFILTER" filter sky.exr --method fis --samples 8 8 32 128 --size 16 --out fis-levels >/dev/null 2>&1 || fail "fis per level"

@@ -2,7 +2,8 @@
 // their precision in both sampling modes, values beyond a format's range are clamped to its largest
 // finite value, B10G11R11 reaches the same texels through the conversion pass where the device
 // cannot store it, the pyramid falls back to RGBA16F with a warning where RGBA32F cannot be filtered
-// and stored, and formats the device or the filter cannot use are refused by name.
+// and stored, or is the format asked for, and formats the device or the filter cannot use are
+// refused by name.
 #include "gpu_test_support.h"
 
 #include <fmt/format.h>
@@ -104,6 +105,53 @@ TEST_F(GpuTest, PyramidFallsBackToRgba16fWithAWarning) {
     // Every pyramid texel rounded to half: each output blends them, so the relative error stays the
     // half's, with room for the roundings of the mips that feed each other.
     for (std::size_t m = 0; m < out.size(); ++m) EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), 4 * 0x1p-10) << "level " << m;
+}
+
+// A pyramid format asked for is used as it is, without a warning: RGBA16F gives the fallback's
+// result; a format the device cannot filter and store, one that is no pyramid format, or one asked of
+// exact sampling (a float32 buffer) is refused by name.
+TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
+    const gpu::Device& shared = probetest::testDevice();
+    const CubeImage probe = sunSkyProbe(kSize);
+    gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    const CubeLevels full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
+    for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
+        s.pyramidFormat = format;
+        gpu::Filter filter(shared, s);
+        EXPECT_EQ(filter.pyramidFormat(), format);
+        EXPECT_TRUE(filter.warnings().empty()) << filter.warnings().front();
+        const CubeLevels out = filter.run(probe);
+        const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? 4 * 0x1p-10 : 0.0;
+        for (std::size_t m = 0; m < out.size(); ++m)
+            EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), tolerance) << gpu::formatName(format) << " level " << m;
+    }
+
+    const auto refusal = [](const gpu::Device& device, const gpu::FilterSettings& settings) -> std::string {
+        try {
+            gpu::Filter filter(device, settings);
+        } catch (const ProbeError& e) {
+            return e.what();
+        }
+        return "accepted";
+    };
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().formatFeatures[VK_FORMAT_R32G32B32A32_SFLOAT] &= ~VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
+    s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    const std::string unfiltered = refusal(device, s);
+    EXPECT_NE(unfiltered.find("rgba32f"), std::string::npos) << unfiltered;
+    EXPECT_NE(unfiltered.find("filter"), std::string::npos) << unfiltered;
+    for (gpu::FilterSettings bad : {s, fisSettings(gpu::Sampling::exact)}) {
+        bad.pyramidFormat = bad.sampling == gpu::Sampling::exact ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+        try {
+            gpu::Filter filter(shared, bad);
+            ADD_FAILURE() << "pyramid format " << int(bad.pyramidFormat) << " accepted with " << gpu::samplingName(bad.sampling);
+        } catch (const ParameterError& e) {
+            EXPECT_EQ(e.parameter, "pyramid-format");
+        }
+    }
+    EXPECT_EQ(gpu::parsePyramidFormat("auto"), VK_FORMAT_UNDEFINED);
+    EXPECT_EQ(gpu::parsePyramidFormat("rgba16f"), VK_FORMAT_R16G16B16A16_SFLOAT);
+    EXPECT_THROW(gpu::parsePyramidFormat("b10g11r11"), ParameterError);
 }
 
 TEST_F(GpuTest, UnusableFormatsAreRefusedByName) {

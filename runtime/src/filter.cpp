@@ -85,10 +85,17 @@ Sampling resolveSampling(const Device& device, const FilterSettings& s) {
     return device.info().type == "cpu" ? Sampling::exact : Sampling::hardware;
 }
 
-// RGBA32F where the device filters and stores it; else RGBA16F (finite values up to 65504).
-VkFormat choosePyramidFormat(const Device& device, std::vector<std::string>& warnings) {
+// The requested format, where the device filters and stores it; by default RGBA32F where it does,
+// else RGBA16F (finite values up to 65504) with a warning.
+VkFormat choosePyramidFormat(const Device& device, VkFormat requested, std::vector<std::string>& warnings) {
     const VkFormatFeatureFlags needed =
         VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    if (requested != VK_FORMAT_UNDEFINED) {
+        if (!has(device, requested, needed))
+            throw ProbeError(fmt::format("Vulkan: {} cannot filter and store {} images, which the pyramid needs (use the other format)",
+                                         device.info().name, formatName(requested)));
+        return requested;
+    }
     if (has(device, VK_FORMAT_R32G32B32A32_SFLOAT, needed)) return VK_FORMAT_R32G32B32A32_SFLOAT;
     if (!has(device, VK_FORMAT_R16G16B16A16_SFLOAT, needed))
         throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R32G32B32A32_SFLOAT nor R16G16B16A16_SFLOAT images, which "
@@ -141,6 +148,13 @@ std::string_view formatName(VkFormat format) {
     }
 }
 
+VkFormat parsePyramidFormat(std::string_view name) {
+    if (name == "auto") return VK_FORMAT_UNDEFINED;
+    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT})
+        if (formatName(f) == name) return f;
+    throw ParameterError("pyramid-format", fmt::format("{}: expected auto, rgba32f or rgba16f", name));
+}
+
 VkFormat parseFormat(std::string_view name) {
     for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32})
         if (formatName(f) == name) return f;
@@ -171,6 +185,16 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     paraboloid = readsParaboloid(s.method) && filters;
     if (paraboloid) pyramidDepth = 0; // the map reads the source alone
     sampling = resolveSampling(d, s);
+    if (s.pyramidFormat != VK_FORMAT_UNDEFINED) {
+        if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT)
+            throw ParameterError("pyramid-format",
+                                 fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT", int(s.pyramidFormat)));
+        if (sampling == Sampling::exact)
+            throw ParameterError("pyramid-format",
+                                 fmt::format("{}: only hardware sampling's pyramid is an image; exact sampling's is a float32 "
+                                             "buffer (choose hardware sampling)",
+                                             formatName(s.pyramidFormat)));
+    }
     if (kind == MethodKind::table && sampling == Sampling::exact && !d.impl().computeSubgroupVote)
         throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method's exact "
                                      "sampling needs (use hardware sampling)",
@@ -206,7 +230,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
 
     const VkDevice vk = d.device();
     if (buildsPyramid && sampling == Sampling::hardware) {
-        pyramidFormat = choosePyramidFormat(d, warnings);
+        pyramidFormat = choosePyramidFormat(d, s.pyramidFormat, warnings);
         const int mips = pyramidDepth + 1;
         pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
                                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);

@@ -101,6 +101,9 @@ Sampling parseSampling(std::string_view name);    // ParameterError("sampling") 
 // exponents). Values are clamped to the format's largest finite value, so no texel is Inf.
 std::string_view formatName(VkFormat format); // "rgba16f", "rgba32f", "b10g11r11"
 VkFormat parseFormat(std::string_view name);  // ParameterError("format") for any other name
+// FilterSettings::pyramidFormat by name: "auto" (VK_FORMAT_UNDEFINED), "rgba32f" or "rgba16f";
+// ParameterError("pyramid-format") for any other name.
+VkFormat parsePyramidFormat(std::string_view name);
 
 struct FilterSettings {
     FilterMethod method; // table (with its table, which the caller keeps alive), fis, or reference
@@ -111,6 +114,11 @@ struct FilterSettings {
     // The output cube's format: run()'s own output image, and the format record()'s caller's output
     // cube must have. B10G11R11 goes through a conversion pass where the device cannot store it.
     VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    // Hardware sampling's pyramid image: R32G32B32A32_SFLOAT, or R16G16B16A16_SFLOAT, half the memory
+    // and the bytes per texel that the sampler reads, whose largest value is 65504 (brighter texels
+    // are clamped there); VK_FORMAT_UNDEFINED: RGBA32F where the device can filter and store it, else
+    // RGBA16F with a warning. Exact sampling's pyramid is a float32 buffer: a format is refused there.
+    VkFormat pyramidFormat = VK_FORMAT_UNDEFINED;
     // Only these output levels (ascending, each in [0, M)); empty: every level. Levels left out are
     // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
