@@ -50,6 +50,7 @@ struct SweepOptions {
     int texelBudget = 384;
     std::string tables = "tables";
     std::string sampling = "automatic";
+    std::string pyramidFormat = "auto";
     std::string device;
     std::string summarize;
     std::string out;
@@ -152,6 +153,7 @@ void setReads(Method& m, int size, int levelCount, const probe::TapTable* table)
 std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables) {
     std::vector<Method> methods;
     const probe::gpu::Sampling sampling = probe::gpu::parseSampling(o.sampling);
+    const VkFormat pyramidFormat = probe::gpu::parsePyramidFormat(o.pyramidFormat);
     for (const NamedTable& t : tables) {
         Method m;
         m.description = {t.name,
@@ -162,6 +164,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                          std::string(probe::tableFormName(t.table.form))};
         m.settings.method = {probe::MethodKind::table, &t.table, {}};
         m.settings.sampling = sampling;
+        m.settings.pyramidFormat = pyramidFormat;
         m.taps = probe::tableTapGenerator(t.table);
         setReads(m, o.size, levelCount, &t.table);
         methods.push_back(std::move(m));
@@ -185,6 +188,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                                      ""};
                     m.settings.method = {probe::MethodKind::fis, nullptr, fis};
                     m.settings.sampling = sampling;
+                    m.settings.pyramidFormat = pyramidFormat;
                     m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
                     setReads(m, o.size, levelCount, nullptr);
                     methods.push_back(std::move(m));
@@ -200,7 +204,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                 fis.bias = bias;
                 fis.map = probe::FisMap::paraboloid;
                 m.description = {fmt::format("fisparaboloid{}-bias{}", samples, bias), "fis-paraboloid", samples, bias, "paraboloid", ""};
-                m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling says
+                m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling and --pyramid-format say
                 m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
                 setReads(m, o.size, levelCount, nullptr);
                 methods.push_back(std::move(m));
@@ -211,10 +215,15 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
 
 // Summarizes a finished sweep again (DIR/sweep.csv, and DIR/report.json for the device) into --out,
 // another folder: sweep.csv, sweep.md and report.json.
+// "hardware sampling, rgba32f pyramid" or "exact sampling", for the Markdown's device line.
+std::string samplingDescription(const std::string& sampling, const std::string& pyramidFormat) {
+    return pyramidFormat.empty() ? fmt::format("{} sampling", sampling) : fmt::format("{} sampling, {} pyramid", sampling, pyramidFormat);
+}
+
 void summarizeAgain(const SweepOptions& o) {
     const std::filesystem::path dir = o.summarize;
     const std::vector<SweepRow> rows = readSweepCsv(dir / "sweep.csv");
-    std::string name, driver, sampling;
+    std::string name, driver, sampling, pyramidFormat;
     int size = 0, levelCount = 0;
     try {
         std::ifstream in(dir / "report.json");
@@ -222,6 +231,7 @@ void summarizeAgain(const SweepOptions& o) {
         name = previous.at("device").at("name").get<std::string>();
         driver = previous.at("device").at("driver").get<std::string>();
         sampling = previous.at("sampling").get<std::string>();
+        pyramidFormat = previous.value("pyramid_format", "");
         size = previous.at("face_size").get<int>();
         levelCount = previous.at("level_count").get<int>();
     } catch (const nlohmann::json::exception&) {
@@ -231,10 +241,11 @@ void summarizeAgain(const SweepOptions& o) {
     probe::StagedOutput output(o.out, {dir}, o.force);
     writeSweepCsv(output.file("sweep.csv"), rows);
     const SweepSummary summary = summarizeSweep(rows);
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {} sampling", name, driver, sampling), size,
-                       levelCount);
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows,
+                       fmt::format("{} ({}), {}", name, driver, samplingDescription(sampling, pyramidFormat)), size, levelCount);
     nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
     report["sampling"] = sampling;
+    if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
     writeJson(output.file("report.json"), report);
     output.commit();
     fmt::print("{}", formatSummary(summary));
@@ -327,11 +338,16 @@ void runSweep(const SweepOptions& o) {
 
     writeSweepCsv(output.file("sweep.csv"), rows);
     const SweepSummary summary = summarizeSweep(rows);
-    const std::string sampling(probe::gpu::samplingName(filters.front()->sampling()));
+    const probe::gpu::Filter& first = *filters.front();
+    const std::string sampling(probe::gpu::samplingName(first.sampling()));
+    const std::string pyramidFormat(first.sampling() == probe::gpu::Sampling::hardware ? probe::gpu::formatName(first.pyramidFormat())
+                                                                                       : "");
     writeSweepMarkdown(output.file("sweep.md"), summary, rows,
-                       fmt::format("{} ({}), {} sampling", device.info().name, device.info().driver, sampling), o.size, levelCount);
+                       fmt::format("{} ({}), {}", device.info().name, device.info().driver, samplingDescription(sampling, pyramidFormat)),
+                       o.size, levelCount);
     nlohmann::json report = sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount);
     report["sampling"] = sampling;
+    if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
     writeJson(output.file("report.json"), report);
     output.commit();
     fmt::print("{}", formatSummary(summary));
@@ -359,6 +375,9 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
+    cmd->add_option("--pyramid-format", o->pyramidFormat,
+                    "Hardware sampling's pyramid image for the tables and FIS on the cube: auto, rgba32f or rgba16f")
+        ->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_option("--summarize", o->summarize,
                     "Run nothing: summarize the sweep in this folder (its sweep.csv) again into --out (another folder)");
