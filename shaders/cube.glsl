@@ -32,6 +32,10 @@ void directionToFaceUv(vec3 d, out int face, out vec2 uv) {
 
 float texelCentreUv(int index, int size) { return 2.0 * (float(index) + 0.5) / float(size) - 1.0; }
 
+// Continuous texel coordinates (x, y) of a face of size `size` (texel (i, j) spans [i, i + 1] x
+// [j, j + 1]) as face coordinates (u, v).
+vec2 texelToFaceUv(float x, float y, int size) { return 2.0 * vec2(x, y) / float(size) - 1.0; }
+
 // The centre of texel (i, j) of `face` on the unit cube (probe::texelCubePoint); i or j may step one
 // texel beyond the face, onto its extended plane.
 vec3 texelCubePoint(int face, int i, int j, int size) { return faceUvToCubePoint(face, texelCentreUv(i, size), texelCentreUv(j, size)); }
@@ -44,6 +48,11 @@ ivec3 directionToTexel(vec3 d, int size) {
     ivec2 ij = clamp(ivec2(floor((uv + 1.0) * 0.5 * float(size))), ivec2(0), ivec2(size - 1));
     return ivec3(face, ij);
 }
+
+// Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre
+// beyond the edge, on the face's extended plane, projected onto the adjacent face
+// (probe::texelNeighbour).
+ivec3 texelAcrossEdge(int face, int i, int j, int size) { return directionToTexel(texelCubePoint(face, i, j, size), size); }
 
 // Linear index of a texel in a face-major, row-major level (probe::texelIndex).
 uint texelIndex(int face, int i, int j, int size) { return (uint(face) * uint(size) + uint(j)) * uint(size) + uint(i); }

@@ -37,12 +37,6 @@ vec3 levelTexel(ivec3 t, int size) {
     return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
 }
 
-// Texel (i, j) of `face` where exactly one of i, j is one step outside the face: the texel centre
-// beyond the edge, on the face's extended plane, projected onto the adjacent face.
-ivec3 texelAcrossEdge(int face, int i, int j, int size) {
-    return directionToTexel(texelCubePoint(face, i, j, size), size);
-}
-
 void main() {
     int size = params.baseSize >> params.level;
     int row = size + 2;

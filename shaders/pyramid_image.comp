@@ -24,7 +24,8 @@ layout(push_constant) uniform Params {
 // The fine level at face coordinates (u, v) of `face`.
 vec3 fine(int face, float u, float v) { return textureLod(pyramidCube, faceUvToCubePoint(face, u, v), 0.0).rgb; }
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
-    return fine(face, 2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
+    vec2 uv = texelToFaceUv(x, y, fineSize);
+    return fine(face, uv.x, uv.y);
 }
 #include "pyramid_bspline.glsl"
 // A child texel, read at its centre, where the bilinear weights are 1, 0, 0, 0.

@@ -38,8 +38,8 @@ int fineFirst = -1;
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
     if (fineFirst < 0) {
-        vec3 direction = faceUvToCubePoint(face, 2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
-        return textureLod(pyramidCube, direction, 0.0).rgb;
+        vec2 uv = texelToFaceUv(x, y, fineSize);
+        return textureLod(pyramidCube, faceUvToCubePoint(face, uv.x, uv.y), 0.0).rgb;
     }
     vec2 f;
     uint t = uint(fineFirst) + bilinearFootprint(fineSize, face, x, y, f);
@@ -86,7 +86,7 @@ void main() {
             int face = int(index) / (4 * size), side = int(index) / size % 4, k = int(index) % size;
             int i = side == 0 ? -1 : side == 1 ? size : k;
             int j = side == 2 ? -1 : side == 3 ? size : k;
-            ivec3 n = directionToTexel(texelCubePoint(face, i, j, size), size); // (face, i, j)
+            ivec3 n = texelAcrossEdge(face, i, j, size); // (face, i, j)
             tailTexels[first + pyramidTexelIndex(face, i, j, size)] = tailTexels[first + pyramidTexelIndex(n.x, n.y, n.z, size)];
         }
         memoryBarrierShared();

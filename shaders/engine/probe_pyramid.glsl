@@ -53,8 +53,8 @@ layout(set = PROBE_SET, binding = PROBE_FINE_BINDING) uniform samplerCube probeF
 layout(set = PROBE_SET, binding = PROBE_COARSE_BINDING, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray probeCoarse;
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
-    vec3 direction = faceUvToCubePoint(face, 2.0 * x / float(fineSize) - 1.0, 2.0 * y / float(fineSize) - 1.0);
-    return textureLod(probeFine, direction, 0.0).rgb;
+    vec2 uv = texelToFaceUv(x, y, fineSize);
+    return textureLod(probeFine, faceUvToCubePoint(face, uv.x, uv.y), 0.0).rgb;
 }
 #include "pyramid_bspline.glsl"
 
