@@ -272,6 +272,14 @@ void runSweep(const SweepOptions& o) {
     fmt::print(stderr, "sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size, levelCount,
                device.info().name);
 
+    // Every method's filter first, so that settings the device refuses fail before the references run.
+    std::vector<std::unique_ptr<probe::gpu::Filter>> filters;
+    for (Method& method : methods) {
+        method.settings.faceSize = o.size;
+        method.settings.levelCount = levelCount;
+        filters.push_back(std::make_unique<probe::gpu::Filter>(device, method.settings));
+    }
+
     std::vector<probe::CubeLevels> references;
     for (std::size_t p = 0; p < probes.size(); ++p) {
         references.push_back(probe::referenceFilter(probes[p].cube, levelCount, probe::RoughnessMapping::gltf));
@@ -279,13 +287,9 @@ void runSweep(const SweepOptions& o) {
     }
 
     std::vector<SweepRow> rows;
-    std::vector<std::unique_ptr<probe::gpu::Filter>> filters;
     std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>> operators;
     for (std::size_t k = 0; k < methods.size(); ++k) {
         Method& method = methods[k];
-        method.settings.faceSize = o.size;
-        method.settings.levelCount = levelCount;
-        filters.push_back(std::make_unique<probe::gpu::Filter>(device, method.settings));
         const probe::PyramidSettings pyramid = method.settings.method.pyramid();
         auto& ops = operators[pyramid.kind];
         if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
@@ -303,7 +307,7 @@ void runSweep(const SweepOptions& o) {
             else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m, texels));
         }
         for (std::size_t p = 0; p < probes.size(); ++p) {
-            const probe::CubeLevels out = filters.back()->run(probes[p].cube);
+            const probe::CubeLevels out = filters[k]->run(probes[p].cube);
             for (int m = 0; m < levelCount; ++m)
                 rows.push_back({method.description, probes[p].name, m, probe::imageL1(out[m], references[p][m]), impulse[m].mean,
                                 impulse[m].max, 0.0});

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # probefilter sweep's sampling settings: with hardware sampling and --pyramid-format rgba16f the report
 # and sweep.md's device line name both, and --summarize keeps them; a pyramid format with exact
-# sampling is refused (exit 2, reason on stderr, nothing written).
+# sampling is refused before the references run (exit 2, reason on stderr, nothing written).
 set -euo pipefail
 : "${PROBEFILTER:?}" "${TABLES:?}"
 work="$(mktemp -d)"
@@ -20,6 +20,7 @@ grep -q "hardware sampling, rgba16f pyramid" again/sweep.md || fail "--summarize
 
 rc=0
 "$PROBEFILTER" "${sweep[@]}" --sampling exact --pyramid-format rgba16f --out refused >/dev/null 2>err.txt || rc=$?
+grep -q "^reference" err.txt && fail "the refusal came after the references ran"
 [[ $rc == 2 ]] || fail "a pyramid format with exact sampling exited $rc, expected 2"
 grep -q -- "--pyramid-format rgba16f" err.txt || fail "stderr lacks the option: $(cat err.txt)"
 [[ ! -e refused ]] || fail "a refused sweep wrote output"
