@@ -147,7 +147,6 @@ void runFilter(const FilterOptions& o) {
     deviceOptions.validation = o.validate;
     probe::gpu::Device device(deviceOptions);
     probe::gpu::Filter filter(device, s);
-    for (const std::string& warning : filter.warnings()) fmt::print(stderr, "probefilter: warning: {}\n", warning);
     const probe::CubeLevels levels =
         filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
     const std::vector<std::string> messages = device.validationMessages();
@@ -172,7 +171,6 @@ void runFilter(const FilterOptions& o) {
         report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
     }
     if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(table);
-    report["warnings"] = filter.warnings();
     const probe::gpu::DeviceInfo& info = device.info();
     report["device"] = describeDevice(info, o.validate);
     report["dispatches"] = describeDispatches(filter.dispatches());
@@ -236,8 +234,9 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,
-                    "Hardware sampling's pyramid image: rgba32f, rgba16f (half the bytes the sampler reads; values beyond "
-                    "65504 are clamped there) or auto (rgba32f where the device can filter and store it)")
+                    "Hardware sampling's pyramid image: rgba16f (half the bytes the sampler reads; a probe brighter than "
+                    "65504 is filtered scaled down by a power of two), rgba32f, or auto (rgba16f where the device can filter "
+                    "and store it)")
         ->capture_default_str();
     cmd->add_option("--format", o->format,
                     "The GPU's output cube format, which the written levels keep: rgba32f, rgba16f (what engines use) or b10g11r11")

@@ -1,15 +1,16 @@
 // The output and pyramid formats: RGBA16F and B10G11R11 outputs hold the RGBA32F result rounded to
 // their precision in both sampling modes, values beyond a format's range are clamped to its largest
 // finite value, B10G11R11 reaches the same texels through the conversion pass where the device
-// cannot store it, the pyramid falls back to RGBA16F with a warning where RGBA32F cannot be filtered
-// and stored, or is the format asked for, and formats the device or the filter cannot use are
-// refused by name.
+// cannot store it, the pyramid is RGBA16F by default (RGBA32F where the device cannot filter and store
+// that) or the format asked for, a probe brighter than a half pyramid holds keeps its light, and
+// formats the device or the filter cannot use are refused by name.
 #include "gpu_test_support.h"
 
 #include <fmt/format.h>
 
 #include "device.h"
 #include "probe/error.h"
+#include "probe/range_scale.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -91,37 +92,58 @@ TEST_F(GpuTest, B10G11R11ThroughTheConversionPassEqualsTheDirectStore) {
     EXPECT_LE(worst, 2.0 * relativeRounding(s.outputFormat));
 }
 
-TEST_F(GpuTest, PyramidFallsBackToRgba16fWithAWarning) {
+// Each pyramid texel rounded to half: each output blends them, so the relative error stays the
+// half's, with room for the roundings of the mips that feed each other.
+constexpr double kHalfPyramidTolerance = 4 * 0x1p-10;
+
+TEST_F(GpuTest, PyramidIsRgba16fByDefaultAndRgba32fWhereTheDeviceLacksIt) {
     const gpu::Device& shared = probetest::testDevice();
-    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
-    device.impl().formatFeatures[VK_FORMAT_R32G32B32A32_SFLOAT] &= ~VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
     const gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    EXPECT_EQ(gpu::Filter(shared, s).pyramidFormat(), VK_FORMAT_R16G16B16A16_SFLOAT);
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().formatFeatures[VK_FORMAT_R16G16B16A16_SFLOAT] &= ~VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
     gpu::Filter filter(device, s);
-    EXPECT_EQ(filter.pyramidFormat(), VK_FORMAT_R16G16B16A16_SFLOAT);
-    ASSERT_EQ(filter.warnings().size(), 1u);
-    EXPECT_NE(filter.warnings()[0].find("65504"), std::string::npos) << filter.warnings()[0];
+    EXPECT_EQ(filter.pyramidFormat(), VK_FORMAT_R32G32B32A32_SFLOAT);
+    gpu::FilterSettings asked = s;
+    asked.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     const CubeImage probe = sunSkyProbe(kSize);
-    const CubeLevels out = filter.run(probe), full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
-    // Every pyramid texel rounded to half: each output blends them, so the relative error stays the
-    // half's, with room for the roundings of the mips that feed each other.
-    for (std::size_t m = 0; m < out.size(); ++m) EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), 4 * 0x1p-10) << "level " << m;
+    const CubeLevels out = filter.run(probe), full = runWith(shared, asked, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
+    for (std::size_t m = 0; m < out.size(); ++m) EXPECT_EQ(probetest::maxRelativeError(out[m], full[m]), 0.0) << "level " << m;
 }
 
-// A pyramid format asked for is used as it is, without a warning: RGBA16F gives the fallback's
-// result; a format the device cannot filter and store, one that is no pyramid format, or one asked of
-// exact sampling (a float32 buffer) is refused by name.
+// run() filters a probe brighter than an RGBA16F pyramid holds scaled down by a power of two and
+// scales the output back: the RGBA32F pyramid's result within half rounding, for a float32 output
+// and, saturated at 65504 alike, for an RGBA16F one. Without the scaling the sun would clamp at 65504
+// and every level would lose most of its light.
+TEST_F(GpuTest, ProbeBrighterThanAHalfPyramidKeepsItsLight) {
+    const CubeImage probe = shifted(sunSkyProbe(kSize), 20);
+    ASSERT_GT(largestMagnitude(probe), 1e6f);
+    gpu::FilterSettings half = fisSettings(gpu::Sampling::hardware), full = half;
+    half.pyramidFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    full.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
+        const CubeLevels out = runWith(probetest::testDevice(), half, format, probe);
+        const CubeLevels expected = runWith(probetest::testDevice(), full, format, probe);
+        for (std::size_t m = 0; m < out.size(); ++m)
+            EXPECT_LE(probetest::maxRelativeError(out[m], expected[m]), kHalfPyramidTolerance) << gpu::formatName(format) << " level " << m;
+    }
+}
+
+// A pyramid format asked for is used as it is: RGBA16F within half rounding of RGBA32F; a format the
+// device cannot filter and store, one that is no pyramid format, or one asked of exact sampling (a
+// float32 buffer) is refused by name.
 TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
     const gpu::Device& shared = probetest::testDevice();
     const CubeImage probe = sunSkyProbe(kSize);
     gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     const CubeLevels full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
     for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
         s.pyramidFormat = format;
         gpu::Filter filter(shared, s);
         EXPECT_EQ(filter.pyramidFormat(), format);
-        EXPECT_TRUE(filter.warnings().empty()) << filter.warnings().front();
         const CubeLevels out = filter.run(probe);
-        const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? 4 * 0x1p-10 : 0.0;
+        const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? kHalfPyramidTolerance : 0.0;
         for (std::size_t m = 0; m < out.size(); ++m)
             EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), tolerance) << gpu::formatName(format) << " level " << m;
     }

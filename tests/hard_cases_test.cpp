@@ -43,15 +43,15 @@ std::vector<HardProbe> hardProbes(int size) {
     return probes;
 }
 
-// Every output value finite and >= 0; a constant input gives that constant within 1e-3.
-void expectStable(const CubeLevels& out, const HardProbe& probe, const std::string& what) {
+// Every output value finite and >= 0; a constant input gives that constant within `furnace`.
+void expectStable(const CubeLevels& out, const HardProbe& probe, const std::string& what, float furnace = 1e-3f) {
     for (std::size_t m = 0; m < out.size(); ++m)
         for (std::size_t k = 0; k < out[m].rgb.size(); ++k) {
             const float v = out[m].rgb[k];
             ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << what << ", " << probe.name << ", level " << m << ": " << v;
             if (probe.name == "constant") {
                 const float expected = probe.cube.rgb[k % 3];
-                ASSERT_NEAR(v, expected, 1e-3f * expected) << what << ", furnace, level " << m;
+                ASSERT_NEAR(v, expected, furnace * expected) << what << ", furnace, level " << m;
             }
         }
 }
@@ -193,7 +193,10 @@ TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
         gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
         for (const HardProbe& probe : hardProbes(table.baseSize)) {
             expectStable(filter.run(probe.cube), probe, name);
-            expectStable(hardware.run(probe.cube), probe, name + " (hardware sampling)");
+            // An RGBA16F pyramid rounds each mip, where a device rounds toward zero (lavapipe does) by up
+            // to 2^-10 each time, and a level reads mips built from one another: its furnace drifts more.
+            const float furnace = hardware.pyramidFormat() == VK_FORMAT_R16G16B16A16_SFLOAT ? 4e-3f : 1e-3f;
+            expectStable(hardware.run(probe.cube), probe, name + " (hardware sampling)", furnace);
         }
         // Seams within the bound, as for FIS and the reference (probefit select keeps each level's fit
         // within it). Beside each ratio, the steepest steps across the edges and across the lines a

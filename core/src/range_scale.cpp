@@ -6,11 +6,11 @@
 
 namespace probe {
 
-int rangeShift(double largest) {
-    if (!(largest > kFilterRangeLimit)) return 0;
-    int exponent = 0; // largest = f * 2^exponent, 0.5 <= f < 1, so largest * 2^(64 - exponent) < 2^64
-    std::frexp(largest, &exponent);
-    return exponent - 64;
+int rangeShift(double largest, double limit) {
+    if (!(largest > limit)) return 0;
+    int exponent = 0; // largest / limit = f * 2^exponent, 0.5 <= f < 1, so largest * 2^-exponent < limit
+    std::frexp(largest / limit, &exponent);
+    return exponent;
 }
 
 float largestMagnitude(const CubeImage& image) {

@@ -18,6 +18,7 @@ namespace probe::gpu {
 namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F, the buffers' texels
+constexpr double kHalfPyramidLimit = 65504.0;           // the largest finite half
 
 // First texel of each level of a packed cube with `levels` levels from `baseSize`, and the total.
 std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
@@ -85,9 +86,10 @@ Sampling resolveSampling(const Device& device, const FilterSettings& s) {
     return device.info().type == "cpu" ? Sampling::exact : Sampling::hardware;
 }
 
-// The requested format, where the device filters and stores it; by default RGBA32F where it does,
-// else RGBA16F (finite values up to 65504) with a warning.
-VkFormat choosePyramidFormat(const Device& device, VkFormat requested, std::vector<std::string>& warnings) {
+// The requested format, where the device filters and stores it. By default RGBA16F, the format
+// engines filter in: the sampler reads half the bytes per tap (docs/benchmarks.md times both), and
+// run() scales a source brighter than 65504 into its range; RGBA32F where a device lacks it.
+VkFormat choosePyramidFormat(const Device& device, VkFormat requested) {
     const VkFormatFeatureFlags needed =
         VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
     if (requested != VK_FORMAT_UNDEFINED) {
@@ -96,15 +98,11 @@ VkFormat choosePyramidFormat(const Device& device, VkFormat requested, std::vect
                                          device.info().name, formatName(requested)));
         return requested;
     }
-    if (has(device, VK_FORMAT_R32G32B32A32_SFLOAT, needed)) return VK_FORMAT_R32G32B32A32_SFLOAT;
-    if (!has(device, VK_FORMAT_R16G16B16A16_SFLOAT, needed))
-        throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R32G32B32A32_SFLOAT nor R16G16B16A16_SFLOAT images, which "
-                                     "the pyramid of hardware sampling needs (use exact sampling)",
-                                     device.info().name));
-    warnings.push_back(fmt::format("{} cannot filter and store R32G32B32A32_SFLOAT images: the pyramid is R16G16B16A16_SFLOAT, whose "
-                                   "largest value is 65504 (brighter texels are clamped there; exact sampling keeps float32)",
-                                   device.info().name));
-    return VK_FORMAT_R16G16B16A16_SFLOAT;
+    for (VkFormat format : {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT})
+        if (has(device, format, needed)) return format;
+    throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R16G16B16A16_SFLOAT nor R32G32B32A32_SFLOAT images, which "
+                                 "the pyramid of hardware sampling needs (use exact sampling)",
+                                 device.info().name));
 }
 
 // Whether a B10G11R11 output goes through the conversion pass; throws for a format the runtime
@@ -230,7 +228,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
 
     const VkDevice vk = d.device();
     if (buildsPyramid && sampling == Sampling::hardware) {
-        pyramidFormat = choosePyramidFormat(d, s.pyramidFormat, warnings);
+        pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
         const int mips = pyramidDepth + 1;
         pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
                                          VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
@@ -408,11 +406,14 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     }
     const auto allMips = uint32_t(s.levelCount);
 
-    // The source: uploaded, then read by the passes; above 2^64 scaled down into range for a float32
-    // output, which is scaled back up once read (probe/range_scale.h). A 16-bit output saturates at
-    // 65504 anyway: its source goes as it is, and the shaders clamp what they read of it to 2^64.
+    // The source: uploaded, then read by the passes; beyond the range the filter keeps scaled down
+    // by a power of two, and its output scaled back up once read (probe/range_scale.h). The range is
+    // an RGBA16F pyramid's 65504, else 2^64 for a float32 output; a 16-bit output saturates at 65504
+    // anyway, so with a float32 pyramid its source goes as it is (the shaders clamp what they read
+    // of it to 2^64).
+    const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
     const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
-    const int shift = float32 ? rangeShift(source) : 0;
+    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), kHalfPyramidLimit) : float32 ? rangeShift(source) : 0;
     const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
     Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
     std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
@@ -475,6 +476,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
                      level.rgb);
     }
     shiftLevels(result, shift);
+    if (shift != 0 && !float32) saturateTexels(result, s.outputFormat);
     return result;
 }
 
@@ -496,7 +498,6 @@ VkFormat Filter::pyramidFormat() const {
     return impl_->sampling == Sampling::hardware ? impl_->pyramidFormat : VK_FORMAT_R32G32B32A32_SFLOAT;
 }
 bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
-const std::vector<std::string>& Filter::warnings() const { return impl_->warnings; }
 
 std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.

@@ -24,9 +24,8 @@ struct Filter::Impl {
     Sampling sampling = Sampling::exact;                    // resolved; the reference reads exact texels
     VkFormat pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // hardware sampling's pyramid image
     bool convertOutput = false;                             // B10G11R11 through the conversion pass
-    std::vector<std::string> warnings;
-    int pyramidLevels = 0;                // log2(S_0) + 1: down to 1x1
-    int pyramidDepth = 0;                 // pass 1 builds levels 1..pyramidDepth
+    int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
+    int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
     int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
     std::vector<int> levels;              // the output levels computed, ascending
     std::vector<uint32_t> pyramidOffsets; // exact sampling: first texel of each bordered pyramid level, and the total

@@ -1,6 +1,8 @@
 #include "image.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include <glm/gtc/packing.hpp>
@@ -127,6 +129,15 @@ void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::ve
         }
         rgb.insert(rgb.end(), {c.r, c.g, c.b});
     }
+}
+
+void saturateTexels(CubeLevels& levels, VkFormat format) {
+    const glm::vec3 largest = format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 ? glm::vec3(65024.0f, 65024.0f, 64512.0f)
+                              : format == VK_FORMAT_R16G16B16A16_SFLOAT   ? glm::vec3(65504.0f)
+                                                                          : glm::vec3(std::numeric_limits<float>::max());
+    for (CubeImage& level : levels)
+        for (std::size_t i = 0; i < level.rgb.size(); ++i)
+            level.rgb[i] = std::clamp(level.rgb[i], -largest[int(i % 3)], largest[int(i % 3)]);
 }
 
 void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMip, uint32_t mipCount, VkImageLayout from, VkImageLayout to,

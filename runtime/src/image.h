@@ -76,6 +76,11 @@ uint32_t texelBytes(VkFormat format);
 // stores them) appended to `rgb`.
 void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::vector<float>& rgb);
 
+// Each channel of `levels` clamped to the largest finite value of `format` (RGBA16F 65504, B10G11R11
+// 65024 in R and G and 64512 in B, as the shaders' PROBE_OUTPUT_MAX), where scaling up texels read
+// back from it may have passed that.
+void saturateTexels(CubeLevels& levels, VkFormat format);
+
 // A barrier on mips [firstMip, firstMip + mipCount) of every layer of `image`, with a layout change.
 void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMip, uint32_t mipCount, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags srcStage, VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);

@@ -18,8 +18,9 @@ inline constexpr float kFilterRangeLimit = float(PROBE_FILTER_RANGE_LIMIT);
 // The largest |value| of the image.
 float largestMagnitude(const CubeImage& image);
 
-// The smallest e >= 0 with largest * 2^-e <= kFilterRangeLimit: for an image, its largest magnitude.
-int rangeShift(double largest);
+// The smallest e >= 0 with largest * 2^-e below `limit` (or equal to it): for an image, its largest
+// magnitude.
+int rangeShift(double largest, double limit = kFilterRangeLimit);
 int rangeShift(const CubeImage& image);
 
 // Every value times 2^shift (shift may be negative), saturating at +-FLT_MAX.

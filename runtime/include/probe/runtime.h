@@ -114,10 +114,12 @@ struct FilterSettings {
     // The output cube's format: run()'s own output image, and the format record()'s caller's output
     // cube must have. B10G11R11 goes through a conversion pass where the device cannot store it.
     VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
-    // Hardware sampling's pyramid image: R32G32B32A32_SFLOAT, or R16G16B16A16_SFLOAT, half the memory
-    // and the bytes per texel that the sampler reads, whose largest value is 65504 (brighter texels
-    // are clamped there); VK_FORMAT_UNDEFINED: RGBA32F where the device can filter and store it, else
-    // RGBA16F with a warning. Exact sampling's pyramid is a float32 buffer: a format is refused there.
+    // Hardware sampling's pyramid image: R16G16B16A16_SFLOAT, half the memory and the bytes per texel
+    // that the sampler reads, or R32G32B32A32_SFLOAT; VK_FORMAT_UNDEFINED: RGBA16F where the device
+    // can filter and store it (every Vulkan device must), else RGBA32F. An RGBA16F pyramid's largest
+    // value is 65504: run() scales a brighter probe into that range and its output back; record()'s
+    // brighter source texels are clamped there. Exact sampling's pyramid is a float32 buffer: a format
+    // is refused there.
     VkFormat pyramidFormat = VK_FORMAT_UNDEFINED;
     // Only these output levels (ascending, each in [0, M)); empty: every level. Levels left out are
     // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
@@ -173,8 +175,7 @@ struct OutputCube {
 class Filter {
 public:
     // Checks the settings (method, size, levels, formats, device limits) and builds the pipelines,
-    // the pyramid and the tables. A pyramid that the device cannot filter and store as RGBA32F is
-    // RGBA16F, with a warning (warnings()).
+    // the pyramid and the tables.
     Filter(const Device& device, const FilterSettings& settings);
     ~Filter();
     Filter(const Filter&) = delete;
@@ -196,20 +197,21 @@ public:
     //   VK_ACCESS_SHADER_WRITE_BIT (VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT when
     //   converted): the caller's barrier makes them visible to its readers.
     // Any finite source gives finite output: the passes read the source clamped to +-2^64
-    // (probe::kFilterRangeLimit), so values above it saturate there, where run(), which sees the
-    // probe on the host, scales the whole probe by a power of two instead (probe/range_scale.h).
+    // (probe::kFilterRangeLimit), and an RGBA16F pyramid holds at most 65504, so values above those
+    // saturate there, where run(), which sees the probe on the host, scales the whole probe by a
+    // power of two instead (probe/range_scale.h). An engine whose sources pass 65504 asks for an
+    // RGBA32F pyramid.
     // The Filter orders its own work (a barrier before its first dispatch covers its resources' use
     // by a previous recording on the same queue). record() makes views of the caller's images and
     // keeps them until the next record() or the Filter's end: a command buffer recorded before must
     // have completed by then. Throws ProbeError naming the format and usage the device lacks.
     void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output);
 
-    // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA32F or RGBA16F),
-    // whether a B10G11R11 output is converted through a copy, and the warnings of construction.
+    // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
+    // and whether a B10G11R11 output is converted through a copy.
     Sampling sampling() const;
     VkFormat pyramidFormat() const;
     bool outputNeedsTransfer() const;
-    const std::vector<std::string>& warnings() const;
 
     // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
     // the queue has no timestamps.
