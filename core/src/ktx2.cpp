@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/shared_constants.h"
 
 namespace probe {
 
@@ -17,7 +18,7 @@ namespace {
 
 constexpr std::array<std::uint8_t, 12> kIdentifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
 constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109;
-constexpr float kHalfMax = 65504.0f;
+constexpr float kHalfMax = float(PROBE_HALF_MAX);
 
 std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
 

@@ -18,7 +18,6 @@ namespace probe::gpu {
 namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F, the buffers' texels
-constexpr double kHalfPyramidLimit = 65504.0;           // the largest finite half
 
 // First texel of each level of a packed cube with `levels` levels from `baseSize`, and the total.
 std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
@@ -413,7 +412,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     // of it to 2^64).
     const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
     const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
-    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), kHalfPyramidLimit) : float32 ? rangeShift(source) : 0;
+    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
     const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
     Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
     std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));

@@ -8,6 +8,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "device.h"
+#include "probe/shared_constants.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
@@ -132,9 +133,10 @@ void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::ve
 }
 
 void saturateTexels(CubeLevels& levels, VkFormat format) {
-    const glm::vec3 largest = format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 ? glm::vec3(65024.0f, 65024.0f, 64512.0f)
-                              : format == VK_FORMAT_R16G16B16A16_SFLOAT   ? glm::vec3(65504.0f)
-                                                                          : glm::vec3(std::numeric_limits<float>::max());
+    const glm::vec3 largest = format == VK_FORMAT_B10G11R11_UFLOAT_PACK32
+                                  ? glm::vec3(PROBE_FLOAT11_MAX, PROBE_FLOAT11_MAX, PROBE_FLOAT10_MAX)
+                              : format == VK_FORMAT_R16G16B16A16_SFLOAT ? glm::vec3(PROBE_HALF_MAX)
+                                                                        : glm::vec3(std::numeric_limits<float>::max());
     for (CubeImage& level : levels)
         for (std::size_t i = 0; i < level.rgb.size(); ++i)
             level.rgb[i] = std::clamp(level.rgb[i], -largest[int(i % 3)], largest[int(i % 3)]);

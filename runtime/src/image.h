@@ -76,9 +76,8 @@ uint32_t texelBytes(VkFormat format);
 // stores them) appended to `rgb`.
 void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::vector<float>& rgb);
 
-// Each channel of `levels` clamped to the largest finite value of `format` (RGBA16F 65504, B10G11R11
-// 65024 in R and G and 64512 in B, as the shaders' PROBE_OUTPUT_MAX), where scaling up texels read
-// back from it may have passed that.
+// Each channel of `levels` clamped to the largest finite value of `format` (probe/shared_constants.h,
+// as the shaders' PROBE_OUTPUT_MAX), where scaling up texels read back from it may have passed that.
 void saturateTexels(CubeLevels& levels, VkFormat format);
 
 // A barrier on mips [firstMip, firstMip + mipCount) of every layer of `image`, with a layout change.

@@ -18,7 +18,7 @@ inline constexpr float kFilterRangeLimit = float(PROBE_FILTER_RANGE_LIMIT);
 // The largest |value| of the image.
 float largestMagnitude(const CubeImage& image);
 
-// The smallest e >= 0 with largest * 2^-e below `limit` (or equal to it): for an image, its largest
+// 0 where largest <= limit, else the smallest e with largest * 2^-e < limit: for an image, its largest
 // magnitude.
 int rangeShift(double largest, double limit = kFilterRangeLimit);
 int rangeShift(const CubeImage& image);

@@ -32,6 +32,12 @@
 // float sums stay finite below it.
 #define PROBE_FILTER_RANGE_LIMIT 18446744073709551616.0
 
+// The largest finite values of the 16-bit formats: a half float (RGBA16F), and B10G11R11's 11-bit
+// (R, G) and 10-bit (B) floats.
+#define PROBE_HALF_MAX 65504.0
+#define PROBE_FLOAT11_MAX 65024.0
+#define PROBE_FLOAT10_MAX 64512.0
+
 // Order-2 real SH basis (probe/sh.h): sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi),
 // sqrt(15/16pi).
 #define PROBE_SH_C0 0.28209479177387814
