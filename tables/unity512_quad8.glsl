@@ -23,6 +23,9 @@
 // The pyramid pass the table was fitted for (engine/probe_pyramid.glsl builds the B-spline one).
 #define PROBE_TABLE_PYRAMID_BSPLINE 1
 #define PROBE_TABLE_PYRAMID_INVERSE_SOLID_ANGLE 0
+// The coefficients. A shader that needs only the pyramid pass (engine/probe_pyramid.glsl) defines
+// PROBE_TABLE_PYRAMID_ONLY before this include, so that its module carries none of them.
+#ifndef PROBE_TABLE_PYRAMID_ONLY
 // vec4 index of (level, parameter, coefficient, frame, tap / 4):
 // ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)
 //   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.
@@ -438,5 +441,6 @@ vec4 probeTableCoeffs[810] = vec4[](
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
 int probeTableTapGroups[9] = int[](0, 2, 2, 2, 2, 2, 2, 2, 2);
+#endif
 
 #endif

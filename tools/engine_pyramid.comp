@@ -7,5 +7,6 @@
 #define PROBE_COARSE_BINDING 7
 #define PROBE_PYRAMID_FORMAT rgba32f
 #define PROBE_PYRAMID_MAX vec3(3.40282347e38)
+#define PROBE_TABLE_PYRAMID_ONLY
 #include "gltf128_quad8.glsl"
 #include "engine/probe_pyramid.glsl"

@@ -364,6 +364,9 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += fmt::format("#define PROBE_TABLE_PYRAMID_BSPLINE {}\n", table.pyramid.kind == PyramidKind::bspline ? 1 : 0);
     out += fmt::format("#define PROBE_TABLE_PYRAMID_INVERSE_SOLID_ANGLE {}\n",
                        table.pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0);
+    out += "// The coefficients. A shader that needs only the pyramid pass (engine/probe_pyramid.glsl) defines\n"
+           "// PROBE_TABLE_PYRAMID_ONLY before this include, so that its module carries none of them.\n"
+           "#ifndef PROBE_TABLE_PYRAMID_ONLY\n";
     out += "// vec4 index of (level, parameter, coefficient, frame, tap / 4):\n"
            "// ((level * 5 + parameter) * PROBE_TABLE_COEFFICIENT_COUNT + coefficient) * (3 * PROBE_TABLE_TAPS / 4)\n"
            "//   + frame * PROBE_TABLE_TAPS / 4 + tap / 4; component tap % 4.\n";
@@ -373,7 +376,7 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += fmt::format("vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
     out += "// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).\n";
     out += fmt::format("int probeTableTapGroups[{}] = int[]({});\n", table.levelCount, fmt::join(tapGroups(table), ", "));
-    out += "\n#endif\n";
+    out += "#endif\n\n#endif\n";
     return out;
 }
 

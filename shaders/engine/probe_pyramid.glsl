@@ -6,7 +6,8 @@
 //   #version 450
 //   #extension GL_GOOGLE_include_directive : require
 //   #define PROBE_PYRAMID_FORMAT rgba16f      // optional: the pyramid image's format (default rgba16f)
-//   #include "gltf128_quad8.glsl"             // the table the pyramid is for (its pyramid pass)
+//   #define PROBE_TABLE_PYRAMID_ONLY          // the table's pyramid pass without its coefficients
+//   #include "gltf128_quad8.glsl"             // the table the pyramid is for
 //   #include "engine/probe_pyramid.glsl"      // this file
 //
 // Set 0 (PROBE_SET to change it):

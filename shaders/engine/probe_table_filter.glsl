@@ -35,6 +35,9 @@
 #ifndef PROBE_TABLE_BASE_SIZE
 #error "include a generated table (tables/<name>.glsl) before engine/probe_table_filter.glsl"
 #endif
+#ifdef PROBE_TABLE_PYRAMID_ONLY
+#error "the table was included without its coefficients (PROBE_TABLE_PYRAMID_ONLY is for engine/probe_pyramid.glsl)"
+#endif
 #ifndef PROBE_SET
 #define PROBE_SET 0
 #endif
