@@ -6,6 +6,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
+#include "probe/shared_constants.h"
 
 layout(local_size_x = 64) in;
 
@@ -19,7 +20,7 @@ layout(push_constant) uniform Params {
 // A non-negative float as an unsigned float of `mantissaBits` (6 or 5) with half's 5-bit exponent:
 // half's bits rounded to nearest at the shorter mantissa, capped at the largest finite value.
 uint packUnsignedFloat(float value, uint mantissaBits) {
-    uint bits = packHalf2x16(vec2(min(max(value, 0.0), 65504.0), 0.0)) & 0x7fffu;
+    uint bits = packHalf2x16(vec2(min(max(value, 0.0), PROBE_HALF_MAX), 0.0)) & 0x7fffu;
     uint drop = 10u - mantissaBits;
     uint largest = (30u << mantissaBits) | ((1u << mantissaBits) - 1u);
     return min((bits + (1u << (drop - 1u))) >> drop, largest);

@@ -41,12 +41,13 @@
 #ifndef PROBE_PYRAMID_FORMAT
 #define PROBE_PYRAMID_FORMAT rgba16f
 #endif
-// 65504: the largest finite half; define PROBE_PYRAMID_MAX for a wider format.
+// The largest finite half; define PROBE_PYRAMID_MAX for a wider format.
 #ifndef PROBE_PYRAMID_MAX
-#define PROBE_PYRAMID_MAX vec3(65504.0)
+#define PROBE_PYRAMID_MAX vec3(PROBE_HALF_MAX)
 #endif
 
 #include "cube.glsl"
+#include "probe/shared_constants.h"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 

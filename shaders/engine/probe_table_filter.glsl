@@ -52,6 +52,7 @@
 #endif
 
 #include "cube.glsl"
+#include "probe/shared_constants.h"
 #include "tap_sum.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
@@ -85,10 +86,10 @@ void main() {
     addTableFrame(d, (major + 1) % 3, groupsInUse, false, sum, weightSum);
     addTableFrame(d, (major + 2) % 3, groupsInUse, false, sum, weightSum);
     if (frameWeight(d, major) > 0.0) addTableFrame(d, major, groupsInUse, false, sum, weightSum);
-    // 65504: the largest finite half, so that an rgba16f output holds no Inf; define PROBE_OUTPUT_MAX
-    // for a wider format.
+    // The largest finite half, so that an rgba16f output holds no Inf; define PROBE_OUTPUT_MAX for a
+    // wider format.
 #ifndef PROBE_OUTPUT_MAX
-#define PROBE_OUTPUT_MAX vec3(65504.0)
+#define PROBE_OUTPUT_MAX vec3(PROBE_HALF_MAX)
 #endif
     imageStore(probeOutput, t, vec4(min(finishTapSum(sum, weightSum), PROBE_OUTPUT_MAX), 1.0));
 }
