@@ -25,7 +25,7 @@ layout(set = 0, binding = 4) uniform samplerBuffer pyramidTexels;
 // their table reads have indices that the whole workgroup shares, which a GPU serves once per
 // wave from its scalar or constant path, where a texel fetch costs a texture-unit read per
 // invocation (docs/benchmarks.md, "Static GPU cost").
-layout(std430, set = 0, binding = 9) restrict readonly buffer TableBuffer { vec4 tableData[]; };
+layout(std430, set = 0, binding = 8) restrict readonly buffer TableBuffer { vec4 tableData[]; };
 
 #ifdef PROBE_HARDWARE_SAMPLING
 vec4 tableEntry(uint index) { return tableData[index]; }

@@ -10,8 +10,9 @@
 
 layout(local_size_x = 64) in;
 
+// The RGBA32F mip, and the words written at element 0 of images.glsl's written mips.
 layout(set = 0, binding = 6) uniform sampler2DArray convertInput;
-layout(set = 0, binding = 8, r32ui) uniform writeonly uimage2DArray convertOutput;
+layout(set = 0, binding = 7, r32ui) uniform writeonly uimage2DArray convertOutput;
 
 layout(push_constant) uniform Params {
     int size; // face size of the mip

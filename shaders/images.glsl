@@ -1,20 +1,17 @@
-// The image bindings of probe::gpu::Filter, beside buffers.glsl's buffers (filter_resources.h):
-// the source cube, the pyramid as a cube image with mips (hardware sampling), and the output cube's
-// mips. A shader compiled for one output (or pyramid) format defines PROBE_OUTPUT_FORMAT (or
-// PROBE_PYRAMID_FORMAT) as its GLSL image format and PROBE_OUTPUT_MAX (PROBE_PYRAMID_MAX) as that
-// format's largest finite value per channel (shaders/CMakeLists.txt makes one SPIR-V per format).
+// The image bindings of probe::gpu::Filter, beside buffers.glsl's buffers (filter_descriptors.h):
+// the source cube, the pyramid as a cube image with mips (hardware sampling), and the mips a dispatch
+// writes. A shader that writes pyramid mips is compiled with PROBE_PYRAMID_FORMAT as their GLSL image
+// format and PROBE_PYRAMID_MAX as its largest finite value per channel; any other shader writes
+// output mips, of PROBE_OUTPUT_FORMAT and PROBE_OUTPUT_MAX (shaders/CMakeLists.txt makes one SPIR-V
+// per format).
 #ifndef PROBE_IMAGES_GLSL
 #define PROBE_IMAGES_GLSL
 
 #include "probe/shared_constants.h"
 
-#ifndef PROBE_OUTPUT_FORMAT
+#if !defined(PROBE_PYRAMID_FORMAT) && !defined(PROBE_OUTPUT_FORMAT)
 #define PROBE_OUTPUT_FORMAT rgba32f
 #define PROBE_OUTPUT_MAX vec3(3.40282347e38)
-#endif
-#ifndef PROBE_PYRAMID_FORMAT
-#define PROBE_PYRAMID_FORMAT rgba32f
-#define PROBE_PYRAMID_MAX vec3(3.40282347e38)
 #endif
 
 // The source at S_0, read through a nearest sampler at texel centres: exact texels.
@@ -22,13 +19,15 @@ layout(set = 0, binding = 5) uniform samplerCube sourceCube;
 // The pyramid through a seamless trilinear sampler: pass 2 reads every level; pass 1 reads the level
 // above the one it writes (a view of that mip alone).
 layout(set = 0, binding = 6) uniform samplerCube pyramidCube;
-// Pass 1 (hardware sampling): the pyramid mip written, faces as layers.
-layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMip;
-// Pass 1 (hardware sampling), its last dispatch (pyramid_tail.comp): the mips of face size
-// PROBE_PYRAMID_TAIL_SIZE (8) and below that it writes, the largest first, faces as layers.
-layout(set = 0, binding = 10, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidTailMips[4];
-// Pass 2: the output cube's mip of the dispatch's level, faces as layers.
-layout(set = 0, binding = 8, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
+// The mips a dispatch writes, faces as layers, from element 0: pass 1's pyramid mip (hardware
+// sampling), or in its last dispatch (pyramid_tail.comp) the mips of face size
+// PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip. One binding for
+// both keeps every pipeline within the four storage images per stage that every Vulkan device offers.
+#ifdef PROBE_PYRAMID_FORMAT
+layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[4];
+#else
+layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
+#endif
 
 // The source texel of a direction (the texel whose footprint holds it), clamped to
 // +-PROBE_FILTER_RANGE_LIMIT: every pass reads the source through here (pass 1's level 0, the copied
@@ -44,7 +43,9 @@ ivec3 texelCoordinates(uint index, int size) {
     return ivec3(int(r % s), int(r / s), int(index / (s * s)));
 }
 
+#ifndef PROBE_PYRAMID_FORMAT
 // Writes an output texel, clamped to the format's largest finite magnitude so that no texel is Inf.
 void storeOutput(ivec3 texel, vec3 value) { imageStore(outputMip, texel, vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0)); }
+#endif
 
 #endif

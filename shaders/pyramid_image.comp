@@ -41,5 +41,5 @@ void main() {
     if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
     else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
     else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
-    imageStore(pyramidMip, t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
+    imageStore(pyramidMips[0], t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

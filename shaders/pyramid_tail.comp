@@ -13,13 +13,14 @@
 #include "sampling.glsl"
 
 #if PROBE_PYRAMID_TAIL_SIZE != 8
-#error "pyramidTailMips (images.glsl) and storeTailMip hold the four mips from 8x8 down"
+#error "pyramidMips (images.glsl) and storeTailMip hold the four mips from 8x8 down"
 #endif
-
-layout(local_size_x = 256) in;
 
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
+// The workgroup's size: 256, or the device's limit where that is lower (Vulkan guarantees 128). The
+// loops stride by it; the border's 24 corners need 24 lanes.
+layout(local_size_x_id = 2, local_size_x = 256) in;
 
 layout(push_constant) uniform Params {
     int baseSize;  // S_0
@@ -57,10 +58,10 @@ vec3 probeFineTexel(int face, int i, int j, int fineSize) {
 void storeTailMip(int k, ivec3 texel, vec3 value) {
     vec4 v = vec4(value, 1.0);
     switch (k) {
-    case 0: imageStore(pyramidTailMips[0], texel, v); break;
-    case 1: imageStore(pyramidTailMips[1], texel, v); break;
-    case 2: imageStore(pyramidTailMips[2], texel, v); break;
-    default: imageStore(pyramidTailMips[3], texel, v); break;
+    case 0: imageStore(pyramidMips[0], texel, v); break;
+    case 1: imageStore(pyramidMips[1], texel, v); break;
+    case 2: imageStore(pyramidMips[2], texel, v); break;
+    default: imageStore(pyramidMips[3], texel, v); break;
     }
 }
 

@@ -225,6 +225,7 @@ DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramid
                            outputRegions.data() + 1);
     vkCmdCopyImageToBuffer(cmd, pyramidImage.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pyramidBack.handle(), uint32_t(mips),
                            pyramidRegions.data());
+    gpu::hostReadBarrier(cmd);
     submission.submitAndWait(cmd);
     submission.release(cmd);
     return {unpackLevels(pyramidBack, pyramidRegions, format, 0), unpackLevels(outputBack, outputRegions, format, 1)};

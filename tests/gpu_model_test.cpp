@@ -114,6 +114,25 @@ TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
     }
 }
 
+// The tail's workgroup is 256 lanes where the device allows, else its limit (Vulkan guarantees 128
+// invocations): a device at that limit builds the same pyramid, each loop taking more strides.
+TEST_F(GpuTest, PyramidTailAtTheSmallestWorkgroupLimitEqualsTheDefault) {
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    ASSERT_GE(shared.impl().limits.maxComputeWorkGroupInvocations, 256u) << "the test device takes the default";
+    device.impl().limits.maxComputeWorkGroupInvocations = 128;
+    const CubeImage source = probetest::randomProbe(64, 13);
+    for (const PyramidSettings& pyramid : kAllPyramids) {
+        const gpu::FilterSettings s = settingsFor(MethodKind::fis, 64, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware);
+        gpu::Filter wide(shared, s), narrow(device, s);
+        wide.run(source);
+        narrow.run(source);
+        const CubeLevels expected = wide.downloadPyramid(), got = narrow.downloadPyramid();
+        ASSERT_EQ(got.size(), expected.size());
+        for (std::size_t k = 0; k < got.size(); ++k) EXPECT_EQ(got[k].rgb, expected[k].rgb) << describe(pyramid) << ", mip " << k;
+    }
+}
+
 TEST_F(GpuTest, ConstantProbeStaysConstantInEveryPyramidLevel) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
     for (const probetest::SamplingCase& c : probetest::kSamplingCases)

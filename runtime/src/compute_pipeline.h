@@ -4,7 +4,7 @@
 // (pyramid, output, geometry); the buffers that the hot loops only read are bound as uniform texel
 // buffers, whose reads SIMD back ends gather without branches (lavapipe runs them about twice as
 // fast as storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again. (The
-// Filter also binds the table as a storage buffer, binding 9, for its hardware-sampling pipelines.)
+// Filter also binds the table as a storage buffer, binding 8, for its hardware-sampling pipelines.)
 #pragma once
 
 #include <array>

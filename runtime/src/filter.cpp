@@ -306,11 +306,9 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         descriptors->writeBuffer(set, kTableBuffer, table.handle());
         descriptors->writeTexelBuffer(set, kPyramidTexels, pyramidView.handle());
         descriptors->writeSampled(set, kSourceCube, source, nearest->handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
-        descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
-        descriptors->writeStorage(set, kPyramidMip, placeholderArray.handle());
-        descriptors->writeStorage(set, kOutputMip, placeholderArray.handle());
-        for (int e = 0; e < kPyramidTailMipCount; ++e)
-            descriptors->writeStorage(set, kPyramidTailMips, placeholderArray.handle(), uint32_t(e));
+        // Nearest: a device need not filter the placeholder's RGBA32F linearly.
+        descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
+        descriptors->writeMips(set, std::array{placeholderArray.handle()});
     };
     const bool hardware = buildsPyramid && sampling == Sampling::hardware;
     pyramidSets.clear();
@@ -322,12 +320,12 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
                 if (k > 0)
                     descriptors->writeSampled(set, kPyramidCube, pyramidMipCubes[k - 1].handle(), linear->handle(),
                                               VK_IMAGE_LAYOUT_GENERAL);
-                descriptors->writeStorage(set, kPyramidMip, pyramidMipArrays[k].handle());
-                // The tail's mips; the elements past the depth repeat the last, which it does not write.
+                // The tail writes its mips (down to the depth); any other dispatch its one mip.
+                std::vector<VkImageView> mips{pyramidMipArrays[k].handle()};
                 if (k == pyramidTailLevel)
-                    for (int e = 0; e < kPyramidTailMipCount; ++e)
-                        descriptors->writeStorage(set, kPyramidTailMips, pyramidMipArrays[std::min(k + e, pyramidDepth)].handle(),
-                                                  uint32_t(e));
+                    for (int e = k + 1; e <= pyramidDepth && e < k + kPyramidTailMipCount; ++e)
+                        mips.push_back(pyramidMipArrays[e].handle());
+                descriptors->writeMips(set, mips);
             }
             pyramidSets.push_back(set);
         }
@@ -344,13 +342,13 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         const VkDescriptorSet set = descriptors->allocate();
         common(set);
         if (hardware) descriptors->writeSampled(set, kPyramidCube, pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
-        descriptors->writeStorage(set, kOutputMip, target);
+        descriptors->writeMips(set, std::array{target});
         levelSets[m] = set;
         if (convertOutput) {
             const VkDescriptorSet c = descriptors->allocate();
             common(c);
             descriptors->writeSampled(c, kPyramidCube, intermediateMips[m].handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
-            descriptors->writeStorage(c, kOutputMip, packedMips[m].handle());
+            descriptors->writeMips(c, std::array{packedMips[m].handle()});
             convertSets[m] = c;
         }
     }
@@ -464,6 +462,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     VkCommandBuffer download = f.submission->begin();
     vkCmdCopyImageToBuffer(download, f.runOutput.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
                            uint32_t(regions.size()), regions.data());
+    hostReadBarrier(download);
     f.submission->submitAndWait(download);
     f.submission->release(download);
     CubeLevels result(s.levelCount);
@@ -547,6 +546,7 @@ CubeLevels Filter::downloadPyramid() const {
     imageBarrier(download, f.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    hostReadBarrier(download);
     f.submission->submitAndWait(download);
     f.submission->release(download);
     CubeLevels result(f.pyramidDepth + 1);

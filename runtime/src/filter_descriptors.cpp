@@ -1,5 +1,6 @@
 #include "filter_descriptors.h"
 
+#include <algorithm>
 #include <array>
 
 #include "compute_pipeline.h"
@@ -7,29 +8,10 @@
 
 namespace probe::gpu {
 
-namespace {
-
-VkDescriptorType bindingType(uint32_t binding) {
-    switch (binding) {
-    case kPyramidBuffer:
-    case kAccumulator:
-    case kGeometry:
-    case kTableBuffer: return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    case kTableTexels:
-    case kPyramidTexels: return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    case kSourceCube:
-    case kPyramidCube: return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    default: return VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    }
-}
-
-} // namespace
-
 FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device_(device) {
     std::array<VkDescriptorSetLayoutBinding, kFilterBindingCount> bindings{};
     for (uint32_t b = 0; b < kFilterBindingCount; ++b)
-        bindings[b] = {b, bindingType(b), b == kPyramidTailMips ? uint32_t(kPyramidTailMipCount) : 1u, VK_SHADER_STAGE_COMPUTE_BIT,
-                       nullptr};
+        bindings[b] = {b, kFilterBindings[b].type, kFilterBindings[b].count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.bindingCount = kFilterBindingCount;
     setInfo.pBindings = bindings.data();
@@ -43,10 +25,11 @@ FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device
     layoutInfo.pPushConstantRanges = &range;
     vkCheck(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_), "vkCreatePipelineLayout");
 
-    const std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * maxSets},
-                                                     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 2 * maxSets},
-                                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * maxSets},
-                                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (2 + kPyramidTailMipCount) * maxSets}}};
+    std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+                                               {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0},
+                                               {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 0},
+                                               {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 0}}};
+    for (VkDescriptorPoolSize& size : sizes) size.descriptorCount = filterDescriptorCount(size.type) * maxSets;
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = maxSets;
     poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
@@ -78,7 +61,7 @@ void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, 
     write.dstSet = set;
     write.dstBinding = binding;
     write.descriptorCount = 1;
-    write.descriptorType = bindingType(binding);
+    write.descriptorType = kFilterBindings[binding].type;
     write.pBufferInfo = &info;
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
@@ -88,7 +71,7 @@ void FilterDescriptors::writeTexelBuffer(VkDescriptorSet set, FilterBinding bind
     write.dstSet = set;
     write.dstBinding = binding;
     write.descriptorCount = 1;
-    write.descriptorType = bindingType(binding);
+    write.descriptorType = kFilterBindings[binding].type;
     write.pTexelBufferView = &view;
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
@@ -98,8 +81,9 @@ void FilterDescriptors::writeSampled(VkDescriptorSet set, FilterBinding binding,
     writeImage(set, binding, 0, {sampler, view, layout});
 }
 
-void FilterDescriptors::writeStorage(VkDescriptorSet set, FilterBinding binding, VkImageView view, uint32_t element) const {
-    writeImage(set, binding, element, {VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL});
+void FilterDescriptors::writeMips(VkDescriptorSet set, std::span<const VkImageView> mips) const {
+    for (uint32_t e = 0; e < kWrittenMipCount; ++e)
+        writeImage(set, kWrittenMips, e, {VK_NULL_HANDLE, mips[std::min<std::size_t>(e, mips.size() - 1)], VK_IMAGE_LAYOUT_GENERAL});
 }
 
 void FilterDescriptors::writeImage(VkDescriptorSet set, FilterBinding binding, uint32_t element, const VkDescriptorImageInfo& info) const {
@@ -108,7 +92,7 @@ void FilterDescriptors::writeImage(VkDescriptorSet set, FilterBinding binding, u
     write.dstBinding = binding;
     write.dstArrayElement = element;
     write.descriptorCount = 1;
-    write.descriptorType = bindingType(binding);
+    write.descriptorType = kFilterBindings[binding].type;
     write.pImageInfo = &info;
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }

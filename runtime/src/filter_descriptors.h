@@ -1,10 +1,12 @@
-// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 9 and shaders/images.glsl's
-// 5-8 and 10 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and
-// sets from one pool, each written with the resources of the dispatches that bind it.
+// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 8 and shaders/images.glsl's
+// 5-7 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and sets
+// from one pool, each written with the resources of the dispatches that bind it.
 #pragma once
 
+#include <array>
 #include <bit>
 #include <cstdint>
+#include <span>
 
 #include <vulkan/vulkan.h>
 
@@ -13,22 +15,50 @@
 namespace probe::gpu {
 
 enum FilterBinding : uint32_t {
-    kPyramidBuffer = 0,    // storage buffer: the bordered pyramid (exact sampling; the reference's source)
-    kAccumulator = 1,      // storage buffer: the reference's running sums
-    kGeometry = 2,         // storage buffer: texel directions and solid angles per level
-    kTableTexels = 3,      // uniform texel buffer: the tap table or FIS samples
-    kPyramidTexels = 4,    // uniform texel buffer: the bordered pyramid, read
-    kSourceCube = 5,       // combined image sampler: the source cube, nearest
-    kPyramidCube = 6,      // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
-    kPyramidMip = 7,       // storage image: the pyramid mip written (hardware sampling)
-    kOutputMip = 8,        // storage image: the output mip written (the conversion pass's packed words)
-    kTableBuffer = 9,      // storage buffer: the tap table or FIS samples again (hardware sampling)
-    kPyramidTailMips = 10, // storage images (kPyramidTailMipCount): the mips of pass 1's last dispatch
-    kFilterBindingCount = 11,
+    kPyramidBuffer = 0, // storage buffer: the bordered pyramid (exact sampling; the reference's source)
+    kAccumulator = 1,   // storage buffer: the reference's running sums
+    kGeometry = 2,      // storage buffer: texel directions and solid angles per level
+    kTableTexels = 3,   // uniform texel buffer: the tap table or FIS samples
+    kPyramidTexels = 4, // uniform texel buffer: the bordered pyramid, read
+    kSourceCube = 5,    // combined image sampler: the source cube, nearest
+    kPyramidCube = 6,   // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
+    kWrittenMips = 7,   // storage images (kWrittenMipCount): the mips a dispatch writes, from element 0
+    kTableBuffer = 8,   // storage buffer: the tap table or FIS samples again (hardware sampling)
+    kFilterBindingCount = 9,
 };
 
-// The mips of face size PROBE_PYRAMID_TAIL_SIZE down to 1 (pyramid_tail.comp).
+// The mips of face size PROBE_PYRAMID_TAIL_SIZE down to 1, which pass 1's last dispatch writes
+// (pyramid_tail.comp); every other dispatch writes one mip.
 inline constexpr int kPyramidTailMipCount = std::bit_width(unsigned(PROBE_PYRAMID_TAIL_SIZE));
+inline constexpr uint32_t kWrittenMipCount = kPyramidTailMipCount;
+
+struct FilterBindingLayout {
+    VkDescriptorType type;
+    uint32_t count;
+};
+
+// Each binding's type and count. Every pipeline's layout holds them all, so their counts per type
+// are what a device must offer per stage; they stay within Vulkan's guaranteed minimums (4 storage
+// buffers, 4 storage images), which a test holds them to.
+inline constexpr std::array<FilterBindingLayout, kFilterBindingCount> kFilterBindings{{
+    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
+    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kWrittenMipCount},
+    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
+}};
+
+// The descriptors of `type` in one set.
+constexpr uint32_t filterDescriptorCount(VkDescriptorType type) {
+    uint32_t count = 0;
+    for (const FilterBindingLayout& b : kFilterBindings)
+        if (b.type == type) count += b.count;
+    return count;
+}
 
 class FilterDescriptors {
 public:
@@ -46,8 +76,9 @@ public:
     void writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const;
     void writeTexelBuffer(VkDescriptorSet set, FilterBinding binding, VkBufferView view) const;
     void writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler, VkImageLayout layout) const;
-    // VK_IMAGE_LAYOUT_GENERAL, at array element `element` of the binding.
-    void writeStorage(VkDescriptorSet set, FilterBinding binding, VkImageView view, uint32_t element = 0) const;
+    // kWrittenMips, in VK_IMAGE_LAYOUT_GENERAL: `mips` from element 0, and the last of them in the
+    // elements after, so that a shader that declares one image of its own type finds it in each.
+    void writeMips(VkDescriptorSet set, std::span<const VkImageView> mips) const;
     void bind(VkCommandBuffer commandBuffer, VkDescriptorSet set) const;
 
 private:

@@ -7,6 +7,8 @@
 //   workgroup, which saves the GPU a dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 
 #include <paraboloid_map.spv.h>
@@ -17,6 +19,7 @@
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
 
+#include "device.h"
 #include "filter_impl.h"
 #include "probe/paraboloid.h"
 
@@ -48,9 +51,14 @@ void makePyramidPipelines(Filter::Impl& impl) {
         const bool half = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
         impl.pass1 = std::make_unique<ComputePipeline>(
             device, layout, half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
-        if (impl.pyramidDepth >= impl.pyramidTailLevel)
+        if (impl.pyramidDepth >= impl.pyramidTailLevel) {
+            // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
+            const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
+            const auto lanes = int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
+            const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], lanes};
             impl.pass1Tail = std::make_unique<ComputePipeline>(
-                device, layout, half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, specialization);
+                device, layout, half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, tailSpecialization);
+        }
         return;
     }
     impl.pass1 = std::make_unique<ComputePipeline>(device, layout, kPyramidSpv, specialization);

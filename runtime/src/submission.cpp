@@ -59,9 +59,17 @@ void Submission::download(const Buffer& from, void* data, VkDeviceSize bytes) {
     VkCommandBuffer commandBuffer = begin();
     const VkBufferCopy region{0, 0, bytes};
     vkCmdCopyBuffer(commandBuffer, from.handle(), staging.handle(), 1, &region);
+    hostReadBarrier(commandBuffer);
     submitAndWait(commandBuffer);
     release(commandBuffer);
     std::memcpy(data, staging.mapped(), bytes);
+}
+
+void hostReadBarrier(VkCommandBuffer commandBuffer) {
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
 } // namespace probe::gpu

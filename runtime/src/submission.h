@@ -31,4 +31,8 @@ private:
     VkFence fence_ = VK_NULL_HANDLE;
 };
 
+// Makes the transfer writes recorded before it visible to host reads once the submission's fence
+// has signalled: a fence makes the device's writes available to the device alone.
+void hostReadBarrier(VkCommandBuffer commandBuffer);
+
 } // namespace probe::gpu

@@ -65,7 +65,9 @@ public:
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
     // be Vulkan 1.2+; `queue` belongs to `queueFamily`, which must support compute. The runtime
     // needs no device feature or extension beyond Vulkan 1.2 core (the exact sampling mode's table
-    // shader uses subgroup vote, a core operation that every desktop driver has).
+    // shader uses subgroup vote, a core operation that every desktop driver has). The Filter's
+    // constructor, run() and downloadPyramid(), the SH projector and the sphere renderer submit to
+    // `queue` and wait: Vulkan has the caller keep other threads from submitting to it meanwhile.
     Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice device, uint32_t queueFamily, VkQueue queue);
     ~Device();
     Device(const Device&) = delete;
