@@ -24,7 +24,7 @@ layout(constant_id = 0) const int kFixedSampleCount = 0;
 
 layout(push_constant) uniform Params {
     int baseSize;      // S_0
-    int pyramidLevels; // log2(S_0) + 1
+    int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
     int level;         // the output level of this dispatch
     uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;

@@ -33,7 +33,7 @@ layout(constant_id = 1) const int kFixedTapGroups = 0;
 
 layout(push_constant) uniform Params {
     int baseSize;      // S_0
-    int pyramidLevels; // log2(S_0) + 1
+    int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
     int level;         // the output level of this dispatch
     uint firstTexel;   // the first packed output texel of the level
     uint usageFirst;   // index of level 0's tap group count in `table`

@@ -12,6 +12,7 @@
 #include "probe/frame.h"
 #include "probe/importance_sampling.h"
 #include "probe/pyramid.h"
+#include "probe/stratified_texels.h"
 #include "probe/synthetic.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
@@ -262,6 +263,74 @@ TEST(TableFilter, CopyLevelIsTheSource) {
 }
 
 std::filesystem::path tempFile(const std::string& name) { return std::filesystem::temp_directory_path() / ("probe_sampling_test_" + name); }
+
+// validateTableValues throws with `needle` in its message.
+void expectInvalid(const TapTable& table, const std::string& needle) {
+    try {
+        validateTableValues(table, "table");
+        ADD_FAILURE() << "accepted: " << needle;
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+}
+
+// Sets the direction coefficients of `tap` in `frame` of every level to `terms` (c0, c1, c2 per
+// axis) and, with `noWeight`, its weight to 0.
+void setDirection(TapTable& table, int frame, int tap, const std::array<glm::dvec3, 3>& terms, bool noWeight) {
+    for (TableLevel& level : table.levels)
+        for (int k = 0; k < coefficientCount(table.form); ++k) {
+            for (int axis = 0; axis < 3; ++axis) level.coefficients[table.offset(frame, tap, tapDirX + axis) + k] = terms[k][axis];
+            if (noWeight) level.coefficients[table.offset(frame, tap, tapWeight) + k] = 0.0;
+        }
+}
+
+// A tap direction is refused at an output texel where it vanishes, and so is a direction-less tap
+// that the GPU reads as padding: it runs taps in groups of four, and a NaN read times a zero weight
+// is still NaN.
+TEST(TableValues, EveryTapTheGpuReadsHasADirectionAtEveryTexel) {
+    const TapTable good = randomTable(32, 5, 8, TableForm::quadratic, 3);
+    EXPECT_NO_THROW(validateTableValues(good, "table"));
+    // Frame 1's tap 0 along (0, 0, theta^2 - t), t the theta^2 of one texel of level 1: zero there.
+    const FrameSetup f = frameSetup(texelCubePoint({0, 2, 5}, 16), 1);
+    ASSERT_GT(f.weight, 0.0);
+    TapTable vanishing = good;
+    setDirection(vanishing, 1, 0, {glm::dvec3(0.0, 0.0, -f.theta2), glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0)}, false);
+    expectInvalid(vanishing, "level 1 frame 1 tap 0 has no direction at texel");
+    TapTable nearly = good; // 1e-4 long there, 7e-5 of its coefficients' size: still a direction
+    setDirection(nearly, 1, 0, {glm::dvec3(1e-4, 0.0, -f.theta2), glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0)}, false);
+    EXPECT_NO_THROW(validateTableValues(nearly, "table"));
+    TapTable padded = good; // taps 5 to 7 empty: 5 in use, so the GPU reads 5 to 7 as padding
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int tap = 5; tap < 8; ++tap) setDirection(padded, frame, tap, {}, true);
+    expectInvalid(padded, "level 1 frame 0 tap 5 has no direction at texel (face 0, 0, 0) (its direction coefficients are all 0)");
+    TapTable half = good; // taps 4 to 7 empty: the GPU stops after the first group
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int tap = 4; tap < 8; ++tap) setDirection(half, frame, tap, {}, true);
+    EXPECT_NO_THROW(validateTableValues(half, "table"));
+}
+
+// The weight sum is checked at every output texel. Here it is negative only at the 4 texels round
+// each face centre of a 256^2 table's level 1, where every frame that counts has theta and phi near
+// 0; none of them is among the 512 stratified texels that a sampled check would look at.
+TEST(TableValues, WeightsMustSumToAPositiveValueAtEveryTexel) {
+    TapTable table = emptyTable(256, 2, 4, TableForm::quadratic, RoughnessMapping::gltf, {});
+    const int size = 128;
+    const double ring = 2.0 / (size * size), next = 10.0 / (size * size); // theta^2 + phi^2 of the nearest two rings
+    for (int frame = 0; frame < kFrameCount; ++frame)
+        for (int tap = 0; tap < 4; ++tap) {
+            setDirection(table, frame, tap, {glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0), glm::dvec3(0.0)}, true);
+            if (tap > 0) continue;
+            double* w = &table.levels[1].coefficients[table.offset(frame, tap, tapWeight)];
+            w[0] = -0.5 * (ring + next); // w = theta^2 + phi^2 - (ring + next) / 2
+            w[1] = w[2] = 1.0;
+        }
+    for (const WeightedTexel& w : stratifiedTexels(size, 512)) {
+        const int c = size / 2;
+        EXPECT_FALSE((w.texel.i == c - 1 || w.texel.i == c) && (w.texel.j == c - 1 || w.texel.j == c))
+            << "the stratified set has a centre texel of face " << w.texel.face;
+    }
+    expectInvalid(table, "level 1 at texel (face 0, 63, 63): the tap weights sum to");
+}
 
 TEST(TableIo, RoundTrip) {
     TapTable table = randomTable(16, 4, 8, TableForm::quadratic, 9);

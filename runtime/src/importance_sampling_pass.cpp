@@ -61,7 +61,7 @@ void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBu
     const FilterSettings& s = impl.settings;
     const uint32_t firstSample = impl.sampleOffsets[m];
     const ImportanceSamplingConstants constants{s.faceSize,
-                                                impl.pyramidLevels,
+                                                impl.pyramidDepth + 1,
                                                 m,
                                                 impl.outputOffsets[m],
                                                 impl.outputOffsets[m + 1],

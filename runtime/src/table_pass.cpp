@@ -54,7 +54,7 @@ uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(t
 
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize, impl.pyramidLevels, m, impl.outputOffsets[m], impl.tableUsageFirst};
+    const TableConstants constants{s.faceSize, impl.pyramidDepth + 1, m, impl.outputOffsets[m], impl.tableUsageFirst};
     // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp).
     const uint32_t size = uint32_t(s.faceSize >> m);
     if (impl.sampling == Sampling::hardware)

@@ -55,9 +55,10 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
 void validateTable(const TapTable& table, std::string_view what);
 
 // Throws ProbeError("<what>: <problem>") unless the values make a filter: every coefficient finite and
-// at most kMaxTableCoefficient (limits.h) in magnitude, and at each stratified output texel of every
-// filtered level a positive tap weight sum that is not the near-cancellation of large weights (the
-// filter divides by it). For tables from files; validateTable checks only the shape.
+// at most kMaxTableCoefficient (limits.h) in magnitude; and at every output texel of every filtered
+// level a positive tap weight sum that is not the near-cancellation of large weights (the filter
+// divides by it), and a direction for each tap the GPU reads there (those in use, and the padding to
+// a group of four). For tables from files; validateTable checks only the shape.
 void validateTableValues(const TapTable& table, std::string_view what);
 
 // The taps per frame that output level `level` uses: one past the last tap with a weight that is not
