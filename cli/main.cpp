@@ -19,6 +19,12 @@ std::string withFlag(const probe::ParameterError& e) {
     return e.what();
 }
 
+// The one line of a refusal; stderr that cannot be written is ignored (the exit code tells).
+int refuse(const std::string& message) {
+    probe::printToStderr(fmt::format("probefilter: error: {}\n", probe::oneLine(message)));
+    return 2;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -39,17 +45,13 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "probefilter: error: {}\n", e.what());
-        return 2;
+        return refuse(e.what());
     } catch (const probe::ParameterError& e) {
-        fmt::print(stderr, "probefilter: error: {}\n", withFlag(e));
-        return 2;
+        return refuse(withFlag(e));
     } catch (const probe::ProbeError& e) {
-        fmt::print(stderr, "probefilter: error: {}\n", e.what());
-        return 2;
+        return refuse(e.what());
     } catch (const std::exception& e) {
-        fmt::print(stderr, "probefilter: error: {}\n", e.what());
-        return 2;
+        return refuse(e.what());
     }
     return 0;
 }

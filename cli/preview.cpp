@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <numbers>
 
 #include <fmt/format.h>
 
 #include "probe/cube_sampling.h"
 #include "probe/error.h"
+#include "probe/output_file.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
@@ -44,8 +47,12 @@ std::vector<std::uint8_t> tonemap(const probe::Image& linear, float exposure) {
 }
 
 void writePng(const std::filesystem::path& png, int width, int height, const std::vector<std::uint8_t>& pixels) {
-    if (!stbi_write_png(png.c_str(), width, height, 3, pixels.data(), width * 3))
-        throw probe::ProbeError(fmt::format("{}: cannot write PNG", png.string()));
+    // Encoded in memory: stb's file writer does not report a failed write.
+    int bytes = 0;
+    unsigned char* encoded = stbi_write_png_to_mem(pixels.data(), width * 3, width, height, 3, &bytes);
+    if (!encoded) throw probe::ProbeError(fmt::format("{}: cannot encode PNG", png.string()));
+    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(encoded, &std::free);
+    probe::writeFile(png, std::string_view(reinterpret_cast<const char*>(encoded), std::size_t(bytes)));
 }
 
 void writeLevelsPreview(const std::filesystem::path& png, const probe::CubeLevels& levels) {

@@ -37,7 +37,9 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
                               {"probefilter.roughness", roughness}};
     if (partial) metadata.push_back({"probefilter.computed_levels", computed});
     const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, format, metadata);
-    if (clamped) fmt::print(stderr, "probefilter: warning: {} value(s) above 65504 clamped to the half-float range in {}\n", clamped, name);
+    if (clamped)
+        probe::printToStderr(
+            fmt::format("probefilter: warning: {} value(s) above 65504 clamped to the half-float range in {}\n", clamped, name));
     nlohmann::json report = {
         {"file", name}, {"format", format == probe::Ktx2PixelFormat::rgba16f ? "rgba16f" : "rgba32f"}, {"clamped_values", clamped}};
     if (partial) report["computed_levels"] = computed;

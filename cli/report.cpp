@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include "probe/error.h"
+#include "probe/output_file.h"
 
 namespace probefilter {
 
@@ -55,31 +55,28 @@ double Stopwatch::seconds() const { return now() - start_; }
 
 nlohmann::json reportPixelRepairs(const std::filesystem::path& input, const probe::PixelRepairs& repairs) {
     if (repairs.negative)
-        fmt::print(stderr, "probefilter: warning: {}: {} pixel(s) with negative values clamped to 0\n", input.string(), repairs.negative);
+        probe::printToStderr(
+            fmt::format("probefilter: warning: {}: {} pixel(s) with negative values clamped to 0\n", input.string(), repairs.negative));
     if (repairs.nonFinite)
-        fmt::print(stderr, "probefilter: warning: {}: {} NaN or Inf pixel(s) set to 0 (--repair-pixels)\n", input.string(),
-                   repairs.nonFinite);
+        probe::printToStderr(fmt::format("probefilter: warning: {}: {} NaN or Inf pixel(s) set to 0 (--repair-pixels)\n", input.string(),
+                                         repairs.nonFinite));
     return {{"clamped_negative_pixels", repairs.negative}, {"repaired_pixels", repairs.nonFinite}};
 }
 
-void writeJson(const std::filesystem::path& path, const nlohmann::json& json) {
-    std::ofstream out(path);
-    out << json.dump(2) << "\n";
-    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
-}
+void writeJson(const std::filesystem::path& path, const nlohmann::json& json) { probe::writeFile(path, json.dump(2) + "\n"); }
 
 void printProgress(const std::string& label, std::size_t done, std::size_t total) {
     // Redrawn in place on a terminal; in logs one line per tenth of the work.
     if (!::isatty(STDERR_FILENO)) {
         if (total && done > 0 && done * 10 / total != (done - 1) * 10 / total)
-            fmt::print(stderr, "{:<12} {:3}% ({}/{})\n", label, 100 * done / total, done, total);
+            probe::printToStderr(fmt::format("{:<12} {:3}% ({}/{})\n", label, 100 * done / total, done, total));
         return;
     }
     const int width = 30;
     const int filled = total ? static_cast<int>(width * done / total) : width;
-    fmt::print(stderr, "\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
-               total ? 100 * done / total : 100);
-    if (done >= total) fmt::print(stderr, "\n");
+    probe::printToStderr(fmt::format("\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
+                                     total ? 100 * done / total : 100));
+    if (done >= total) probe::printToStderr("\n");
 }
 
 } // namespace probefilter

@@ -269,8 +269,8 @@ void runSweep(const SweepOptions& o) {
     const std::vector<NamedProbe> probes = sweepProbes(o);
     const std::vector<NamedTable> tables = sweepTables(o, levelCount);
     std::vector<Method> methods = sweepMethods(o, levelCount, tables);
-    fmt::print(stderr, "sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size, levelCount,
-               device.info().name);
+    probe::printToStderr(fmt::format("sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size,
+                                     levelCount, device.info().name));
 
     // Every method's filter first, so that settings the device refuses fail before the references run.
     std::vector<std::unique_ptr<probe::gpu::Filter>> filters;
@@ -376,7 +376,9 @@ void addSweepCommand(CLI::App& app) {
                     fmt::format("Timing rounds over the methods (1 to {}), on the first probe: a warm-up run, a run timed per pass and one "
                                 "timed per level each round (median over the rounds)",
                                 probe::kMaxRepeat));
-    cmd->add_option("--texels", o->texelBudget, "Stratified output texels per level for the impulse L1");
+    cmd->add_option("--texels", o->texelBudget,
+                    "Stratified output texels per level for the impulse L1 (at least 1; a level with fewer measures all)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/output_file.h"
 
 namespace probefilter {
 
@@ -237,14 +238,14 @@ constexpr const char* kCsvHeader = "method,family,count,bias,pyramid,form,reads_
 }
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows) {
-    std::ofstream out(path);
+    std::ostringstream out;
     out << kCsvHeader << "\n";
     for (const SweepRow& r : rows)
         out << fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", r.method.name, r.method.family,
                            r.method.count, r.method.bias, r.method.pyramid, r.method.form, r.method.readsPerTexel,
                            r.method.shaderTapsPerTexel, r.probe, r.level, r.imageL1, r.impulseL1Mean, r.impulseL1Max, r.gpuMs,
                            r.levelGpuMs);
-    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+    probe::writeFile(path, out.str());
 }
 
 std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path) {
@@ -299,7 +300,7 @@ std::string formatSummary(const SweepSummary& summary) {
 
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
                         const std::string& device, int size, int levelCount) {
-    std::ofstream out(path);
+    std::ostringstream out;
     out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
     out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
            "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
@@ -337,7 +338,7 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
                            s.method.count, s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid,
                            s.method.readsPerTexel, s.imageL1, s.impulseL1, s.gpuMs);
     out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
-    if (!out) throw probe::ProbeError(fmt::format("{}: cannot write", path.string()));
+    probe::writeFile(path, out.str());
 }
 
 nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,

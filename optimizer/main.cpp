@@ -143,7 +143,7 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
         fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
                    e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);
     }
-    if (mismatch) fmt::print(stderr, "probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance);
+    if (mismatch) printToStderr(fmt::format("probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance));
     return mismatch ? 1 : 0;
 }
 
@@ -165,7 +165,7 @@ int runTail(const std::string& path) {
         }
         fmt::print("level {} radius {:.3f} rad:{}\n", level.level, level.radius, line);
     }
-    if (!reached) fmt::print(stderr, "probefit tail: {} misses the lobe's tail at some level\n", path);
+    if (!reached) printToStderr(fmt::format("probefit tail: {} misses the lobe's tail at some level\n", path));
     return reached ? 0 : 1;
 }
 
@@ -323,10 +323,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "probefit: {}\n", e.what());
+        printToStderr(fmt::format("probefit: {}\n", oneLine(e.what())));
         return 2;
     } catch (const ProbeError& e) {
-        fmt::print(stderr, "probefit: {}\n", e.what());
+        printToStderr(fmt::format("probefit: {}\n", oneLine(e.what())));
         return 2;
     }
 }

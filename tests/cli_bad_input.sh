@@ -62,6 +62,7 @@ expect_refused scene-missing-file       "$work/nope.json"                       
 expect_refused sweep-size     "face size 12"      sweep --size 12 --out "$work/out"
 expect_refused sweep-hdri-dir "$in/nope"          sweep --size 4 --hdri-dir "$in/nope" --out "$work/out"
 expect_refused sweep-repeat   "--repeat 0"        sweep --size 4 --repeat 0 --out "$work/out"
+expect_refused sweep-texels   "--texels"          sweep --size 4 --texels 0 --out "$work/out"
 expect_refused sweep-summarize-missing "$in/nope/sweep.csv" sweep --summarize "$in/nope" --out "$work/out"
 mkdir -p "$work/bad-sweep"
 {

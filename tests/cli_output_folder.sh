@@ -5,7 +5,8 @@
 # folder is left, after SIGKILL the next run removes it. `probefilter synth`, which writes one file,
 # interrupted (SIGINT, SIGTERM) while it writes a large probe leaves the previous file as it was and
 # no staging file. Every command that writes a folder refuses `/`, the input's folder and a non-empty
-# folder it did not write (exit 2, nothing changed).
+# folder it did not write (exit 2, nothing changed; a FIFO or a huge report.json there is not its own).
+# A write that fails keeps the previous output and leaves no parent folder the run created.
 set -euo pipefail
 : "${PROBEFILTER:?}"
 work=$(mktemp -d)
@@ -51,15 +52,16 @@ def state(folder):
         return "new"
     return "mixed"
 
-def staging():
-    return [n for n in os.listdir(".") if n.startswith(".probefilter-")]
+def staging(pid=None):
+    """Staging folders (.probefilter-<hash>-<pid>-<random>), of the run `pid` alone if given."""
+    return [n for n in os.listdir(".") if n.startswith(".probefilter-") and (pid is None or n.split("-")[2] == str(pid))]
 
 start = time.monotonic()
 run(new_args, "timing", env)
 duration = time.monotonic() - start
 
 def staged_whole(pid):
-    return any(n.endswith(f"-{pid}") and os.path.exists(os.path.join(n, "report.json")) for n in staging())
+    return any(os.path.exists(os.path.join(n, "report.json")) for n in staging(pid))
 
 trials = 24  # per signal at points spread over the run, and 4 more in the pause with the new output staged whole
 outcomes = {}
@@ -79,7 +81,7 @@ for k in range(trials + 4):
         proc.send_signal(sig)
         code = proc.wait()
         result = state("out")
-        left = [n for n in staging() if n.endswith(f"-{proc.pid}")]  # a SIGKILLed run's may be there still
+        left = staging(proc.pid)  # a SIGKILLed run's may be there still
         outcomes[(sig.name, result)] = outcomes.get((sig.name, result), 0) + 1
         if k >= trials and result != "old":
             print(f"FAIL: {sig.name} in the pause before the swap (exit {code}): the output folder is {result}, not the old one")
@@ -159,5 +161,27 @@ if ! "$PROBEFILTER" filter sky.exr --size 16 --method fis --force --out notes >/
     failures=$((failures + 1))
 fi
 [[ -f notes/level_0.exr && ! -e notes/sub ]] || { echo "FAIL: --force did not replace the folder whole"; failures=$((failures + 1)); }
+
+# A write that fails (a full disk; here the file-size limit, its signal ignored) fails the run, its
+# last line says which file, and the previous output is kept whole; a run that fails removes the
+# parent folders it created.
+"$PROBEFILTER" reference sky.exr --size 16 --levels 2 --out kept >/dev/null 2>&1
+before=$(cd kept && sha256sum ./*)
+code=0
+(trap '' XFSZ && ulimit -f 8 && "$PROBEFILTER" reference sky.exr --size 16 --levels 3 --out kept >/dev/null 2>stderr) || code=$?
+if [[ $code -ne 2 ]] || ! tail -n 1 stderr | grep -qF "preview.png: cannot write (File too large)" ||
+    [[ $(cd kept && sha256sum ./*) != "$before" ]] || compgen -G ".probefilter-*" >/dev/null; then
+    echo "FAIL: a failed write -> exit $code: $(cat stderr); kept/ $(ls kept)"
+    failures=$((failures + 1))
+fi
+code=0
+(trap '' XFSZ && ulimit -f 8 && "$PROBEFILTER" reference sky.exr --size 16 --levels 3 --out made/new/out >/dev/null 2>stderr) ||
+    code=$?
+[[ $code -eq 2 && ! -e made ]] || { echo "FAIL: a failed run left its parent folders (exit $code)"; failures=$((failures + 1)); }
+# What is in the way of the output is judged without reading it whole: a FIFO or a huge report.json
+# is not probefilter's.
+mkdir fifo huge && mkfifo fifo/report.json && head -c 20000000 /dev/zero | tr '\0' '[' >huge/report.json
+refused "fifo: is not empty and holds no report.json" reference sky.exr --size 16 --out fifo
+refused "huge: is not empty and holds no report.json" reference sky.exr --size 16 --out huge
 echo "cli_output_folder: refusals: $failures failure(s)"
 [[ $failures -eq 0 ]]

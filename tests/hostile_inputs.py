@@ -181,6 +181,14 @@ def main():
     header = exr_header(16384, 8192)
     offsets = struct.pack("<Q", len(header) + 8192 * 8) * 8192
     reference("offsets-one-chunk.exr", ["EXR"], header + offsets + bytes(64))
+    # A probe is one flat image: the version field's multi-part and deep flags are refused before
+    # OpenEXR reads the later headers or the per-pixel sample counts (a bomb in either takes GiBs).
+    with open(path("good.exr"), "rb") as f:
+        good = bytearray(f.read())
+    version = struct.unpack_from("<i", good, 4)[0]
+    for name, flag, needle in (("multi-part.exr", 0x1000, "multi-part"), ("deep.exr", 0x800, "deep")):
+        struct.pack_into("<i", good, 4, version | flag)
+        reference(name, [needle], bytes(good))
 
     # What a path names
     os.mkfifo(path("fifo.exr"))
@@ -243,6 +251,10 @@ def main():
     bad_table("duplicate-key.json", ["appears twice"], table.replace('"taps": 8', '"taps": 8, "taps": 8', 1))
     bad_table("unknown-field.json", ["unknown field 'shininess'"], table.replace('"taps": 8', '"taps": 8, "shininess": 3', 1))
     bad_table("truncated.json", ["not valid JSON"], table[: len(table) // 2])
+    # Checked in time linear in the file: 400000 objects in one array (a quadratic check takes minutes).
+    objects = ", ".join(["{}"] * 400000)
+    bad_table("many-objects.json", ["unknown field 'x'"], table.replace('"taps": 8', '"taps": 8, "x": [%s]' % objects, 1))
+    bad_table("newline-key.json", ["unknown field 'line\\none'"], table.replace('"taps": 8', '"taps": 8, "line\\none": 1', 1))
     t = json.loads(table)
     t["levels"][2]["coefficients"][7] = 1e38
     bad_table("huge-coefficient.json", ["coefficient 7", "not a finite number"], json.dumps(t))
@@ -289,6 +301,10 @@ def main():
     bad_scene("scene-deep.json", ["nested deeper"], '"x": ' + "[" * 100000 + "]" * 100000)
     bad_scene("scene-deep-wrong-type.json", ["nested deeper"], '"face_size": ' + "[" * 100000 + "]" * 100000)
     bad_scene("scene-wrong-type.json", ["face_size", "array"], '"face_size": [[[[1]]]]')
+    bad_scene("scene-many-objects.json", ["materials", "over the limit"], '"face_size": 16', ", ".join(["{}"] * 400000))
+    f = write("scene-probe-report.json", '{"probes": [{"name": "report.json", "image": "good.exr", "face_size": 16}], "materials": []}')
+    expect_refused("scene-probe-report.json", [f, "'report.json' is the name of one of the run's own files"], pf, "run", f, "--out",
+                   path("out"))
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #include "json_input.h"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <set>
 #include <vector>
@@ -14,32 +15,74 @@ namespace probe {
 
 using nlohmann::json;
 
-json parseJsonFile(std::string_view text, const std::filesystem::path& path, std::string_view what) {
-    const auto fail = [&](const std::string& problem) { return ProbeError(fmt::format("{}: {}: {}", path.string(), what, problem)); };
-    // The keys of each object being parsed, innermost last.
-    std::vector<std::set<std::string>> keys;
-    const json::parser_callback_t check = [&](int depth, json::parse_event_t event, json& parsed) {
-        if (depth > kMaxJsonDepth) throw fail(fmt::format("nested deeper than {} levels", kMaxJsonDepth));
-        switch (event) {
-        case json::parse_event_t::object_start: keys.emplace_back(); break;
-        case json::parse_event_t::object_end: keys.pop_back(); break;
-        case json::parse_event_t::key: {
-            const std::string& key = parsed.get_ref<const std::string&>();
-            if (!keys.back().insert(key).second) throw fail(fmt::format("key '{}' appears twice in one object", key.substr(0, 64)));
-            break;
-        }
-        default: break;
-        }
+namespace {
+
+// What the library's parser leaves to its caller: the nesting depth and keys that appear twice in
+// one object, checked in a SAX pass (the DOM parser's callback form rescans an array each time an
+// object in it ends, which is quadratic in the objects of one array). Throws ProbeError through
+// `fail`; a syntax error is kept for the caller.
+class JsonChecks final : public json::json_sax_t {
+public:
+    explicit JsonChecks(const std::function<ProbeError(const std::string&)>& fail) : fail_(fail) {}
+
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(json::number_integer_t) override { return true; }
+    bool number_unsigned(json::number_unsigned_t) override { return true; }
+    bool number_float(json::number_float_t, const json::string_t&) override { return true; }
+    bool string(json::string_t&) override { return true; }
+    bool binary(json::binary_t&) override { return true; }
+    bool start_object(std::size_t) override {
+        enter();
+        keys_.emplace_back();
         return true;
-    };
-    try {
-        return json::parse(text, check);
-    } catch (const json::exception& e) {
-        // The library's message names the byte; a number too large for double is reported as such.
-        std::string message = e.what();
-        if (const std::size_t colon = message.find("] "); colon != std::string::npos) message.erase(0, colon + 2);
-        throw fail(fmt::format("not valid JSON, or incomplete ({})", message.substr(0, 200)));
     }
+    bool key(json::string_t& key) override {
+        if (!keys_.back().insert(key).second) throw fail_(fmt::format("key '{}' appears twice in one object", key.substr(0, 64)));
+        return true;
+    }
+    bool end_object() override {
+        keys_.pop_back();
+        --depth_;
+        return true;
+    }
+    bool start_array(std::size_t) override {
+        enter();
+        return true;
+    }
+    bool end_array() override {
+        --depth_;
+        return true;
+    }
+    bool parse_error(std::size_t, const std::string&, const json::exception& e) override {
+        // The library's message names the byte; a number too large for double is reported as such.
+        error_ = e.what();
+        if (const std::size_t colon = error_.find("] "); colon != std::string::npos) error_.erase(0, colon + 2);
+        return false;
+    }
+
+    const std::string& error() const { return error_; }
+
+private:
+    void enter() {
+        if (++depth_ > kMaxJsonDepth) throw fail_(fmt::format("nested deeper than {} levels", kMaxJsonDepth));
+    }
+
+    const std::function<ProbeError(const std::string&)>& fail_;
+    int depth_ = 0;
+    std::vector<std::set<std::string>> keys_; // of each object open, innermost last
+    std::string error_;
+};
+
+} // namespace
+
+json parseJsonFile(std::string_view text, const std::filesystem::path& path, std::string_view what) {
+    const std::function<ProbeError(const std::string&)> fail = [&](const std::string& problem) {
+        return ProbeError(fmt::format("{}: {}: {}", path.string(), what, problem));
+    };
+    JsonChecks checks(fail);
+    if (!json::sax_parse(text, &checks)) throw fail(fmt::format("not valid JSON, or incomplete ({})", checks.error().substr(0, 200)));
+    return json::parse(text);
 }
 
 std::optional<int> jsonInt(const json& value) {

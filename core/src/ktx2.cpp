@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/output_file.h"
 #include "probe/shared_constants.h"
 
 namespace probe {
@@ -149,9 +150,7 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
         w.bytes.insert(w.bytes.end(), data[m].begin(), data[m].end());
     }
 
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(w.bytes.data()), static_cast<std::streamsize>(w.bytes.size()));
-    if (!out) throw ProbeError(fmt::format("{}: cannot write KTX2 file", path.string()));
+    writeFile(path, std::string_view(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size()));
     return clamped;
 }
 

@@ -20,6 +20,7 @@
 #include "probe/error.h"
 #include "probe/input_file.h"
 #include "probe/limits.h"
+#include "probe/output_file.h"
 #include "probe/radiance_hdr.h"
 
 namespace fs = std::filesystem;
@@ -86,6 +87,10 @@ void checkExrHeader(const fs::path& path) {
     stream.read(start, 8);
     int version = 0;
     std::memcpy(&version, start + 4, sizeof(version)); // little-endian on disk, as on the hosts we build for
+    // A probe is one flat image: a multi-part file's later headers and deep data's per-pixel sample
+    // counts would escape the checks here.
+    if (version & 0x1000) fail(path, "a multi-part EXR; probefilter reads single-part files");
+    if (version & 0x800) fail(path, "deep EXR data; probefilter reads flat images");
     Imf::Header header;
     header.readFrom(stream, version);
     const Imath::Box2i window = header.dataWindow();
@@ -262,11 +267,14 @@ CubeImage loadProbe(const fs::path& path, int faceSize, BadPixelPolicy policy, P
 }
 
 void writeExr(const fs::path& path, const Image& image) {
+    // Encoded in memory, then written by writeFile: OpenEXR writes the line offsets as the file
+    // closes, where it cannot report a failed write.
+    Imf::StdOSStream stream;
     try {
         Imf::Header header(image.width, image.height);
         header.compression() = Imf::ZIP_COMPRESSION;
         for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-        Imf::OutputFile file(path.c_str(), header);
+        Imf::OutputFile file(stream, header);
         Imf::FrameBuffer frame;
         char* base = const_cast<char*>(reinterpret_cast<const char*>(image.rgb.data()));
         const std::size_t xStride = 3 * sizeof(float), yStride = xStride * image.width;
@@ -276,8 +284,9 @@ void writeExr(const fs::path& path, const Image& image) {
         file.setFrameBuffer(frame);
         file.writePixels(image.height);
     } catch (const std::exception& e) {
-        fail(path, fmt::format("cannot write EXR ({})", e.what()));
+        fail(path, fmt::format("cannot encode EXR ({})", e.what()));
     }
+    writeFile(path, stream.str());
 }
 
 std::string levelFileName(int level) { return fmt::format("level_{}.exr", level); }

@@ -1,5 +1,6 @@
 #include "probe/scene.h"
 
+#include <algorithm>
 #include <limits>
 #include <set>
 
@@ -97,9 +98,12 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     FieldReader r(scene, where, object);
     SceneProbe p;
     p.name = r.required<std::string>("name");
-    // A probe's outputs go to a folder of its name.
-    if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos)
+    // A probe's outputs go to a folder of its name, beside the run's own files.
+    const bool control = std::any_of(p.name.begin(), p.name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; });
+    if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos || control)
         r.fail(r.field("name"), fmt::format("'{}' cannot name a folder", p.name));
+    if (p.name == "report.json" || p.name == "dfg.exr")
+        r.fail(r.field("name"), fmt::format("'{}' is the name of one of the run's own files", p.name));
     p.image = scene.parent_path() / r.required<std::string>("image");
     try {
         checkInputFile(p.image, std::numeric_limits<std::uintmax_t>::max());

@@ -3,21 +3,23 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <mutex>
+#include <random>
 #include <thread>
 
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "json_input.h"
 #include "probe/error.h"
+#include "probe/input_file.h"
 
 namespace probe {
 
@@ -59,13 +61,27 @@ std::string nameHash(const std::string& name) {
     return fmt::format("{:08x}", h);
 }
 
+// Whether the folder holds a report.json naming a command: read as an input file (a regular file,
+// bounded in size, nesting and duplicate keys), so that a FIFO or a huge file there is not ours.
 bool writtenByProbefilter(const fs::path& folder) {
-    std::ifstream in(folder / "report.json");
-    const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-    return report.is_object() && report.contains("command") && report["command"].is_string();
+    try {
+        const fs::path path = folder / "report.json";
+        const nlohmann::json report = parseJsonFile(readTextFile(path), path, "report");
+        return report.is_object() && report.contains("command") && report["command"].is_string();
+    } catch (const ProbeError&) {
+        return false;
+    }
 }
 
-bool processAlive(long pid) { return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH; }
+// A staging folder is live while its run holds an flock on it: the lock goes with the process,
+// whatever PID namespace it ran in, where its PID alone could name another process.
+bool stagingLive(const fs::path& folder) {
+    const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return false;
+    const bool live = ::flock(fd, LOCK_EX | LOCK_NB) != 0;
+    ::close(fd);
+    return live;
+}
 
 } // namespace
 
@@ -91,8 +107,13 @@ StagedOutput::StagedOutput(fs::path outDir, const std::vector<fs::path>& inputs,
 StagedOutput::~StagedOutput() {
     const std::lock_guard lock(registryMutex);
     registry.erase(std::find(registry.begin(), registry.end(), this));
+    if (stagingLock_ >= 0) ::close(stagingLock_);
+    if (committed_ || staging_.empty()) return;
     std::error_code ec;
-    if (!committed_ && !staging_.empty()) fs::remove_all(staging_, ec);
+    fs::remove_all(staging_, ec);
+    // The parents this run created, innermost first, as long as they are empty.
+    if (!createdParent_.empty())
+        for (fs::path p = target_.parent_path(); fs::remove(p, ec) && p != createdParent_;) p = p.parent_path();
 }
 
 void StagedOutput::checkReplaceable() const {
@@ -111,15 +132,14 @@ void StagedOutput::checkReplaceable() const {
              "is not empty and holds no report.json of probefilter's; remove it, name another folder or pass --force to replace it");
 }
 
-// The staging folders of earlier runs into the same folder that were killed (their process is gone).
+// The staging folders of earlier runs into the same folder that were killed (none holds its lock).
 void StagedOutput::removeStaleStaging() const {
     const std::string prefix = fmt::format(".probefilter-{}-", nameHash(target_.filename().string()));
     std::error_code ec;
     for (const fs::directory_entry& entry : fs::directory_iterator(target_.parent_path(), ec)) {
         const std::string name = entry.path().filename().string();
         if (name.rfind(prefix, 0) != 0) continue;
-        const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
-        if (pid > 0 && !processAlive(pid)) fs::remove_all(entry.path(), ec);
+        if (!stagingLive(entry.path())) fs::remove_all(entry.path(), ec);
     }
 }
 
@@ -128,13 +148,23 @@ fs::path StagedOutput::file(const std::string& name) {
     if (abandoned) fail(outDir_, "interrupted");
     std::error_code ec;
     if (staging_.empty()) {
+        for (fs::path p = target_.parent_path(); !fs::exists(p, ec) && p != p.root_path(); p = p.parent_path()) createdParent_ = p;
         fs::create_directories(target_.parent_path(), ec);
         if (ec) fail(outDir_, fmt::format("cannot create its parent folder ({})", ec.message()));
         removeStaleStaging();
-        staging_ = target_.parent_path() / fmt::format(".probefilter-{}-{}", nameHash(target_.filename().string()), ::getpid());
-        fs::remove_all(staging_, ec);
-        fs::create_directory(staging_, ec);
-        if (ec) fail(outDir_, fmt::format("cannot create its staging folder ({})", ec.message()));
+        // A name no other run has (the PID and a random suffix, created exclusively), locked while
+        // this run lives.
+        std::random_device random;
+        for (int attempt = 0; staging_.empty(); ++attempt) {
+            const fs::path candidate = target_.parent_path() / fmt::format(".probefilter-{}-{}-{:08x}",
+                                                                           nameHash(target_.filename().string()), ::getpid(), random());
+            if (::mkdir(candidate.c_str(), 0777) == 0) staging_ = candidate;
+            else if (errno != EEXIST || attempt == 16)
+                fail(outDir_, fmt::format("cannot create its staging folder ({})", std::strerror(errno)));
+        }
+        stagingLock_ = ::open(staging_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (stagingLock_ < 0 || ::flock(stagingLock_, LOCK_EX | LOCK_NB) != 0)
+            fail(outDir_, fmt::format("cannot lock its staging folder ({})", std::strerror(errno)));
     }
     const fs::path path = staging_ / name;
     fs::create_directories(path.parent_path(), ec);

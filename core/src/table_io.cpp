@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <fstream>
 #include <optional>
 
 #include <fmt/format.h>
@@ -13,6 +12,7 @@
 #include "json_input.h"
 #include "probe/error.h"
 #include "probe/input_file.h"
+#include "probe/output_file.h"
 
 namespace probe {
 
@@ -22,13 +22,6 @@ using nlohmann::json;
 
 constexpr std::string_view kFormatName = "probefilter-tap-table";
 constexpr int kFormatVersion = 1;
-
-void writeText(const std::filesystem::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw ProbeError(fmt::format("{}: cannot write", path.string()));
-}
 
 json errorToJson(const ImpulseError& e) { return {{"mean", e.mean}, {"max", e.max}, {"worst", {e.worst.face, e.worst.i, e.worst.j}}}; }
 
@@ -221,7 +214,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
 
 TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readTextFile(path), path); }
 
-void writeTable(const std::filesystem::path& path, const TapTable& table) { writeText(path, tableToJson(table)); }
+void writeTable(const std::filesystem::path& path, const TapTable& table) { writeFile(path, tableToJson(table)); }
 
 std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
     const int k = coefficientCount(table.form);
@@ -284,7 +277,7 @@ void writePublishedTable(const std::filesystem::path& path, const TapTable& tabl
     const std::vector<float> values = publishedLayout(table);
     for (std::size_t k = 0; k < values.size(); k += 4)
         text += fmt::format("{:.9g} {:.9g} {:.9g} {:.9g}\n", values[k], values[k + 1], values[k + 2], values[k + 3]);
-    writeText(path, text);
+    writeFile(path, text);
 }
 
 std::vector<std::string> tableSummary(const TapTable& table) {

@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace probe {
 
@@ -17,5 +18,13 @@ struct ParameterError : ProbeError {
         : ProbeError(name + " " + valueAndProblem), parameter(name) {}
     std::string parameter;
 };
+
+// `message` as one line: control characters (a newline in a file name or in a JSON key a message
+// quotes) written as escapes, so that a refusal stays the one line it promises.
+std::string oneLine(std::string_view message);
+
+// Writes `text` to stderr. A stderr that cannot be written (closed, a full disk) is ignored: the
+// exit code still tells what happened.
+void printToStderr(std::string_view text);
 
 } // namespace probe

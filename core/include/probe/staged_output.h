@@ -1,12 +1,14 @@
 // Outputs that a run replaces whole or leaves as they were: folders (StagedOutput) and single files
 // (StagedFile).
 //
-// Every file goes into a staging folder beside the output folder (".probefilter-<hash>-<pid>", so
-// on the same file system and short whatever the output's name); commit() swaps the two folders in
-// one renameat2(RENAME_EXCHANGE) (a plain rename when there is no output folder yet) and removes the
-// old one. A run killed at any point leaves the previous output exactly as it was or the new one
-// whole. A killed run's staging folder is removed by the next run into the same folder, an
-// interrupted one's at once (abandonAll(), from the command line's signal thread).
+// Every file goes into a staging folder beside the output folder (".probefilter-<hash>-<pid>-<random>",
+// so on the same file system, short whatever the output's name, and no other run's); commit() swaps
+// the two folders in one renameat2(RENAME_EXCHANGE) (a plain rename when there is no output folder
+// yet) and removes the old one. A run killed at any point leaves the previous output exactly as it
+// was or the new one whole. A run holds an flock on its staging folder while it lives, so a killed
+// run's folder is removed by the next run into the same folder, an interrupted one's at once
+// (abandonAll(), from the command line's signal thread), and a failed run's on its way out with the
+// parents it created.
 #pragma once
 
 #include <filesystem>
@@ -44,9 +46,11 @@ private:
     void checkReplaceable() const;
     void removeStaleStaging() const;
 
-    std::filesystem::path outDir_;  // as given, for messages
-    std::filesystem::path target_;  // absolute, symbolic links resolved
-    std::filesystem::path staging_; // empty until the first file()
+    std::filesystem::path outDir_;        // as given, for messages
+    std::filesystem::path target_;        // absolute, symbolic links resolved
+    std::filesystem::path staging_;       // empty until the first file()
+    int stagingLock_ = -1;                // the staging folder, open and flocked
+    std::filesystem::path createdParent_; // the outermost parent folder that file() created
     std::vector<std::filesystem::path> inputs_;
     bool force_ = false;
     bool committed_ = false;

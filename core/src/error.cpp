@@ -1,0 +1,25 @@
+#include "probe/error.h"
+
+#include <cstdio>
+
+#include <fmt/format.h>
+
+namespace probe {
+
+std::string oneLine(std::string_view message) {
+    std::string line;
+    line.reserve(message.size());
+    for (const char c : message) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '\n') line += "\\n";
+        else if (c == '\r') line += "\\r";
+        else if (c == '\t') line += "\\t";
+        else if (u < 0x20 || u == 0x7f) line += fmt::format("\\x{:02x}", u);
+        else line += c;
+    }
+    return line;
+}
+
+void printToStderr(std::string_view text) { std::fwrite(text.data(), 1, text.size(), stderr); }
+
+} // namespace probe
