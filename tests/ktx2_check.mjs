@@ -4,10 +4,13 @@
 // Usage: node ktx2_check.mjs HALF.ktx2 FLOAT.ktx2 REPORT.json
 import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
+import { pathToFileURL } from "node:url";
 
-const require = createRequire(process.env.KTX_PARSE_DIR + "/");
+// ktx-parse 2 is an ES module, which Debian 12's Node.js (18) cannot require(): resolved in the
+// installed folder, then imported.
+const resolve = createRequire(process.env.KTX_PARSE_DIR + "/").resolve;
 const { read, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, KHR_DF_MODEL_RGBSDA,
-        KHR_DF_TRANSFER_LINEAR, KHR_DF_SAMPLE_DATATYPE_FLOAT } = require("ktx-parse");
+        KHR_DF_TRANSFER_LINEAR, KHR_DF_SAMPLE_DATATYPE_FLOAT } = await import(pathToFileURL(resolve("ktx-parse")).href);
 
 const [halfPath, floatPath, reportPath] = process.argv.slice(2);
 const report = JSON.parse(readFileSync(reportPath, "utf8"));
