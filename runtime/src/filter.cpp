@@ -292,8 +292,9 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     submission->release(layouts);
 }
 
+// Every time, not only when the handles change: an image destroyed and another created may reuse a
+// handle, and the views of the first would remain.
 void Filter::Impl::bindImages(VkImageView source, VkImage output) {
-    if (source == boundSource && output == boundOutput) return;
     descriptors->reset();
     outputMips.clear();
     outputMips.resize(settings.levelCount);
@@ -352,7 +353,6 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             convertSets[m] = c;
         }
     }
-    boundSource = source;
     boundOutput = output;
 }
 

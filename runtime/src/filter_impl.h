@@ -57,8 +57,7 @@ struct Filter::Impl {
     CubeImageResource runSource, runOutput;
     ImageView runSourceView;
 
-    // The images that the descriptor sets refer to: the caller's last ones (or run()'s).
-    VkImageView boundSource = VK_NULL_HANDLE;
+    // The output image that the descriptor sets refer to: the caller's last one (or run()'s).
     VkImage boundOutput = VK_NULL_HANDLE;
     std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
     std::unique_ptr<FilterDescriptors> descriptors;

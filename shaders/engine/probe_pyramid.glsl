@@ -16,7 +16,9 @@
 //     Layout SHADER_READ_ONLY_OPTIMAL (or GENERAL).
 //   binding 1 (PROBE_COARSE_BINDING)  image2DArray, writeonly: mip k, its six faces as layers, layout
 //     GENERAL.
-// Push constant: none. Mip 0 is the source, its values within +-2^64 (clamp them where it is made).
+// Push constant: none. Mip 0 is the source, written by the engine, its values clamped where it is
+// written to the pyramid format's range (+-65504 for rgba16f: a larger float becomes Inf there and
+// spreads through every mip; +-2^64 for rgba32f, which keeps the filter's sums finite).
 // Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S the face size of mip k, for k = 1 .. log2(S_0)
 // in order, with a barrier between (mip k reads mip k - 1). Outputs are clamped to +-PROBE_PYRAMID_MAX,
 // the format's largest finite value (default 65504, the largest half: define it for a wider format).

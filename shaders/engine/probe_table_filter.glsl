@@ -6,6 +6,7 @@
 //   #version 450
 //   #extension GL_GOOGLE_include_directive : require
 //   #define PROBE_OUTPUT_FORMAT rgba16f       // optional: the output image's format (default rgba16f)
+//   #define PROBE_OUTPUT_MAX vec3(65504.0)    // optional: its largest finite value (below)
 //   #include "gltf128_quad8.glsl"             // the table (include path: the tables folder)
 //   #include "engine/probe_table_filter.glsl" // this file (include path: the shaders folder)
 //
@@ -15,18 +16,23 @@
 //     fitted for (engine/probe_pyramid.glsl: the B-spline pass of docs/design.md). Sampler: linear
 //     min/mag filter, linear mipmap mode, clamp to edge, no LOD bias, maxLod at least the last mip;
 //     seamless cube filtering, which Vulkan always does.
-//     Layout SHADER_READ_ONLY_OPTIMAL. Its values must lie within +-2^64 (clamp them where mip 0 is
-//     made from the source, as probefilter's own passes do): then every tap's weighted sum stays
-//     finite, for any finite source.
+//     Layout SHADER_READ_ONLY_OPTIMAL. Its values must lie within the pyramid format's range
+//     (engine/probe_pyramid.glsl: clamp where mip 0 is written) and +-2^64: then every tap's
+//     weighted sum stays finite, for any finite source.
 //   binding 1 (PROBE_OUTPUT_BINDING)   image2DArray, writeonly: the output level's mip, its six faces
 //     as layers (a 2D-array view of one mip of the output cube), layout GENERAL.
-// Push constant: int level, the output level (1 .. PROBE_TABLE_LEVEL_COUNT - 1). Level 0 is a copy
-// of the source (alpha 0): copy mip 0 instead of dispatching.
+// Push constant: int level, an output level that the table filters, one with taps
+// (probeTableTapGroups[level] > 0, kTapGroups in the C++ header tables/<name>.h). With the
+// glTF, Filament and Unity mappings that is 1 .. PROBE_TABLE_LEVEL_COUNT - 1: their level 0 has
+// alpha 0 and is a copy of the source (copy mip 0 instead of dispatching). The authors' mapping
+// filters level 0 too: dispatch 0 .. PROBE_TABLE_LEVEL_COUNT - 1.
 // Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level; z is the
 // face, +X, -X, +Y, -Y, +Z, -Z (a workgroup's face gives the table entries all its invocations read).
 // Dispatch every level with no barrier or timestamp between them (they write different mips and read
 // only the pyramid): a GPU then overlaps the small levels, which alone leave it mostly idle.
-// Outputs are clamped to >= 0 and to the largest finite value of the format.
+// Outputs are clamped to >= 0 and to PROBE_OUTPUT_MAX, by default 65504, the largest finite half:
+// define it for another format (vec3(3.40282347e38) for rgba32f; for r11f_g11f_b10f
+// vec3(PROBE_FLOAT11_MAX, PROBE_FLOAT11_MAX, PROBE_FLOAT10_MAX) from probe/shared_constants.h).
 #ifndef PROBE_ENGINE_TABLE_FILTER_GLSL
 #define PROBE_ENGINE_TABLE_FILTER_GLSL
 

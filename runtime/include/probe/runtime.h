@@ -63,11 +63,12 @@ public:
     // Creates an instance and a device. Throws ProbeError naming what is missing.
     explicit Device(const DeviceOptions& options = {});
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
-    // be Vulkan 1.2+; `queue` belongs to `queueFamily`, which must support compute. The runtime
-    // needs no device feature or extension beyond Vulkan 1.2 core (the exact sampling mode's table
-    // shader uses subgroup vote, a core operation that every desktop driver has). The Filter's
-    // constructor, run() and downloadPyramid(), the SH projector and the sphere renderer submit to
-    // `queue` and wait: Vulkan has the caller keep other threads from submitting to it meanwhile.
+    // be Vulkan 1.2+, and so must the instance's apiVersion (the runtime's SPIR-V is 1.5); `queue`
+    // belongs to `queueFamily`, which must support compute. The runtime needs no device feature or
+    // extension beyond Vulkan 1.2 core (the exact sampling mode's table shader uses subgroup vote, a
+    // core operation that every desktop driver has). The Filter's constructor, run() and
+    // downloadPyramid(), the SH projector and the sphere renderer submit to `queue` and wait: Vulkan
+    // has the caller keep other threads from submitting to it meanwhile.
     Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice device, uint32_t queueFamily, VkQueue queue);
     ~Device();
     Device(const Device&) = delete;
@@ -192,7 +193,8 @@ public:
     // (only the mips of FilterSettings::levels are written). What the caller owes:
     // - source: usage SAMPLED; the view's subresources in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
     //   its writes made visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_READ_BIT.
-    // - output: usage STORAGE, the mips written in VK_IMAGE_LAYOUT_GENERAL, no work on them pending.
+    // - output: usage STORAGE, the mips written in VK_IMAGE_LAYOUT_GENERAL, their earlier use ended by
+    //   a barrier to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_WRITE_BIT.
     //   A B10G11R11 output on a device that cannot store that format is written by a copy instead:
     //   usage TRANSFER_DST and layout VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL (outputNeedsTransfer()).
     // - after: the outputs are written at VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT with
@@ -204,9 +206,15 @@ public:
     // power of two instead (probe/range_scale.h). An engine whose sources pass 65504 asks for an
     // RGBA32F pyramid.
     // The Filter orders its own work (a barrier before its first dispatch covers its resources' use
-    // by a previous recording on the same queue). record() makes views of the caller's images and
-    // keeps them until the next record() or the Filter's end: a command buffer recorded before must
-    // have completed by then. Throws ProbeError naming the format and usage the device lacks.
+    // by a previous recording on the same queue). The command buffer goes to a queue of
+    // Device::queueFamily(), whose resources the Filter's are, outside a render pass. record() binds
+    // its own compute pipelines, descriptor set and push constants, and resets and writes its
+    // timestamp queries: rebind yours after it.
+    // One probe at a time: record() writes the Filter's descriptor sets and views for this source and
+    // output (keeping the views until the next record() or the Filter's end) and uses its one pyramid,
+    // so the command buffer of the previous record() must have completed. An engine that filters
+    // several probes at once keeps a Filter for each. Throws ProbeError naming the format and usage
+    // the device lacks.
     void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output);
 
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
@@ -215,8 +223,9 @@ public:
     VkFormat pyramidFormat() const;
     bool outputNeedsTransfer() const;
 
-    // Per pass and in total, over the runs since the last run() (or the last record()). Empty when
-    // the queue has no timestamps.
+    // Per pass and in total, over the runs since the last run() (or the last record(), once the
+    // submission of its command buffer has completed: the queries are waited for). Empty when the
+    // queue has no timestamps.
     std::vector<PassTime> timings() const;
     // Per output level computed, named "level <m>": the time of its pass-2 dispatch alone, over the
     // runs of the last run(), when that asked for Timestamps::levels; their sum is that run's pass-2
