@@ -49,7 +49,7 @@ json describeSh(const probe::ShCoefficients& c) {
     return list;
 }
 
-// What one probe's passes made, kept for the spheres.
+// What one probe's passes made (kept for the spheres when the scene asks for them).
 struct ProbeResult {
     const probe::SceneProbe* probe = nullptr;
     probe::CubeImage source;
@@ -82,7 +82,9 @@ public:
                                            scene_.outputs.ktx2 == probe::Ktx2Format::rgba16f ? probe::Ktx2PixelFormat::rgba16f
                                                                                              : probe::Ktx2PixelFormat::rgba32f);
         probes_.push_back(std::move(entry));
-        results_.push_back(std::move(result));
+        // Kept for the spheres alone, so that a scene of many large probes without them holds one
+        // probe's images at a time.
+        if (scene_.outputs.spheres) results_.push_back(std::move(result));
     }
 
     void makeDfgTable() {

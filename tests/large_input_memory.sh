@@ -1,15 +1,34 @@
 #!/usr/bin/env bash
-# An 8192 x 4096 equirectangular probe converts in bounded memory: peak resident set under 2 GiB.
+# Memory stays bounded by what one input needs: an 8192 x 4096 equirectangular probe converts with a
+# peak resident set under 2 GiB, and a scene of four 512^2 probes (no spheres) peaks within 40 MiB
+# of the same scene with one, since `run` holds one probe's images at a time.
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$PROBEFILTER" synth sunsky --equirect 8192 --out "$work/big.exr" >/dev/null
+"$PROBEFILTER" synth sky --size 512 --out "$work/sky.exr" >/dev/null
 python3 - "$PROBEFILTER" "$work" <<'PY'
-import resource, subprocess, sys
+import json, os, subprocess, sys
 probefilter, work = sys.argv[1:]
-run = subprocess.run([probefilter, "reference", f"{work}/big.exr", "--size", "128", "--levels", "1", "--out", f"{work}/out"],
-                     capture_output=True, text=True)
-peak_mib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-print(f"8192x4096 -> 128^2: exit {run.returncode}, peak RSS {peak_mib:.0f} MiB")
-sys.exit(0 if run.returncode == 0 and peak_mib < 2048 else 1)
+
+def peak_mib(args):
+    """Runs probefilter with args; its own peak resident set (wait4: this child's usage alone)."""
+    child = subprocess.Popen([probefilter, *args], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(child.pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"FAIL: probefilter {' '.join(args)} exited {os.waitstatus_to_exitcode(status)}")
+    return usage.ru_maxrss / 1024
+
+big = peak_mib(["reference", f"{work}/big.exr", "--size", "128", "--levels", "1", "--out", f"{work}/out"])
+print(f"8192x4096 -> 128^2: peak RSS {big:.0f} MiB")
+
+scenes = {}
+for count in (1, 4):
+    probes = [{"name": f"p{k}", "image": "sky.exr", "face_size": 512, "method": "fis", "samples": 8} for k in range(count)]
+    materials = [{"name": f"m{k}", "roughness": 0.5, "probe": f"p{k}"} for k in range(count)]
+    with open(f"{work}/scene{count}.json", "w") as f:
+        json.dump({"probes": probes, "materials": materials}, f)
+    scenes[count] = peak_mib(["run", f"{work}/scene{count}.json", "--out", f"{work}/run{count}"])
+print(f"run, 512^2 probes: one {scenes[1]:.0f} MiB, four {scenes[4]:.0f} MiB")
+sys.exit(0 if big < 2048 and scenes[4] - scenes[1] < 40 else 1)
 PY
