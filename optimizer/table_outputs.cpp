@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/output_file.h"
 #include "probe/table_io.h"
 
 namespace probefit {
@@ -34,13 +35,12 @@ void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTabl
     std::vector<std::filesystem::path> written;
     for (const auto& [extension, text] : files) {
         const std::filesystem::path temporary = prefix.string() + extension + ".partial";
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        out.close();
         written.push_back(temporary);
-        if (!out) {
+        try {
+            probe::writeFile(temporary, text);
+        } catch (const probe::ProbeError& e) {
             for (const auto& p : written) std::filesystem::remove(p);
-            throw probe::ProbeError(fmt::format("--out {}: cannot write {}", prefix.string(), temporary.string()));
+            throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
         }
     }
     for (std::size_t k = 0; k < files.size(); ++k) std::filesystem::rename(written[k], prefix.string() + files[k].first);

@@ -169,7 +169,7 @@ fi
 before=$(cd kept && sha256sum ./*)
 code=0
 (trap '' XFSZ && ulimit -f 8 && "$PROBEFILTER" reference sky.exr --size 16 --levels 3 --out kept >/dev/null 2>stderr) || code=$?
-if [[ $code -ne 2 ]] || ! tail -n 1 stderr | grep -qF "preview.png: cannot write (File too large)" ||
+if [[ $code -ne 2 ]] || ! tail -n 1 stderr | grep -qF ": cannot write (File too large)" ||
     [[ $(cd kept && sha256sum ./*) != "$before" ]] || compgen -G ".probefilter-*" >/dev/null; then
     echo "FAIL: a failed write -> exit $code: $(cat stderr); kept/ $(ls kept)"
     failures=$((failures + 1))
@@ -183,5 +183,24 @@ code=0
 mkdir fifo huge && mkfifo fifo/report.json && head -c 20000000 /dev/zero | tr '\0' '[' >huge/report.json
 refused "fifo: is not empty and holds no report.json" reference sky.exr --size 16 --out fifo
 refused "huge: is not empty and holds no report.json" reference sky.exr --size 16 --out huge
+# A staging folder is removed by a later run only when no process holds its flock: a live run's
+# (here one this script locks) survives, a dead run's (unlocked) goes.
+python3 - "$PROBEFILTER" <<'PY' || failures=$((failures + 1))
+import fcntl, os, subprocess, sys
+def fnv1a(name):
+    h = 2166136261
+    for c in name.encode():
+        h = ((h ^ c) * 16777619) & 0xFFFFFFFF
+    return f"{h:08x}"
+live, dead = (f".probefilter-{fnv1a('shared')}-{pid}-0000000{k}" for k, pid in ((1, 1), (2, 2)))
+for folder in (live, dead):
+    os.mkdir(folder)
+lock = os.open(live, os.O_RDONLY)
+fcntl.flock(lock, fcntl.LOCK_EX)
+subprocess.run([sys.argv[1], "filter", "sky.exr", "--size", "16", "--method", "fis", "--out", "shared"], check=True, capture_output=True)
+if not os.path.isdir(live) or os.path.exists(dead):
+    sys.exit(f"FAIL: after a run into shared/, the locked staging folder {'is' if os.path.isdir(live) else 'is not'} there "
+             f"and the unlocked one {'is' if os.path.exists(dead) else 'is not'}")
+PY
 echo "cli_output_folder: refusals: $failures failure(s)"
 [[ $failures -eq 0 ]]

@@ -119,7 +119,7 @@ TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
 TEST_F(GpuTest, PyramidTailAtTheSmallestWorkgroupLimitEqualsTheDefault) {
     const gpu::Device& shared = probetest::testDevice();
     const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
-    ASSERT_GE(shared.impl().limits.maxComputeWorkGroupInvocations, 256u) << "the test device takes the default";
+    if (shared.impl().limits.maxComputeWorkGroupInvocations < 256) GTEST_SKIP() << "the test device itself has fewer than 256 lanes";
     device.impl().limits.maxComputeWorkGroupInvocations = 128;
     const CubeImage source = probetest::randomProbe(64, 13);
     for (const PyramidSettings& pyramid : kAllPyramids) {

@@ -1,6 +1,7 @@
 #include "probe/probe_io.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -14,13 +15,14 @@
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
 #include <ImfTileDescription.h>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
+#include <unistd.h>
 
 #include "probe/error.h"
 #include "probe/input_file.h"
 #include "probe/limits.h"
-#include "probe/output_file.h"
 #include "probe/radiance_hdr.h"
 
 namespace fs = std::filesystem;
@@ -266,10 +268,52 @@ CubeImage loadProbe(const fs::path& path, int faceSize, BadPixelPolicy policy, P
     return imageToCube(image, layout, faceSize);
 }
 
+namespace {
+
+// An EXR's file, every write checked. OpenEXR writes the line offsets as its OutputFile closes, in a
+// destructor that swallows errors, so the stream keeps its first error for writeExr to report.
+class CheckedExrStream final : public Imf::OStream {
+public:
+    explicit CheckedExrStream(const fs::path& path)
+        : Imf::OStream(path.c_str()), fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)) {
+        if (fd_ < 0) error_ = errno;
+    }
+    ~CheckedExrStream() override {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    CheckedExrStream(const CheckedExrStream&) = delete;
+    CheckedExrStream& operator=(const CheckedExrStream&) = delete;
+
+    void write(const char c[], int n) override {
+        for (int done = 0; done < n && !error_;) {
+            const ssize_t written = ::write(fd_, c + done, static_cast<std::size_t>(n - done));
+            if (written < 0 && errno == EINTR) continue;
+            if (written <= 0) error_ = written == 0 ? ENOSPC : errno;
+            else done += static_cast<int>(written);
+        }
+        if (error_) throw std::runtime_error(std::strerror(error_));
+    }
+    uint64_t tellp() override { return fd_ < 0 ? 0 : static_cast<uint64_t>(::lseek(fd_, 0, SEEK_CUR)); }
+    void seekp(uint64_t pos) override {
+        if (!error_ && ::lseek(fd_, static_cast<off_t>(pos), SEEK_SET) < 0) error_ = errno;
+    }
+
+    // The first error of any write, the close included; 0 if none.
+    int close() {
+        if (fd_ >= 0 && ::close(fd_) != 0 && !error_) error_ = errno;
+        fd_ = -1;
+        return error_;
+    }
+
+private:
+    int fd_;
+    int error_ = 0;
+};
+
+} // namespace
+
 void writeExr(const fs::path& path, const Image& image) {
-    // Encoded in memory, then written by writeFile: OpenEXR writes the line offsets as the file
-    // closes, where it cannot report a failed write.
-    Imf::StdOSStream stream;
+    CheckedExrStream stream(path);
     try {
         Imf::Header header(image.width, image.height);
         header.compression() = Imf::ZIP_COMPRESSION;
@@ -284,9 +328,10 @@ void writeExr(const fs::path& path, const Image& image) {
         file.setFrameBuffer(frame);
         file.writePixels(image.height);
     } catch (const std::exception& e) {
-        fail(path, fmt::format("cannot encode EXR ({})", e.what()));
+        // A failed write is the stream's error, reported below; any other is OpenEXR's.
+        if (!stream.close()) fail(path, fmt::format("cannot write EXR ({})", e.what()));
     }
-    writeFile(path, stream.str());
+    if (const int error = stream.close()) fail(path, fmt::format("cannot write ({})", std::strerror(error)));
 }
 
 std::string levelFileName(int level) { return fmt::format("level_{}.exr", level); }

@@ -99,7 +99,8 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     SceneProbe p;
     p.name = r.required<std::string>("name");
     // A probe's outputs go to a folder of its name, beside the run's own files.
-    const bool control = std::any_of(p.name.begin(), p.name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; });
+    const bool control =
+        std::any_of(p.name.begin(), p.name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
     if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos || control)
         r.fail(r.field("name"), fmt::format("'{}' cannot name a folder", p.name));
     if (p.name == "report.json" || p.name == "dfg.exr")

@@ -74,13 +74,29 @@ bool writtenByProbefilter(const fs::path& folder) {
 }
 
 // A staging folder is live while its run holds an flock on it: the lock goes with the process,
-// whatever PID namespace it ran in, where its PID alone could name another process.
-bool stagingLive(const fs::path& folder) {
+// whatever PID namespace it ran in, where its PID alone could name another process. A dead run's
+// folder is removed under the lock, so that a run that has just made a folder and not yet locked it
+// finds it taken or gone (lockNewStaging), never removed from under it later.
+void removeIfStale(const fs::path& folder) {
     const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) return false;
-    const bool live = ::flock(fd, LOCK_EX | LOCK_NB) != 0;
+    if (fd < 0) return;
+    std::error_code ec;
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) fs::remove_all(folder, ec);
     ::close(fd);
-    return live;
+}
+
+// The staging folder just made at `folder`, open and locked; -1 if another run took it for a dead
+// run's in the instant between (it holds the lock, or has removed the folder).
+int lockNewStaging(const fs::path& folder) {
+    const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return -1;
+    struct stat opened = {}, named = {};
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0 || ::fstat(fd, &opened) != 0 || opened.st_nlink == 0 || ::stat(folder.c_str(), &named) != 0 ||
+        named.st_dev != opened.st_dev || named.st_ino != opened.st_ino) {
+        ::close(fd);
+        return -1;
+    }
+    return fd;
 }
 
 } // namespace
@@ -108,10 +124,15 @@ StagedOutput::~StagedOutput() {
     const std::lock_guard lock(registryMutex);
     registry.erase(std::find(registry.begin(), registry.end(), this));
     if (stagingLock_ >= 0) ::close(stagingLock_);
-    if (committed_ || staging_.empty()) return;
+    if (committed_) return;
     std::error_code ec;
-    fs::remove_all(staging_, ec);
-    // The parents this run created, innermost first, as long as they are empty.
+    if (!staging_.empty()) fs::remove_all(staging_, ec);
+    removeCreatedParents();
+}
+
+// The parents of the output folder that file() created, innermost first, as long as they are empty.
+void StagedOutput::removeCreatedParents() const {
+    std::error_code ec;
     if (!createdParent_.empty())
         for (fs::path p = target_.parent_path(); fs::remove(p, ec) && p != createdParent_;) p = p.parent_path();
 }
@@ -138,8 +159,9 @@ void StagedOutput::removeStaleStaging() const {
     std::error_code ec;
     for (const fs::directory_entry& entry : fs::directory_iterator(target_.parent_path(), ec)) {
         const std::string name = entry.path().filename().string();
-        if (name.rfind(prefix, 0) != 0) continue;
-        if (!stagingLive(entry.path())) fs::remove_all(entry.path(), ec);
+        // Not a ".old" folder (commit() without RENAME_EXCHANGE), which holds a previous output.
+        if (name.rfind(prefix, 0) != 0 || name.find('.', 1) != std::string::npos) continue;
+        removeIfStale(entry.path());
     }
 }
 
@@ -156,15 +178,16 @@ fs::path StagedOutput::file(const std::string& name) {
         // this run lives.
         std::random_device random;
         for (int attempt = 0; staging_.empty(); ++attempt) {
+            if (attempt == 16) fail(outDir_, "cannot create its staging folder (16 names taken)");
             const fs::path candidate = target_.parent_path() / fmt::format(".probefilter-{}-{}-{:08x}",
                                                                            nameHash(target_.filename().string()), ::getpid(), random());
-            if (::mkdir(candidate.c_str(), 0777) == 0) staging_ = candidate;
-            else if (errno != EEXIST || attempt == 16)
+            if (::mkdir(candidate.c_str(), 0777) != 0) {
+                if (errno == EEXIST) continue;
                 fail(outDir_, fmt::format("cannot create its staging folder ({})", std::strerror(errno)));
+            }
+            stagingLock_ = lockNewStaging(candidate);
+            if (stagingLock_ >= 0) staging_ = candidate;
         }
-        stagingLock_ = ::open(staging_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-        if (stagingLock_ < 0 || ::flock(stagingLock_, LOCK_EX | LOCK_NB) != 0)
-            fail(outDir_, fmt::format("cannot lock its staging folder ({})", std::strerror(errno)));
     }
     const fs::path path = staging_ / name;
     fs::create_directories(path.parent_path(), ec);
@@ -207,6 +230,7 @@ void StagedOutput::abandonAll() {
         // A file the run is writing at the same moment may appear during the removal: try again.
         std::error_code ec;
         for (int attempt = 0; attempt < 5 && fs::exists(output->staging_, ec); ++attempt) fs::remove_all(output->staging_, ec);
+        output->removeCreatedParents();
     }
     for (const StagedFile* file : fileRegistry) {
         std::error_code ec;

@@ -21,61 +21,102 @@ constexpr double kMinWeightSumRatio = 1e-3;
 // tables' shortest are above 1e-5 of theirs.)
 constexpr double kMinDirectionRatio = 1e-6;
 
-// The size of tap `tap`'s direction coefficients in `frame` of `level`: the sum of their terms' lengths.
-double directionScale(const TapTable& table, int level, int frame, int tap) {
-    double scale = 0.0;
-    for (int k = 0; k < coefficientCount(table.form); ++k) {
-        glm::dvec3 term;
-        for (int axis = 0; axis < 3; ++axis) term[axis] = table.levels[level].coefficients[table.offset(frame, tap, tapDirX + axis) + k];
-        scale += glm::length(term);
+// The shortest the direction c0 + a c1 + b c2 gets over the polynomial domain, (a, b) = (theta^2,
+// phi^2) in [0, 1]^2 (frame.h): its squared length is a convex quadratic in (a, b), least at its
+// stationary point when that lies inside the square, else on one of the square's edges.
+double shortestDirection(const glm::dvec3& c0, const glm::dvec3& c1, const glm::dvec3& c2) {
+    // Along the edge from q (t = 0) to q + e (t = 1).
+    const auto edge = [](const glm::dvec3& q, const glm::dvec3& e) {
+        const double ee = glm::dot(e, e);
+        const double t = ee > 0.0 ? std::clamp(-glm::dot(q, e) / ee, 0.0, 1.0) : 0.0;
+        return glm::length(q + t * e);
+    };
+    double shortest = std::min({edge(c0, c1), edge(c0 + c2, c1), edge(c0, c2), edge(c0 + c1, c2)});
+    const double g11 = glm::dot(c1, c1), g12 = glm::dot(c1, c2), g22 = glm::dot(c2, c2);
+    const double det = g11 * g22 - g12 * g12;
+    if (det > 0.0) {
+        const double r1 = -glm::dot(c0, c1), r2 = -glm::dot(c0, c2);
+        const double a = (r1 * g22 - r2 * g12) / det, b = (g11 * r2 - g12 * r1) / det;
+        if (a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0) shortest = std::min(shortest, glm::length(c0 + a * c1 + b * c2));
     }
-    return scale;
+    return shortest;
 }
 
-// Every output texel of level m, in each frame that counts there: each of the first `read` taps
-// (the GPU evaluates taps in groups of four, so a level's padding up to its group too) has a
-// direction that float rounding cannot cancel or turn, and the weights of the first `used`, frame
-// weights included as tableTaps gives them, sum to a positive fraction of their magnitude.
-void checkTexels(const TapTable& table, int m, int used, int read, std::string_view what) {
-    const int n = coefficientCount(table.form), size = table.baseSize >> m;
+// Tap `tap`'s direction coefficients in `frame` of `level`: their size (the sum of their terms'
+// lengths), and whether the direction stays above kMinDirectionRatio of it over the whole domain,
+// which spares the texels the check. (A fitted table's direction may pass through zero between
+// texel centres, where no texel reads it: those taps are checked texel by texel.)
+struct DirectionBound {
+    double scale = 0.0;
+    double shortest2 = 0.0; // (kMinDirectionRatio scale)^2, what a texel's squared length must pass
+    bool everywhere = false;
+};
+
+DirectionBound directionBound(const TapTable& table, int level, int frame, int tap) {
+    std::array<glm::dvec3, 3> terms{};
+    for (int k = 0; k < coefficientCount(table.form); ++k)
+        for (int axis = 0; axis < 3; ++axis)
+            terms[k][axis] = table.levels[level].coefficients[table.offset(frame, tap, tapDirX + axis) + k];
+    const double scale = glm::length(terms[0]) + glm::length(terms[1]) + glm::length(terms[2]);
+    const double shortest = kMinDirectionRatio * scale;
+    return {scale, shortest * shortest, shortestDirection(terms[0], terms[1], terms[2]) > shortest};
+}
+
+// What is wrong at output texel t of level m, in the frames that count there, or "": the weights of
+// the first `used` taps (frame weights included, as tableTaps gives them) must sum to a positive
+// fraction of their magnitude, and each of the first `read` taps (the GPU evaluates taps in groups
+// of four, so a level's padding up to its group too) needs a direction that float rounding cannot
+// cancel or turn.
+std::string texelProblem(const TapTable& table, int m, int used, int read, const std::vector<DirectionBound>& bounds, const Texel& t) {
+    const int n = coefficientCount(table.form);
     const std::vector<double>& c = table.levels[m].coefficients;
-    std::vector<double> scales;
+    const glm::dvec3 d = texelCubePoint(t, table.baseSize >> m);
+    std::array<FrameSetup, kFrameCount> frames;
+    double sum = 0.0, magnitude = 0.0;
+    for (int frame = 0; frame < kFrameCount; ++frame) {
+        frames[frame] = frameSetup(d, frame);
+        if (frames[frame].weight <= 0.0) continue;
+        for (int tap = 0; tap < used; ++tap) {
+            const double w = tapPolynomial(&c[table.offset(frame, tap, tapWeight)], n, frames[frame]) * frames[frame].weight;
+            sum += w;
+            magnitude += std::abs(w);
+        }
+    }
+    if (!(sum > kMinWeightSumRatio * magnitude))
+        return fmt::format("level {} at texel (face {}, {}, {}): the tap weights sum to {:.3g} (of magnitude {:.3g}); the filter needs "
+                           "a positive sum",
+                           m, t.face, t.i, t.j, sum, magnitude);
+    for (int frame = 0; frame < kFrameCount; ++frame) {
+        const FrameSetup& f = frames[frame];
+        if (f.weight <= 0.0) continue;
+        for (int tap = 0; tap < read; ++tap) {
+            const DirectionBound& bound = bounds[std::size_t(frame * read + tap)];
+            if (bound.everywhere) continue;
+            const glm::dvec3 p(tapPolynomial(&c[table.offset(frame, tap, tapDirX)], n, f),
+                               tapPolynomial(&c[table.offset(frame, tap, tapDirY)], n, f),
+                               tapPolynomial(&c[table.offset(frame, tap, tapDirZ)], n, f));
+            if (!(glm::dot(p, p) > bound.shortest2))
+                return fmt::format("level {} frame {} tap {} has no direction at texel (face {}, {}, {}) (its direction coefficients {})",
+                                   m, frame, tap, t.face, t.i, t.j, bound.scale == 0.0 ? "are all 0" : "cancel there");
+        }
+    }
+    return {};
+}
+
+// Every output texel of level m (texelProblem), rows in parallel; the first problem in texel order
+// is the one reported, whatever the threads' order.
+void checkTexels(const TapTable& table, int m, int used, int read, std::string_view what) {
+    std::vector<DirectionBound> bounds;
     for (int frame = 0; frame < kFrameCount; ++frame)
-        for (int tap = 0; tap < read; ++tap) scales.push_back(directionScale(table, m, frame, tap));
-    for (int face = 0; face < kFaceCount; ++face)
-        for (int j = 0; j < size; ++j)
-            for (int i = 0; i < size; ++i) {
-                const glm::dvec3 d = texelCubePoint({face, i, j}, size);
-                std::array<FrameSetup, kFrameCount> frames;
-                double sum = 0.0, magnitude = 0.0;
-                for (int frame = 0; frame < kFrameCount; ++frame) {
-                    frames[frame] = frameSetup(d, frame);
-                    if (frames[frame].weight <= 0.0) continue;
-                    for (int tap = 0; tap < used; ++tap) {
-                        const double w = tapPolynomial(&c[table.offset(frame, tap, tapWeight)], n, frames[frame]) * frames[frame].weight;
-                        sum += w;
-                        magnitude += std::abs(w);
-                    }
-                }
-                if (!(sum > kMinWeightSumRatio * magnitude))
-                    throw ProbeError(fmt::format("{}: level {} at texel (face {}, {}, {}): the tap weights sum to {:.3g} (of magnitude "
-                                                 "{:.3g}); the filter needs a positive sum",
-                                                 what, m, face, i, j, sum, magnitude));
-                for (int frame = 0; frame < kFrameCount; ++frame) {
-                    const FrameSetup& f = frames[frame];
-                    if (f.weight <= 0.0) continue;
-                    for (int tap = 0; tap < read; ++tap) {
-                        const glm::dvec3 p(tapPolynomial(&c[table.offset(frame, tap, tapDirX)], n, f),
-                                           tapPolynomial(&c[table.offset(frame, tap, tapDirY)], n, f),
-                                           tapPolynomial(&c[table.offset(frame, tap, tapDirZ)], n, f));
-                        const double scale = scales[std::size_t(frame * read + tap)];
-                        if (!(glm::length(p) > kMinDirectionRatio * scale))
-                            throw ProbeError(fmt::format("{}: level {} frame {} tap {} has no direction at texel (face {}, {}, {}) (its "
-                                                         "direction coefficients {})",
-                                                         what, m, frame, tap, face, i, j, scale == 0.0 ? "are all 0" : "cancel there"));
-                    }
-                }
-            }
+        for (int tap = 0; tap < read; ++tap) bounds.push_back(directionBound(table, m, frame, tap));
+    const int size = table.baseSize >> m, rows = kFaceCount * size;
+    std::vector<std::string> problems(static_cast<std::size_t>(rows));
+#pragma omp parallel for schedule(dynamic, 8)
+    for (int row = 0; row < rows; ++row)
+        for (int i = 0; i < size && problems[row].empty(); ++i)
+            problems[row] = texelProblem(table, m, used, read, bounds, {row / size, i, row % size});
+    for (const std::string& problem : problems)
+        if (!problem.empty()) throw ProbeError(fmt::format("{}: {}", what, problem));
 }
 
 } // namespace

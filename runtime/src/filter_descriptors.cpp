@@ -78,22 +78,24 @@ void FilterDescriptors::writeTexelBuffer(VkDescriptorSet set, FilterBinding bind
 
 void FilterDescriptors::writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler,
                                      VkImageLayout layout) const {
-    writeImage(set, binding, 0, {sampler, view, layout});
+    const VkDescriptorImageInfo info{sampler, view, layout};
+    writeImages(set, binding, {&info, 1});
 }
 
 void FilterDescriptors::writeMips(VkDescriptorSet set, std::span<const VkImageView> mips) const {
+    std::array<VkDescriptorImageInfo, kWrittenMipCount> infos{};
     for (uint32_t e = 0; e < kWrittenMipCount; ++e)
-        writeImage(set, kWrittenMips, e, {VK_NULL_HANDLE, mips[std::min<std::size_t>(e, mips.size() - 1)], VK_IMAGE_LAYOUT_GENERAL});
+        infos[e] = {VK_NULL_HANDLE, mips[std::min<std::size_t>(e, mips.size() - 1)], VK_IMAGE_LAYOUT_GENERAL};
+    writeImages(set, kWrittenMips, infos);
 }
 
-void FilterDescriptors::writeImage(VkDescriptorSet set, FilterBinding binding, uint32_t element, const VkDescriptorImageInfo& info) const {
+void FilterDescriptors::writeImages(VkDescriptorSet set, FilterBinding binding, std::span<const VkDescriptorImageInfo> infos) const {
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = set;
     write.dstBinding = binding;
-    write.dstArrayElement = element;
-    write.descriptorCount = 1;
+    write.descriptorCount = static_cast<uint32_t>(infos.size());
     write.descriptorType = kFilterBindings[binding].type;
-    write.pImageInfo = &info;
+    write.pImageInfo = infos.data();
     vkUpdateDescriptorSets(device_, 1, &write, 0, nullptr);
 }
 

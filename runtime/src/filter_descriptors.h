@@ -82,7 +82,8 @@ public:
     void bind(VkCommandBuffer commandBuffer, VkDescriptorSet set) const;
 
 private:
-    void writeImage(VkDescriptorSet set, FilterBinding binding, uint32_t element, const VkDescriptorImageInfo& info) const;
+    // The binding's elements from 0, one per info.
+    void writeImages(VkDescriptorSet set, FilterBinding binding, std::span<const VkDescriptorImageInfo> infos) const;
 
     VkDevice device_;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;

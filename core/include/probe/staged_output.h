@@ -45,6 +45,7 @@ public:
 private:
     void checkReplaceable() const;
     void removeStaleStaging() const;
+    void removeCreatedParents() const;
 
     std::filesystem::path outDir_;        // as given, for messages
     std::filesystem::path target_;        // absolute, symbolic links resolved
