@@ -2,7 +2,7 @@
 # Memory stays bounded by what one input needs: an 8192 x 4096 equirectangular probe converts with a
 # peak resident set under 2 GiB, and a scene of six 512^2 probes (no spheres) peaks within 48 MiB of
 # the same scene with two (the first warms the allocator), since `run` holds one probe's images at a
-# time (holding them all took 23 MiB more per probe).
+# time (holding them all adds the images of each probe, about 23 MiB at 512^2).
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

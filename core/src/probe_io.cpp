@@ -23,6 +23,7 @@
 #include "probe/error.h"
 #include "probe/input_file.h"
 #include "probe/limits.h"
+#include "probe/output_file.h"
 #include "probe/radiance_hdr.h"
 
 namespace fs = std::filesystem;
@@ -285,12 +286,7 @@ public:
     CheckedExrStream& operator=(const CheckedExrStream&) = delete;
 
     void write(const char c[], int n) override {
-        for (int done = 0; done < n && !error_;) {
-            const ssize_t written = ::write(fd_, c + done, static_cast<std::size_t>(n - done));
-            if (written < 0 && errno == EINTR) continue;
-            if (written <= 0) error_ = written == 0 ? ENOSPC : errno;
-            else done += static_cast<int>(written);
-        }
+        if (!error_) error_ = writeAll(fd_, std::string_view(c, static_cast<std::size_t>(n)));
         if (error_) throw std::runtime_error(std::strerror(error_));
     }
     uint64_t tellp() override { return fd_ < 0 ? 0 : static_cast<uint64_t>(::lseek(fd_, 0, SEEK_CUR)); }

@@ -17,8 +17,7 @@ namespace {
 // A weight sum below this fraction of the weights' magnitude is cancellation, not a filter.
 constexpr double kMinWeightSumRatio = 1e-3;
 // A tap direction shorter than this fraction of its coefficients' size has no direction: the GPU's
-// float rounding, a few 1e-7 of it, could turn it anywhere or cancel it to zero. (The committed
-// tables' shortest are above 1e-5 of theirs.)
+// float rounding, a few 1e-7 of it, could turn it anywhere or cancel it to zero.
 constexpr double kMinDirectionRatio = 1e-6;
 
 // The shortest the direction c0 + a c1 + b c2 gets over the polynomial domain, (a, b) = (theta^2,

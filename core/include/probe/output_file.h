@@ -12,4 +12,9 @@ namespace probe {
 // when any of it cannot be written, closing included (a buffered write's error can surface there).
 void writeFile(const std::filesystem::path& path, std::string_view bytes);
 
+// Writes all of `bytes` to the open file `fd`, through short and interrupted writes: 0, or the errno
+// of the failure (ENOSPC for a write that makes no progress). For writers that own their file, as an
+// EXR stream does.
+int writeAll(int fd, std::string_view bytes);
+
 } // namespace probe
