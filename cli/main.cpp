@@ -6,8 +6,8 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "interrupt.h"
 #include "probe/error.h"
+#include "probe/interrupt.h"
 
 namespace {
 
@@ -28,7 +28,7 @@ int refuse(const std::string& message) {
 } // namespace
 
 int main(int argc, char** argv) {
-    probefilter::removeStagingOnInterrupt();
+    probe::removeStagingOnInterrupt();
     CLI::App app{"probefilter: fast GGX filtering of reflection probes (Manson & Sloan 2016)"};
     app.require_subcommand(1);
     probefilter::addReferenceCommand(app);

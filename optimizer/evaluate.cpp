@@ -57,14 +57,8 @@ LevelEvaluation combine(const std::vector<WeightedTexel>& texels, const std::vec
 
 std::size_t symmetryClassCount(int size) { return symmetryClasses(allTexels(size), size).size(); }
 
-LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
-    const double alpha = tableLevelAlpha(table, level);
-    if (alpha <= 0.0) return {};
-    const int size = table.baseSize >> level;
-    const std::vector<WeightedTexel> texels = levelTexels(table, level, set);
-    const ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
-    const CubeGeometry geometry(table.baseSize);
-    const std::vector<const double*> blocks = levelBlocks(table, level);
+std::vector<OutputTexel> measuredTexels(const CubeGeometry& geometry, int level, double alpha, const std::vector<WeightedTexel>& texels) {
+    const int size = geometry.size >> level;
     // The kernels' normalizations, the one pass over every base texel: once per class, since the
     // base texels are symmetric too (probe::ReferenceLobe). The rest reads only where the taps reach.
     const std::vector<SymmetryKey> classes = symmetryClasses(texels, size);
@@ -72,17 +66,22 @@ LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t c = 0; c < classes.size(); ++c)
         normalizations[c] = ReferenceLobe(glm::dvec3(classes[c][0], classes[c][1], classes[c][2]), geometry, alpha).normalization();
-    std::vector<ImpulseModel::Result> results(texels.size());
-#pragma omp parallel
-    {
-        ImpulseModel::Workspace ws = model.workspace();
-#pragma omp for schedule(dynamic, 8)
-        for (std::size_t n = 0; n < texels.size(); ++n) {
-            const auto c = std::ranges::lower_bound(classes, symmetryKey(texels[n].texel, size)) - classes.begin();
-            results[n] = model.evaluate(blocks.data(), makeMeasuredTexel(texels[n], geometry, level, alpha, normalizations[c]), ws);
-        }
+    std::vector<OutputTexel> measured(texels.size());
+#pragma omp parallel for schedule(dynamic, 8)
+    for (std::size_t n = 0; n < texels.size(); ++n) {
+        const auto c = std::ranges::lower_bound(classes, symmetryKey(texels[n].texel, size)) - classes.begin();
+        measured[n] = makeMeasuredTexel(texels[n], geometry, level, alpha, normalizations[static_cast<std::size_t>(c)]);
     }
-    return combine(texels, results);
+    return measured;
+}
+
+LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
+    const double alpha = tableLevelAlpha(table, level);
+    if (alpha <= 0.0) return {};
+    const ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
+    const CubeGeometry geometry(table.baseSize);
+    return evaluatePrepared(model, levelBlocks(table, level).data(),
+                            measuredTexels(geometry, level, alpha, levelTexels(table, level, set)));
 }
 
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {

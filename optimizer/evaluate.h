@@ -28,6 +28,12 @@ LevelEvaluation evaluateLevel(const probe::TapTable& table, int level, TexelSet 
 // The number of those classes among all texels of a level of face size `size`.
 std::size_t symmetryClassCount(int size);
 
+// The texels of level `level` measured exactly: each with its reference lobe over every base texel
+// (probe::ReferenceLobe over `geometry`, the base's, which must outlive them), whose normalization is
+// computed once per class of symmetric texels.
+std::vector<OutputTexel> measuredTexels(const probe::CubeGeometry& geometry, int level, double alpha,
+                                        const std::vector<probe::WeightedTexel>& texels);
+
 // The same from prepared texels and coefficient blocks (what the fit uses).
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels);
 

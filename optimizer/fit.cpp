@@ -29,6 +29,24 @@ constexpr double kMinWeightSum = 0.25;
 constexpr double kPenalty = 10.0;
 // How far apart (in texels of the tap's pyramid level) the two halves of a split --init tap start.
 constexpr double kSplitSpread = 0.5;
+// The bank's starts are screened on every this many stratified texels.
+constexpr std::size_t kBankScreenStride = 8;
+
+// The level of `table` whose alpha is nearest alpha (by ratio, within a factor of 2); -1 if none.
+int nearestLevel(const TapTable& table, double alpha) {
+    int best = -1;
+    double bestDistance = std::log(2.0);
+    for (int m = 0; m < table.levelCount; ++m) {
+        const double a = tableLevelAlpha(table, m);
+        if (a <= 0.0) continue;
+        const double distance = std::abs(std::log(a / alpha));
+        if (distance <= bestDistance) {
+            best = m;
+            bestDistance = distance;
+        }
+    }
+    return best;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -261,6 +279,7 @@ std::string initDescription(const FitSettings& s) {
         text += fmt::format(", --init table {} {}x3{}", tableFormName(init.form), init.taps,
                             init.taps != s.taps ? fmt::format(" (taps split {} texels apart)", 2 * kSplitSpread) : "");
     if (!s.inits.empty()) text += "; an --init's exact filter is kept where the fit is not better";
+    if (!s.bank.empty()) text += fmt::format(", the nearest roughness among {} bank tables", s.bank.size());
     return text;
 }
 
@@ -342,19 +361,21 @@ SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObject
     return {summary.num_successful_steps, summary.total_time_in_seconds};
 }
 
-// What decides between the fit and an exact --init: the mean L1, plus the tail and checker terms
-// where they are on.
+// What decides between the fit and an exact --init: the exact mean L1 (over `judge`, the stratified
+// texels measured exactly), plus the tail and checker terms (over the fit's texels) where they are on.
 double fitScore(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels,
-                const CheckerTerm& checker) {
-    const LevelEvaluation e = evaluatePrepared(model, blocks, texels);
+                const std::vector<OutputTexel>& judge, const CheckerTerm& checker) {
+    const double l1 = evaluatePrepared(model, blocks, judge).error.mean;
+    const double tail = model.tailWeight() > 0.0 ? model.tailWeight() * evaluatePrepared(model, blocks, texels).tailMean : 0.0;
     const double c = checker.weight > 0.0 ? checker.weight * meanCheckerError(model, blocks, texels, checker) : 0.0;
-    return e.error.mean + model.tailWeight() * e.tailMean + c;
+    return l1 + tail + c;
 }
 
-// Records level m's L1 (stratified and, with `all`, over every texel) and lowest weight sum in the table.
-void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& texels, bool all) {
+// Records level m's exact L1 (over `judge`, the stratified texels measured exactly, and with `all` over
+// every texel) and lowest weight sum in the table.
+void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& judge, bool all) {
     TableLevel& level = table.levels[m];
-    const LevelEvaluation stratified = evaluatePrepared(model, levelBlocks(table, m).data(), texels);
+    const LevelEvaluation stratified = evaluatePrepared(model, levelBlocks(table, m).data(), judge);
     level.stratified = stratified.error;
     level.minWeightSum = stratified.minWeightSum;
     if (!all) return;
@@ -383,7 +404,8 @@ FitSolver parseFitSolver(const std::string& name) {
     throw ProbeError(fmt::format("'{}' is none of lm-bfgs, bfgs, lm", name));
 }
 
-TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress) {
+TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
+                  const std::function<void(const TapTable&)>& levelDone) {
     TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
@@ -409,6 +431,11 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     }
     if (settings.fresh && settings.fitLevels.empty())
         throw ProbeError("--fresh: needs --fit-levels (the --init supplies the other levels)");
+    if (const TapTable* r = settings.resume;
+        r && (r->baseSize != table.baseSize || r->levelCount != table.levelCount || r->taps != table.taps || r->form != table.form ||
+              r->mapping != table.mapping || !(r->pyramid == table.pyramid) || r->stratifiedBudget != table.stratifiedBudget ||
+              r->solver != table.solver))
+        throw ProbeError("--resume: the checkpoint was written by a fit of another shape or solver settings");
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     const MomentBasis basis(settings.baseSize, settings.pyramid);
@@ -416,6 +443,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         settings.checkerWeight > 0.0
             ? std::optional<MomentBasis>(std::in_place, settings.baseSize, settings.pyramid, MomentFunctions::checkers)
             : std::nullopt;
+    // The base's geometry, for the exact measure of the stratified texels where the fit measures cells.
+    const std::optional<CubeGeometry> geometry =
+        settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.baseSize) : std::nullopt;
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -424,15 +454,27 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             level.stratified = level.all = {};
             continue;
         }
+        if (settings.resume && settings.resume->levels[m].stratified.mean >= 0.0) {
+            level = settings.resume->levels[m];
+            if (progress) progress({m, 0, level.stratified.mean, secondsSince(start), "resumed"});
+            previous = m;
+            continue;
+        }
         const auto kernelStart = Clock::now();
-        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget),
-                                                              settings.baseSize, m, alpha, settings.tailWeight > 0.0);
+        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
+        const std::vector<OutputTexel> texels =
+            prepareTexels(stratified, settings.baseSize, m, alpha, settings.tailWeight > 0.0, settings.measure);
+        // What judges the level (its records, the kept --init): the exact L1, whatever the fit measures.
+        const std::vector<OutputTexel> measured =
+            settings.measure == Measure::cells ? measuredTexels(*geometry, m, alpha, stratified) : std::vector<OutputTexel>{};
+        const std::vector<OutputTexel>& judge = measured.empty() ? texels : measured;
         const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);
         if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
             startFromTable(table, m, settings.inits.front());
-            recordLevel(table, m, model, texels, settings.measureAll);
+            recordLevel(table, m, model, judge, settings.measureAll);
             if (progress) progress({m, 0, level.stratified.mean, secondsSince(start), "copied from --init"});
+            if (levelDone) levelDone(table);
             previous = m;
             continue;
         }
@@ -445,6 +487,27 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             warmStartFromLevel(table, m, previous);
             candidates.emplace_back(fmt::format("level {}", previous), level.coefficients);
         }
+        // The bank: each table's level of the nearest roughness (within a factor of 2 in alpha), screened
+        // on every 8th stratified texel; the best joins the candidates.
+        if (!settings.fresh && !settings.bank.empty()) {
+            std::vector<OutputTexel> screen;
+            for (std::size_t n = 0; n < texels.size(); n += kBankScreenStride) screen.push_back(texels[n]);
+            double bestBank = 1e300;
+            std::string bestName;
+            std::vector<double> bestBankCoefficients;
+            for (const FitSettings::BankTable& bank : settings.bank) {
+                const int from = nearestLevel(bank.table, alpha);
+                if (from < 0) continue;
+                startFromBank(table, m, bank.table, from);
+                const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), screen).error.mean;
+                if (l1 < bestBank) {
+                    bestBank = l1;
+                    bestName = fmt::format("bank {} level {}", bank.name, from);
+                    bestBankCoefficients = level.coefficients;
+                }
+            }
+            if (!bestBankCoefficients.empty()) candidates.emplace_back(bestName, bestBankCoefficients);
+        }
         // An init table whose filter this table can express exactly (same form, or const into quad)
         // is kept aside: the fit keeps it where it cannot beat it, so more taps (or the quadratic
         // form) are never worse. With N/2 taps the fit starts from its taps split and moved apart
@@ -456,7 +519,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
             startFromTable(table, m, init);
             if (init.form == settings.form || init.form == TableForm::constant) {
-                const double score = fitScore(model, levelBlocks(table, m).data(), texels, checker);
+                const double score = fitScore(model, levelBlocks(table, m).data(), texels, judge, checker);
                 if (progress) progress({m, 0, score, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
                 if (!fallback || score < fallback->first) fallback.emplace(score, level.coefficients);
             }
@@ -566,7 +629,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             }
         }
 
-        if (fallback && fitScore(model, constBlocks.data(), texels, checker) > fallback->first) {
+        if (fallback && fitScore(model, constBlocks.data(), texels, judge, checker) > fallback->first) {
             level.coefficients = fallback->second;
             if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
         }
@@ -574,7 +637,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         reportChecker("after the fit");
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));
-        recordLevel(table, m, model, texels, false);
+        recordLevel(table, m, model, judge, false);
         if (progress) {
             FitProgress done{m, report.iterations, level.stratified.mean, secondsSince(start), "done"};
             done.kernelSeconds = kernelSeconds;
@@ -584,9 +647,10 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             progress(done);
         }
         if (settings.measureAll) {
-            recordLevel(table, m, model, texels, true);
+            recordLevel(table, m, model, judge, true);
             if (progress) progress({m, 0, level.all.mean, secondsSince(start), "all texels"});
         }
+        if (levelDone) levelDone(table);
         previous = m;
     }
     table.fitSeconds = secondsSince(start);

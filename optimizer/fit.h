@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "impulse_model.h"
 #include "probe/tap_table.h"
 
 namespace probefit {
@@ -23,6 +24,9 @@ struct FitSettings {
     probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
     probe::PyramidSettings pyramid;
     int stratifiedBudget = 512; // texels per level
+    // The fit's L1: over cells (lobe_cells.h: its cost does not grow with the base size) or over
+    // every base texel. The table's records are exact either way.
+    Measure measure = Measure::cells;
     FitSolver solver = FitSolver::lmBfgs;
     int lmIterations = 20; // the Levenberg-Marquardt part of lm-bfgs (scaled like maxIterations)
     // Solver iterations for a level with the full budget of stratified texels; a level with fewer
@@ -49,6 +53,13 @@ struct FitSettings {
     int hops = 0;
     bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
+    // The bank (--bank): tables of any size, level count or mapping with the same taps and pyramid;
+    // each offers its level of the nearest roughness as a start (initial_layout.h's startFromBank).
+    struct BankTable {
+        std::string name;
+        probe::TapTable table;
+    };
+    std::vector<BankTable> bank;
     // Levels to fit (empty: all); the others are copied from the first init, which then must have the
     // table's taps and form, so one level can be refitted without paying for the rest.
     std::vector<int> fitLevels;
@@ -56,6 +67,9 @@ struct FitSettings {
     // filter: the inits only supply the levels not fitted. A refit that trades L1 for a stronger seam
     // or tail term needs it, since the init's filter, with its lower L1, would otherwise be kept.
     bool fresh = false;
+    // A table written by an interrupted fit of the same shape and solver (--resume): its measured
+    // levels are taken as they are, the others fitted.
+    const probe::TapTable* resume = nullptr;
 };
 
 struct FitProgress {
@@ -80,6 +94,8 @@ int levelIterations(const FitSettings& settings, int iterations, std::size_t tex
 FitSolver parseFitSolver(const std::string& name);
 
 // Fits every level with alpha > 0; deterministic for given settings. Throws ProbeError for bad settings.
-probe::TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress);
+// `levelDone` sees the table after each level is finished (for a checkpoint that --resume reads).
+probe::TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
+                         const std::function<void(const probe::TapTable&)>& levelDone = {});
 
 } // namespace probefit

@@ -64,7 +64,9 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const CubeGeometry geometry(settings.baseSize);
         const auto kernelStart = Clock::now();
         std::vector<OutputTexel> texels;
-        for (const WeightedTexel& t : timed) texels.push_back(makeOutputTexel(t, geometry, m, alpha));
+        for (const WeightedTexel& t : timed)
+            texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.baseSize, m, alpha)
+                                                                : makeOutputTexel(t, geometry, m, alpha));
         // The reference's checker moments are computed once per texel, like its kernel.
         std::vector<std::array<double, kMomentCount>> checkerReference;
         if (checkers) checkerReference = prepareCheckerTerm(texels, *checkers, settings.checkerWeight).reference;
@@ -75,12 +77,15 @@ FitEstimate estimateFit(const FitSettings& settings) {
             for (std::size_t n = 0; n < texels.size(); ++n)
                 checkerError(model, levelBlocks(table, m).data(), texels[n], checkerReference[n], *checkers, gradient.data());
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
-        // Measuring every texel: the model without its gradient, from the kernel's lobe (evaluate.h).
+        // Measuring exactly: the model without its gradient, from the kernel's lobe (evaluate.h), whose
+        // normalization is a pass over every base texel.
         std::vector<OutputTexel> measured;
+        const auto normalizationStart = Clock::now();
         for (std::size_t n = 0; n < timed.size(); ++n) {
             const double normalization = ReferenceLobe(texels[n].cubeVector, geometry, alpha).normalization();
             measured.push_back(makeMeasuredTexel(timed[n], geometry, m, alpha, normalization));
         }
+        const double normalization = secondsSince(normalizationStart) / static_cast<double>(timed.size());
         const auto measureStart = Clock::now();
         for (const OutputTexel& t : measured) model.evaluate(levelBlocks(table, m).data(), t, ws);
         const double perMeasured = secondsSince(measureStart) / static_cast<double>(timed.size());
@@ -88,8 +93,10 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = kernel * fitTexels;
         if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterations(settings, iterations, stratified.size());
-        if (settings.measureAll) // a kernel's pass per class of symmetric texels (evaluate.h), the model per texel
-            seconds += kernel * static_cast<double>(symmetryClassCount(settings.baseSize >> m)) +
+        if (settings.measure == Measure::cells) // the exact record of the stratified texels
+            seconds += (normalization + perMeasured) * fitTexels;
+        if (settings.measureAll) // a normalization per class of symmetric texels (evaluate.h), the model per texel
+            seconds += normalization * static_cast<double>(symmetryClassCount(settings.baseSize >> m)) +
                        perMeasured * static_cast<double>(texelCount(settings.baseSize >> m));
         estimate.levelSeconds.push_back(seconds / threads);
         estimate.seconds += seconds / threads;

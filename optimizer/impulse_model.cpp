@@ -59,9 +59,26 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     return t;
 }
 
-std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int baseSize, int level, double alpha, bool tail) {
-    const CubeGeometry geometry(baseSize);
+OutputTexel makeCellTexel(const WeightedTexel& texel, int baseSize, int level, double alpha, bool tail) {
+    const int size = baseSize >> level;
+    OutputTexel t = placedTexel(texel, size);
+    const glm::dvec3 R = glm::normalize(t.cubeVector);
+    LobeCells cells = lobeCells(R, baseSize, ggxLobe(R, alpha), tail ? tailRadius(size) : 0.0);
+    t.cells = std::move(cells.cells);
+    t.kernelTail = cells.kernelTail;
+    for (const LobeCell& c : t.cells) t.kernelSum += static_cast<double>(c.kernel);
+    return t;
+}
+
+std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int baseSize, int level, double alpha, bool tail,
+                                       Measure measure) {
     std::vector<OutputTexel> out(texels.size());
+    if (measure == Measure::cells) {
+#pragma omp parallel for schedule(dynamic, 4)
+        for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeCellTexel(texels[n], baseSize, level, alpha, tail);
+        return out;
+    }
+    const CubeGeometry geometry(baseSize);
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, alpha, tail);
     return out;
@@ -69,7 +86,26 @@ std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels,
 
 ImpulseModel::ImpulseModel(int baseSize, PyramidSettings pyramid, int taps, TableForm form, double tailWeight)
     : baseSize_(baseSize), pyramidLevels_(pyramidLevelCount(baseSize)), taps_(taps), form_(form), tailWeight_(tailWeight),
-      operators_(pyramidOperators(baseSize, pyramid)), dense_(operators_) {}
+      operators_(pyramidOperators(baseSize, pyramid)), dense_(operators_), spread_(responseSpread(baseSize, operators_)) {}
+
+std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vector<DownsampleOperator>& operators) {
+    const int levels = pyramidLevelCount(baseSize);
+    std::vector<std::array<double, 9>> spread(static_cast<std::size_t>(levels), std::array<double, 9>{0, 0, 0, 0, 1, 0, 0, 0, 0});
+    std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
+    for (int k = 1; k < levels && (baseSize >> k) >= 3; ++k) {
+        const int size = baseSize >> k, centre = size / 2, span = 1 << k;
+        for (int a = 0; a <= k; ++a) weights[static_cast<std::size_t>(a)].assign(texelCount(baseSize >> a), 0.0);
+        weights[static_cast<std::size_t>(k)][texelIndex({0, centre, centre}, size)] = 1.0;
+        pushBackToBase(operators, weights, k);
+        std::array<double, 9>& s = spread[static_cast<std::size_t>(k)];
+        s.fill(0.0);
+        for (int y = (centre - 1) * span; y < (centre + 2) * span; ++y)
+            for (int x = (centre - 1) * span; x < (centre + 2) * span; ++x)
+                s[static_cast<std::size_t>((y / span - centre + 1) * 3 + (x / span - centre + 1))] +=
+                    weights[0][texelIndex({0, x, y}, baseSize)];
+    }
+    return spread;
+}
 
 ImpulseModel::Workspace ImpulseModel::workspace() const {
     Workspace ws;
@@ -78,6 +114,9 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
         ws.adjoint.emplace_back(texelCount(baseSize_ >> k), 0.0);
         ws.stamp.emplace_back(texelCount(baseSize_ >> k), 0u);
         ws.touched.emplace_back();
+        ws.cellStamp.emplace_back(texelCount(baseSize_ >> k), 0u);
+        ws.cellSlot.emplace_back(texelCount(baseSize_ >> k), -1);
+        ws.route.emplace_back(texelCount(baseSize_ >> k), -1);
     }
     return ws;
 }
@@ -163,6 +202,11 @@ MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid, MomentFunctions 
 
 std::array<double, kMomentCount> kernelMoments(const OutputTexel& texel, const MomentBasis& basis) {
     std::array<double, kMomentCount> m{};
+    // Over cells, each cell's mass times the basis pulled up to its level (its mean there).
+    for (const LobeCell& c : texel.cells) {
+        const double* y = basis.at(c.level, c.index);
+        for (int j = 0; j < kMomentCount; ++j) m[j] += static_cast<double>(c.kernel) * y[j];
+    }
     for (std::size_t t = 0; t < texel.kernel.size(); ++t) {
         const double k = static_cast<double>(texel.kernel[t]);
         if (k == 0.0) continue;
@@ -271,6 +315,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     // else dense passes over every texel.
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
+        for (auto& s : ws.cellStamp) std::fill(s.begin(), s.end(), 0u);
         ws.generation = 1;
     }
     const std::uint32_t generation = ws.generation;
@@ -293,10 +338,12 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         }
     double reach = 0.0;
     for (int k = 0; k <= top; ++k) reach += 2.0 * std::ldexp(static_cast<double>(ws.touched[k].size()), 2 * k);
-    const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
+    const bool cells = !texel.cells.empty();
+    const bool dense = !cells && reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
     const TailTerm tail{texel.tail.empty() ? nullptr : texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
-    if (dense && texel.lobe) result.error = dense_.measure(operators_, ws.weights, top, *texel.lobe);
+    if (cells) result.error = measureCells(texel, ws, top, gradient != nullptr, &result.tail);
+    else if (dense && texel.lobe) result.error = dense_.measure(operators_, ws.weights, top, *texel.lobe);
     else if (dense)
         result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, gradient ? &ws.adjoint : nullptr, &result.tail);
     else {
@@ -332,7 +379,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         // d e / d c_p = G_p (the pulled-up slope, which the dense passes leave in ws.adjoint); c_p =
         // sum_i W_i b_ip / S, so d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip
         // and Ebar = sum_i W_i A_i / S.
-        if (!dense) // every row of a touched texel lies in the touched texels of the level below
+        if (!dense && !cells) // every row of a touched texel lies in the touched texels of the level below
             for (int k = 1; k <= top; ++k) {
                 const DownsampleOperator& op = operators_[k - 1];
                 const std::vector<double>& fine = ws.adjoint[k - 1];
@@ -361,10 +408,108 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         }
     }
     // Leave the weights zero for the next call (the dense passes do; the adjoint is only read where it was written).
-    if (!dense)
+    if (!dense || cells)
         for (int k = 0; k <= top; ++k)
             for (const std::uint32_t p : ws.touched[k]) ws.weights[k][p] = 0.0;
     return result;
+}
+
+double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const {
+    const std::uint32_t generation = ws.generation;
+    const std::vector<LobeCell>& cells = texel.cells;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        ws.cellStamp[cells[c].level][cells[c].index] = generation;
+        ws.cellSlot[cells[c].level][cells[c].index] = static_cast<std::int32_t>(c);
+    }
+    // The cell that holds texel (face, i, j) of level k: the texel itself or its nearest ancestor
+    // that is a cell; -1 where the cells there are finer than the texel.
+    auto cellAt = [&](int k, int face, int i, int j) {
+        for (int a = k, size = baseSize_ >> k; a < pyramidLevels_; ++a, i >>= 1, j >>= 1, size >>= 1) {
+            const std::size_t index = texelIndex({face, i, j}, size);
+            if (ws.cellStamp[a][index] == generation) return ws.cellSlot[a][index];
+        }
+        return std::int32_t{-1};
+    };
+    // Top down: a texel's weight spreads over the cells of its 3x3 neighbourhood (across face edges
+    // as the sampler steps) as its response spreads over their base texels (spread_), where all of
+    // them lie in cells of its level or coarser; else (finer cells near it, or a cube corner) it is
+    // pushed down to the level below.
+    ws.cellMass.assign(cells.size(), 0.0);
+    ws.spreads.clear();
+    for (int k = top; k >= 0; --k) {
+        const int size = baseSize_ >> k;
+        for (const std::uint32_t p : ws.touched[k]) {
+            const double v = ws.weights[k][p];
+            const int face = static_cast<int>(p / (static_cast<std::uint32_t>(size) * static_cast<std::uint32_t>(size)));
+            const int i = static_cast<int>(p) % size, j = static_cast<int>(p / static_cast<std::uint32_t>(size)) % size;
+            Spread spread;
+            if (k == 0) {
+                spread.cells[0] = cellAt(0, face, i, j);
+                spread.weights[0] = 1.0;
+                spread.count = 1;
+            } else if (size >= 3) {
+                const std::array<double, 9>& stencil = spread_[static_cast<std::size_t>(k)];
+                for (int n = 0; n < 9; ++n) {
+                    Texel neighbour;
+                    const bool exists = texelNeighbour({face, i, j}, n % 3 - 1, n / 3 - 1, size, neighbour);
+                    const std::int32_t cell = exists ? cellAt(k, neighbour.face, neighbour.i, neighbour.j) : -1;
+                    if (cell < 0) {
+                        spread.count = 0;
+                        break;
+                    }
+                    spread.cells[spread.count] = cell;
+                    spread.weights[spread.count++] = stencil[static_cast<std::size_t>(n)];
+                }
+            }
+            if (spread.count > 0) {
+                for (int n = 0; n < spread.count; ++n) ws.cellMass[static_cast<std::size_t>(spread.cells[n])] += spread.weights[n] * v;
+                ws.route[k][p] = static_cast<std::int32_t>(ws.spreads.size());
+                ws.spreads.push_back(spread);
+                continue;
+            }
+            ws.route[k][p] = -1;
+            const DownsampleOperator& op = operators_[k - 1];
+            for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n) {
+                const TexelWeight& entry = op.entries[n];
+                if (ws.stamp[k - 1][entry.index] != generation) {
+                    ws.stamp[k - 1][entry.index] = generation;
+                    ws.touched[k - 1].push_back(entry.index);
+                }
+                ws.weights[k - 1][entry.index] += entry.weight * v;
+            }
+        }
+    }
+    double error = 0.0, tailMass = 0.0;
+    ws.cellSlope.resize(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const double d = ws.cellMass[c] - static_cast<double>(cells[c].kernel);
+        error += std::abs(d);
+        ws.cellSlope[c] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
+        if (cells[c].tail) tailMass += ws.cellMass[c];
+    }
+    *tail = std::abs(tailMass - texel.kernelTail);
+    if (!adjoint) return error;
+    const TailTerm term{nullptr, texel.kernelTail, tailWeight_};
+    const double step = term.slope(tailMass);
+    for (std::size_t c = 0; c < cells.size(); ++c)
+        if (cells[c].tail) ws.cellSlope[c] += step;
+    // Bottom up: a texel's slope is its cells' (the transpose of its spread), or its row's pulled up
+    // from the level below.
+    for (int k = 0; k <= top; ++k)
+        for (const std::uint32_t p : ws.touched[k]) {
+            const std::int32_t route = ws.route[k][p];
+            double sum = 0.0;
+            if (route >= 0) {
+                const Spread& spread = ws.spreads[static_cast<std::size_t>(route)];
+                for (int n = 0; n < spread.count; ++n) sum += spread.weights[n] * ws.cellSlope[static_cast<std::size_t>(spread.cells[n])];
+            } else {
+                const DownsampleOperator& op = operators_[k - 1];
+                for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n)
+                    sum += op.entries[n].weight * ws.adjoint[k - 1][op.entries[n].index];
+            }
+            ws.adjoint[k][p] = sum;
+        }
+    return error;
 }
 
 std::vector<const double*> levelBlocks(const TapTable& table, int level) {

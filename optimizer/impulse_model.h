@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dense_passes.h"
+#include "lobe_cells.h"
 #include "probe/frame.h"
 #include "probe/pyramid.h"
 #include "probe/reference.h"
@@ -30,6 +31,8 @@ struct OutputTexel {
     std::vector<float> kernel;
     double kernelSum = 0.0; // sum of the kernel (1 up to float rounding)
     std::optional<probe::ReferenceLobe> lobe;
+    // Or over cells (lobe_cells.h): the fit's fast objective, whose cost does not grow with the base.
+    std::vector<LobeCell> cells;
     double kernelAt(std::uint32_t t) const { return lobe ? (*lobe)(t) : static_cast<double>(kernel[t]); }
     // The lobe's tail (tail_check.h), for the tail term only (empty without it): bit t set where
     // base texel t lies beyond the tail radius of the level from R, and the reference's mass there.
@@ -37,10 +40,16 @@ struct OutputTexel {
     double kernelTail = 0.0;
 };
 
+// How a fitted texel's reference is held: over every base texel (exact), or over cells (lobe_cells.h).
+enum class Measure { exact, cells };
+
 // One texel of output level m (alpha > 0), its kernel (and with `tail` its tail) included; `geometry`
 // is that of the base.
 OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
                             bool tail = false);
+
+// The same texel with its reference over cells.
+OutputTexel makeCellTexel(const probe::WeightedTexel& texel, int baseSize, int level, double alpha, bool tail = false);
 
 // The same texel with the kernel as a lobe of known normalization (probe::ReferenceLobe), for measuring.
 OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
@@ -48,7 +57,7 @@ OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::Cu
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
 std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha,
-                                       bool tail = false);
+                                       bool tail = false, Measure measure = Measure::exact);
 
 // Functions of the base texels whose moments the fit's terms compare, pulled up the pyramid: since a
 // moment is linear in the response, the moment of a weight on pyramid texel p is that weight times
@@ -72,6 +81,19 @@ private:
     std::vector<std::vector<double>> levels_; // per pyramid level, kMomentCount values per texel
 };
 
+// Where the response of a weight on one pyramid texel falls, as masses on the base texels under
+// it and its eight neighbours (row-major, the texel in the middle): its B-spline reaches past its
+// own square. Per level, measured at face 0's centre (the pyramid's weighting by solid angle makes it
+// vary a little over a face); level 0 and levels too small for it keep the texel's own square.
+std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vector<probe::DownsampleOperator>& operators);
+
+// A touched texel's share of its weight in each of up to 9 cells.
+struct Spread {
+    std::array<std::int32_t, 9> cells{};
+    std::array<double, 9> weights{};
+    int count = 0;
+};
+
 class ImpulseModel {
 public:
     // With tailWeight T > 0, the gradients evaluate() gives are those of e + T |W - K| (the tail term:
@@ -91,6 +113,12 @@ public:
         std::vector<std::vector<double>> weights, adjoint; // per pyramid level
         std::vector<std::vector<std::uint32_t>> touched, stamp;
         std::uint32_t generation = 0;
+        // The cells' pass: cellStamp marks the texels that are cells of this call, cellSlot names
+        // them, route holds where each touched texel's weight went (its cell, or -1: pushed down).
+        std::vector<std::vector<std::uint32_t>> cellStamp;
+        std::vector<std::vector<std::int32_t>> cellSlot, route;
+        std::vector<double> cellMass, cellSlope;
+        std::vector<Spread> spreads;
     };
     Workspace workspace() const;
 
@@ -117,6 +145,9 @@ private:
     template <int K>
     Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
                         double* weightSumGradient) const;
+    // The L1 over the texel's cells of the weights in ws (touched per level up to `top`), its tail
+    // mass error into *tail and, with `adjoint`, the slope pulled up into ws.adjoint.
+    double measureCells(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const;
     template <int K>
     void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments, const double* c,
                      double* gradient) const;
@@ -128,6 +159,7 @@ private:
     double tailWeight_;
     std::vector<probe::DownsampleOperator> operators_;
     DensePasses dense_;
+    std::vector<std::array<double, 9>> spread_; // responseSpread
 };
 
 // The reference's moments: sum_t k(R, t) Y_j(t) over the texel's kernel.

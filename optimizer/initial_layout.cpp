@@ -80,19 +80,25 @@ void hopLayout(TapTable& table, int level, double alpha, unsigned seed) {
         }
 }
 
-void warmStartFromLevel(TapTable& table, int level, int from) {
-    const double a = lobeAngle(tableLevelAlpha(table, level)), b = lobeAngle(tableLevelAlpha(table, from));
+void warmStartFromLevel(TapTable& table, int level, int from) { startFromBank(table, level, table, from); }
+
+void startFromBank(TapTable& table, int level, const TapTable& bank, int from) {
+    const double a = lobeAngle(tableLevelAlpha(table, level)), b = lobeAngle(tableLevelAlpha(bank, from));
     const double widen = std::tan(a) / std::tan(b);
-    const int k = coefficientCount(table.form);
-    table.levels[level].coefficients = table.levels[from].coefficients;
+    const double levelShift = std::log2(a / b) + std::log2(static_cast<double>(table.baseSize) / bank.baseSize);
+    const int k = coefficientCount(table.form), kBank = coefficientCount(bank.form);
+    const std::vector<double> source = bank.levels[from].coefficients; // bank may be table itself
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int t = 0; t < table.taps; ++t) {
+            const double* b0 = &source[bank.offset(frame, t)];
             double* c = &table.levels[level].coefficients[table.offset(frame, t)];
+            for (int p = 0; p < kTapParameterCount; ++p)
+                for (int q = 0; q < k; ++q) c[p * k + q] = q < kBank ? b0[p * kBank + q] : 0.0;
             for (int q = 0; q < k; ++q) {
                 c[tapDirX * k + q] *= widen;
                 c[tapDirY * k + q] *= widen;
             }
-            c[tapLevel * k] += std::log2(a / b);
+            c[tapLevel * k] += levelShift;
         }
 }
 

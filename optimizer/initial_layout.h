@@ -30,6 +30,11 @@ void hopLayout(probe::TapTable& table, int level, double alpha, unsigned seed);
 // ratio of the two lobes.
 void warmStartFromLevel(probe::TapTable& table, int level, int from);
 
+// Level `level` from level `from` of another table (any base size, level count or mapping; the same
+// taps, either form): directions widened and levels moved by the ratio of the two lobes, and levels
+// moved by the ratio of the base sizes, so that the taps cover the same angles.
+void startFromBank(probe::TapTable& table, int level, const probe::TapTable& bank, int from);
+
 // Level `level` from the same level of `init` (same base size; N or N/2 taps; either form). With
 // N/2 taps each tap is split into two. spread 0: at the same place with weights 0.6 and 0.4 of its
 // own, so the start filters exactly as `init` does. spread > 0: half the weight each, moved apart by

@@ -1,18 +1,25 @@
 // probefit: fits tap tables (Manson & Sloan) for a base face size, level count and tap count, and
 // evaluates tables. Bad input: one line naming the option or file, exit code 2, nothing written.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "evaluate.h"
 #include "fit.h"
 #include "fit_estimate.h"
+#include "initial_layout.h"
 #include "probe/error.h"
+#include "probe/interrupt.h"
 #include "probe/limits.h"
+#include "probe/output_file.h"
+#include "probe/staged_output.h"
 #include "probe/table_io.h"
 #include "seam_select.h"
 #include "table_mix.h"
@@ -33,36 +40,105 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
     }
 }
 
+// Counts a fit takes: bounded, so that no setting runs for years or overflows the estimate.
+constexpr int kMaxIterations = 100000;
+constexpr int kMaxStarts = 64;
+constexpr int kMaxHops = 64;
+constexpr int kMaxTexelBudget = 1 << 20;
+
+void checkCount(std::string_view option, int value, int lowest, int highest) {
+    if (value < lowest || value > highest)
+        throw ProbeError(fmt::format("{}: {} is not a count from {} to {}", option, value, lowest, highest));
+}
+
+probefit::Measure parseMeasure(const std::string& name) {
+    if (name == "cells") return probefit::Measure::cells;
+    if (name == "exact") return probefit::Measure::exact;
+    throw ProbeError(fmt::format("'{}' is neither cells nor exact", name));
+}
+
+// A level number or count: digits only (no sign, nothing empty), at most 3 of them.
+bool isLevelNumber(const std::string& text) {
+    return !text.empty() && text.size() <= 3 && text.find_first_not_of("0123456789") == std::string::npos;
+}
+
+int parseLevelCount(const std::string& text) {
+    if (!isLevelNumber(text)) throw ProbeError(fmt::format("'{}' is not a level count", text));
+    return std::stoi(text);
+}
+
+// A comma-separated list of level numbers, none empty.
+std::vector<int> parseLevelList(const std::string& text) {
+    std::vector<int> levels;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t end = std::min(text.find(',', start), text.size());
+        const std::string entry = text.substr(start, end - start);
+        if (!isLevelNumber(entry)) throw ProbeError(fmt::format("'{}' is not a comma-separated list of level numbers", text));
+        levels.push_back(std::stoi(entry));
+        if (end == text.size()) return levels;
+        start = end + 1;
+    }
+}
+
+// The committed tables: installed beside the executable (bin/../share/probefilter/tables), else the
+// source tree's.
+std::filesystem::path defaultBank() {
+    std::error_code error;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
+    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "probefilter" / "tables";
+    if (!error && std::filesystem::is_directory(installed, error)) return installed;
+    return PROBEFIT_BANK_DIR;
+}
+
+// The bank's tables with the fit's taps and pyramid, by name.
+std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder, const probefit::FitSettings& settings) {
+    std::vector<probefit::FitSettings::BankTable> bank;
+    if (folder == "none") return bank;
+    const std::filesystem::path path = folder.empty() ? defaultBank() : std::filesystem::path(folder);
+    std::error_code error;
+    if (!std::filesystem::is_directory(path, error)) throw ProbeError(fmt::format("--bank {}: not a folder", path.string()));
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(path, error))
+        if (entry.path().extension() == ".json" && entry.is_regular_file(error)) files.push_back(entry.path());
+    if (error) throw ProbeError(fmt::format("--bank {}: {}", path.string(), error.message()));
+    std::ranges::sort(files);
+    for (const std::filesystem::path& file : files) {
+        TapTable table = readTable(file.string());
+        if (table.taps == settings.taps && table.pyramid == settings.pyramid) bank.push_back({file.stem().string(), std::move(table)});
+    }
+    return bank;
+}
+
 int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping, const std::string& pyramid,
-           const std::string& weighting, const std::string& solver, const std::vector<std::string>& init, const std::string& out,
-           bool estimateOnly) {
+           const std::string& weighting, const std::string& solver, const std::string& measure, const std::optional<std::string>& fitLevels,
+           const std::vector<std::string>& init, const std::string& bank, const std::string& out, bool estimateOnly, bool resume) {
     settings.form = parseOption("--form", form, parseTableForm);
+    settings.measure = parseOption("--measure", measure, parseMeasure);
+    if (fitLevels) settings.fitLevels = parseOption("--fit-levels", *fitLevels, parseLevelList);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
     if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
         throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
-    if (settings.levelCount == 0) settings.levelCount = defaultLevelCount(settings.baseSize);
     if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
         throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount, settings.baseSize,
                                      maxLevelCount(settings.baseSize)));
     if (settings.taps < 4 || settings.taps % 4 != 0 || settings.taps > kMaxTaps)
         throw ProbeError(fmt::format("--taps: {} is not a multiple of 4 from 4 to {}", settings.taps, kMaxTaps));
-    if (settings.maxIterations < 1) throw ProbeError(fmt::format("--iterations: {} is not a positive count", settings.maxIterations));
-    if (settings.lmIterations < 0) throw ProbeError(fmt::format("--lm-iterations: {} is negative", settings.lmIterations));
-    if (settings.roughIterationFactor < 1)
-        throw ProbeError(fmt::format("--rough-factor: {} is not a positive factor", settings.roughIterationFactor));
+    checkCount("--iterations", settings.maxIterations, 1, kMaxIterations);
+    checkCount("--lm-iterations", settings.lmIterations, 0, kMaxIterations);
+    checkCount("--rough-factor", settings.roughIterationFactor, 1, 64);
     if (settings.seamWeight < 0.0 || !std::isfinite(settings.seamWeight))
         throw ProbeError(fmt::format("--seam-weight: {} is not a weight >= 0", settings.seamWeight));
     if (settings.tailWeight < 0.0 || !std::isfinite(settings.tailWeight))
         throw ProbeError(fmt::format("--tail-weight: {} is not a weight >= 0", settings.tailWeight));
     if (settings.checkerWeight < 0.0 || !std::isfinite(settings.checkerWeight))
         throw ProbeError(fmt::format("--checker-weight: {} is not a weight >= 0", settings.checkerWeight));
-    if (settings.starts < 1) throw ProbeError(fmt::format("--starts: {} is not a positive count", settings.starts));
-    if (settings.hops < 0) throw ProbeError(fmt::format("--hops: {} is negative", settings.hops));
-    if (settings.seamPairBudget < 1) throw ProbeError(fmt::format("--seam-pairs: {} is not a positive count", settings.seamPairBudget));
-    if (settings.stratifiedBudget < 24)
-        throw ProbeError(fmt::format("--texels: {} is fewer than the 24 corner texels", settings.stratifiedBudget));
+    checkCount("--starts", settings.starts, 1, kMaxStarts);
+    checkCount("--hops", settings.hops, 0, kMaxHops);
+    checkCount("--seam-pairs", settings.seamPairBudget, 1, kMaxTexelBudget);
+    checkCount("--texels", settings.stratifiedBudget, 24, kMaxTexelBudget);
     for (const std::string& path : init) {
         const TapTable& t = settings.inits.emplace_back(readTable(path));
         if (t.baseSize != settings.baseSize || t.levelCount != settings.levelCount ||
@@ -71,7 +147,14 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                                          "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
                                          path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount, settings.taps));
     }
+    settings.bank = readBank(bank, settings);
     if (!estimateOnly) probefit::checkWritable(out);
+    // After each level the table so far goes to PREFIX.resume.json, which --resume continues from.
+    const std::filesystem::path checkpointPath = out + ".resume.json";
+    std::optional<TapTable> checkpoint;
+    std::error_code error;
+    if (resume && !estimateOnly && std::filesystem::exists(checkpointPath, error)) checkpoint = readTable(checkpointPath);
+    settings.resume = checkpoint ? &*checkpoint : nullptr;
 
     fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
@@ -97,24 +180,43 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         if (stage.starts_with("checker term")) return "mean c";
         return stage.starts_with("objective") ? "f" : "L1";
     };
-    const TapTable table = probefit::fitTable(settings, [&](const probefit::FitProgress& p) {
-        if (p.stage == "iteration")
-            fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration, objective, p.l1, p.seconds);
-        else if (p.stage == "done") {
-            fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
-                       "evaluations, solver {:.1f} s)\n",
-                       p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations, p.solverSeconds);
-            kernels += p.kernelSeconds;
-            evaluation += p.evaluationSeconds;
-            solverOwn += p.solverSeconds;
-            evaluations += p.evaluations;
-        } else fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, quantityOf(p.stage), p.l1, p.seconds);
-        std::fflush(stdout);
-    });
+    // The checkpoint's unfinished levels hold a lobe layout (a valid filter), unmeasured.
+    auto writeCheckpoint = [&](const TapTable& fitted) {
+        TapTable snapshot = fitted;
+        for (int m = 0; m < snapshot.levelCount; ++m)
+            if (snapshot.levels[m].stratified.mean < 0.0 && tableLevelAlpha(snapshot, m) > 0.0)
+                probefit::lobeLayout(snapshot, m, tableLevelAlpha(snapshot, m));
+        StagedFile file(checkpointPath);
+        writeFile(file.path(), tableToJson(snapshot));
+        file.commit();
+    };
+    const TapTable table = probefit::fitTable(
+        settings,
+        [&](const probefit::FitProgress& p) {
+            if (p.stage == "iteration")
+                fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration, objective, p.l1, p.seconds);
+            else if (p.stage == "done") {
+                // Time left: the estimate of the levels to come, at the pace of the estimate so far.
+                double estimated = 0.0;
+                for (int m = 0; m <= p.level; ++m) estimated += estimate.levelSeconds[static_cast<std::size_t>(m)];
+                const double left = estimated > 0.0 ? (estimate.seconds - estimated) * p.seconds / estimated : 0.0;
+                fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
+                           "evaluations, solver {:.1f} s); about {:.0f} s left\n",
+                           p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations, p.solverSeconds,
+                           left);
+                kernels += p.kernelSeconds;
+                evaluation += p.evaluationSeconds;
+                solverOwn += p.solverSeconds;
+                evaluations += p.evaluations;
+            } else fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, quantityOf(p.stage), p.l1, p.seconds);
+            std::fflush(stdout);
+        },
+        writeCheckpoint);
     fmt::print("time: {:.1f} s in all; reference kernels {:.1f} s, model in the solver {:.1f} s ({} evaluations), "
                "solver's own work {:.1f} s, other (start candidates, measuring all texels) {:.1f} s\n",
                table.fitSeconds, kernels, evaluation, evaluations, solverOwn, table.fitSeconds - kernels - evaluation - solverOwn);
     probefit::writeTableOutputs(out, table);
+    std::filesystem::remove(checkpointPath, error);
     for (const std::string& line : tableSummary(table)) fmt::print("{}\n", line);
     fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", out);
     return 0;
@@ -208,13 +310,18 @@ int runMix(const std::vector<std::string>& paths, const std::string& out) {
 } // namespace
 
 int main(int argc, char** argv) {
+    // An interrupted fit writes no table and leaves no staging file.
+    probe::removeStagingOnInterrupt();
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
     app.require_subcommand(0, 1);
     probefit::FitSettings settings;
-    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", out;
+    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", measure = "cells", fitLevels,
+                      out;
+    std::string levels; // not given: the default for the size
+    std::string bank;   // not given: the committed tables
     std::vector<std::string> init;
     app.add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
-    app.add_option("--levels", settings.levelCount, "output levels M (default max(1, log2 S_0))");
+    CLI::Option* levelsOption = app.add_option("--levels", levels, "output levels M (default max(1, log2 S_0))");
     app.add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
     app.add_option("--form", form, "const or quad");
     app.add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
@@ -224,7 +331,14 @@ int main(int argc, char** argv) {
                    "table file to start from (same size and levels, N or N/2 taps; repeat for several); the fit "
                    "keeps its filter where it cannot beat it")
         ->allow_extra_args(false);
+    app.add_option("--bank", bank,
+                   "tables whose levels of the nearest roughness are starts (any size, level count or mapping; those with "
+                   "the fit's taps and pyramid are used); default: the committed tables; none: no bank");
     app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
+    app.add_option("--measure", measure,
+                   "the fit's L1: cells (base texels near the lobe centre, larger squares of them further away: a cost "
+                   "that hardly grows with the size) or exact (every base texel); the table's records are exact either way")
+        ->capture_default_str();
     app.add_option("--solver", solver, "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
     app.add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")->capture_default_str();
     app.add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")->capture_default_str();
@@ -255,15 +369,20 @@ int main(int argc, char** argv) {
                    "refits per level from the best fit with its taps moved at random (a step the gradient cannot take); "
                    "each is kept where the objective is lower")
         ->capture_default_str();
-    app.add_option("--fit-levels", settings.fitLevels,
-                   "fit only these levels (comma-separated); the others are copied from the first --init, which must "
-                   "have the table's taps and form")
-        ->delimiter(',');
+    CLI::Option* fitLevelsOption = app.add_option("--fit-levels", fitLevels,
+                                                  "fit only these levels (comma-separated); the others are copied from the "
+                                                  "first --init, which must have the table's taps and form");
     app.add_flag("--fresh", settings.fresh,
                  "the --fit-levels start from the lobe layout and the previous level alone and keep no --init's filter "
                  "(for a refit at a stronger seam or tail weight, which the init's lower L1 would otherwise keep out)");
     bool estimateOnly = false;
     app.add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
+    bool resume = false;
+    app.add_flag("--resume", resume,
+                 "continue from PREFIX.resume.json, which a fit of the same settings writes after each level (an "
+                 "interrupted fit leaves it; a finished one removes it)");
+    int jobs = 0;
+    app.add_option("--jobs", jobs, "threads (default: every core); the table is bit for bit the same for any count");
     app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
     app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
@@ -319,7 +438,14 @@ int main(int argc, char** argv) {
                                             {"--form", form.empty()},
                                             {"--out", out.empty() && !estimateOnly}})
             if (missing) throw ProbeError(fmt::format("{} is required", name));
-        return runFit(settings, form, mapping, pyramid, weighting, solver, init, out, estimateOnly);
+        if (jobs != 0) {
+            checkCount("--jobs", jobs, 1, 1024);
+            omp_set_num_threads(jobs);
+        }
+        settings.levelCount =
+            levelsOption->count() > 0 ? parseOption("--levels", levels, parseLevelCount) : defaultLevelCount(settings.baseSize);
+        const std::optional<std::string> fitLevelList = fitLevelsOption->count() > 0 ? std::optional(fitLevels) : std::nullopt;
+        return runFit(settings, form, mapping, pyramid, weighting, solver, measure, fitLevelList, init, bank, out, estimateOnly, resume);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {

@@ -1,13 +1,17 @@
 #include "table_outputs.h"
 
+#include <array>
 #include <cctype>
-#include <fstream>
+#include <memory>
 #include <vector>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "probe/error.h"
 #include "probe/output_file.h"
+#include "probe/staged_output.h"
 #include "probe/table_io.h"
 
 namespace probefit {
@@ -20,30 +24,40 @@ std::string tableIdentifier(const std::filesystem::path& prefix) {
     return name;
 }
 
+namespace {
+
+constexpr std::array<const char*, 3> kExtensions{".json", ".h", ".glsl"};
+
+} // namespace
+
 void checkWritable(const std::filesystem::path& prefix) {
-    const std::filesystem::path test = prefix.string() + ".json.partial";
-    std::ofstream out(test);
-    if (!out) throw probe::ProbeError(fmt::format("--out {}: folder does not exist or is not writable", prefix.string()));
-    out.close();
-    std::filesystem::remove(test);
+    const std::filesystem::path folder = prefix.has_parent_path() ? prefix.parent_path() : std::filesystem::path(".");
+    std::error_code error;
+    if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK | X_OK) != 0)
+        throw probe::ProbeError(fmt::format("--out {}: folder does not exist or is not writable", prefix.string()));
+    for (const char* extension : kExtensions) {
+        const std::filesystem::path file = prefix.string() + extension;
+        const std::filesystem::file_status status = std::filesystem::status(file, error);
+        if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+            throw probe::ProbeError(fmt::format("--out {}: {} exists and is not a file", prefix.string(), file.string()));
+    }
 }
 
 void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table) {
+    checkWritable(prefix);
     const std::string name = tableIdentifier(prefix);
-    const std::vector<std::pair<std::string, std::string>> files{
-        {".json", probe::tableToJson(table)}, {".h", probe::tableCppHeader(table, name)}, {".glsl", probe::tableGlslInclude(table, name)}};
-    std::vector<std::filesystem::path> written;
-    for (const auto& [extension, text] : files) {
-        const std::filesystem::path temporary = prefix.string() + extension + ".partial";
-        written.push_back(temporary);
-        try {
-            probe::writeFile(temporary, text);
-        } catch (const probe::ProbeError& e) {
-            for (const auto& p : written) std::filesystem::remove(p);
-            throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
+    const std::array<std::string, 3> texts{probe::tableToJson(table), probe::tableCppHeader(table, name),
+                                           probe::tableGlslInclude(table, name)};
+    std::vector<std::unique_ptr<probe::StagedFile>> staged;
+    try {
+        for (std::size_t k = 0; k < texts.size(); ++k) {
+            staged.push_back(std::make_unique<probe::StagedFile>(prefix.string() + kExtensions[k]));
+            probe::writeFile(staged.back()->path(), texts[k]);
         }
+        for (const auto& file : staged) file->commit();
+    } catch (const probe::ProbeError& e) {
+        throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
     }
-    for (std::size_t k = 0; k < files.size(); ++k) std::filesystem::rename(written[k], prefix.string() + files[k].first);
 }
 
 } // namespace probefit

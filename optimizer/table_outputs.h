@@ -11,10 +11,12 @@ namespace probefit {
 // The C identifier of the generated sources: the prefix's file name, other characters as '_'.
 std::string tableIdentifier(const std::filesystem::path& prefix);
 
-// Throws ProbeError (naming --out) unless files can be created beside the prefix; creates nothing.
+// Throws ProbeError (naming --out) unless the prefix's folder is writable and none of the three files
+// is something other than a file (a folder, a device); creates nothing.
 void checkWritable(const std::filesystem::path& prefix);
 
-// Writes the three files under temporary names first, then renames them, so that a failure leaves none.
+// Writes the three files as staged files (probe/staged_output.h: written beside, renamed over), so that
+// a failure or an interrupt (probe/interrupt.h) leaves none of them.
 void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table);
 
 } // namespace probefit

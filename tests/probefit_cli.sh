@@ -23,6 +23,34 @@ OMP_NUM_THREADS=1 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$
 cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/single.json") ||
     fail "the fit with 1 thread differs from the fit with the default threads"
 
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --jobs 1 --out "$work/jobs1" >/dev/null || fail "--jobs 1 fit"
+cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/jobs1.json") ||
+    fail "the fit with --jobs 1 differs from the fit with every core"
+
+# An interrupted fit writes no table and leaves its checkpoint; --resume takes the finished levels from
+# it and ends at the table of an uninterrupted fit.
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/cut" >"$work/cut.log" 2>&1 &
+fit_pid=$!
+for _ in $(seq 600); do grep -q '^level 1 all texels' "$work/cut.log" && break; sleep 0.05; done
+kill -INT $fit_pid
+wait $fit_pid
+code=$?
+[[ $code -eq 130 ]] || fail "SIGINT: exit $code, expected 130 (the signal)"
+compgen -G "$work/cut.json" >/dev/null || compgen -G "$work/cut.h" >/dev/null || compgen -G "$work/.cut*" >/dev/null &&
+    fail "SIGINT left a table or a staging file: $(ls -a "$work")"
+[[ -s $work/cut.resume.json ]] || fail "SIGINT: no checkpoint after level 1"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --resume --out "$work/cut" >"$work/resumed.log" ||
+    fail "--resume: exit $?"
+grep -q '^level 1 resumed' "$work/resumed.log" || fail "--resume did not take level 1: $(head -5 "$work/resumed.log")"
+[[ ! -e $work/cut.resume.json ]] || fail "--resume: the finished fit left its checkpoint"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/whole" >/dev/null || fail "uninterrupted fit"
+cmp -s <(grep -v fitSeconds "$work/cut.json") <(grep -v fitSeconds "$work/whole.json") ||
+    fail "the resumed fit differs from the uninterrupted one"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 100 --out "$work/other-cut" >/dev/null || fail "fit to copy"
+cp "$work/cut.json" "$work/other-cut.resume.json"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 100 --resume --out "$work/other-cut" 2>"$work/stderr" >/dev/null
+[[ $? -eq 2 ]] && grep -q -- '--resume' "$work/stderr" || fail "--resume from another fit's checkpoint: $(cat "$work/stderr")"
+
 # More taps are never worse: 8 taps from the 4-tap table (--init) reach at most its L1 at every level.
 "$PROBEFIT" --size 16 --levels 4 --taps 8 --form quad --init "$work/small.json" --iterations 10 --no-full-eval \
     --out "$work/eight" >/dev/null || fail "8-tap fit from --init"
@@ -37,8 +65,10 @@ awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(
 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --estimate >"$work/estimate.log" || fail "--estimate: exit $?"
 grep -q '^estimate: about [0-9]* s' "$work/estimate.log" || fail "--estimate: no estimate line: $(cat "$work/estimate.log")"
 # --starts 2 --screen-all fits each level from the best start and from an importance layout, and
-# keeps the lower objective (here the L1: no seam term, no --init).
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --screen-all --out "$work/two" \
+# keeps the lower objective (here the L1: no seam term, no --init; measured exactly, as the records
+# are, so that the objective and the record are one number).
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --screen-all --measure exact \
+    --out "$work/two" \
     >"$work/two.log" || fail "two starts"
 [[ $(grep -c '^level [1-3] objective after the fit from' "$work/two.log") -eq 6 ]] || fail "--starts 2: not two fits per level"
 awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2 in best) || f < best[$2]) best[$2] = f }
@@ -46,7 +76,7 @@ awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2
     "$work/two.log" || fail "--starts 2 did not keep the best fit: $(grep -E 'objective|done' "$work/two.log")"
 # Without --screen-all both starts run Levenberg-Marquardt, and only the lower goes on to BFGS, which
 # only lowers it.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --out "$work/screened" \
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --measure exact --out "$work/screened" \
     >"$work/screened.log" || fail "two screened starts"
 [[ $(grep -c '^level [1-3] objective after Levenberg-Marquardt from' "$work/screened.log") -eq 6 &&
     $(grep -c 'objective after the fit' "$work/screened.log") -eq 0 ]] || fail "--starts 2: not two screened starts per level"
@@ -57,7 +87,7 @@ awk '/objective after Levenberg-Marquardt from/ { f = $(NF - 2); if (!($2 in bes
 # objective: the level ends at or below the same fit without hops (one level, so both start alike).
 for hops in 0 2; do
     "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --hops $hops \
-        --out "$work/hops$hops" >"$work/hops$hops.log" || fail "--hops $hops"
+        --measure exact --out "$work/hops$hops" >"$work/hops$hops.log" || fail "--hops $hops"
 done
 [[ $(grep -c '^level 2 objective after hop [12]:' "$work/hops2.log") -eq 2 ]] || fail "--hops 2: not two hops"
 grep -q '; then 2 hops' "$work/hops2.json" || fail "--hops: not in the table's solver text"
@@ -132,7 +162,15 @@ fit() { echo --taps 4 --form quad --out "$work/out" "$@"; }
 expect_refused size-not-pow2   "--size"                 $(fit --size 12)
 expect_refused size-one        "--size"                 $(fit --size 1)
 expect_refused too-many-levels "--levels"               $(fit --size 16 --levels 6)
-expect_refused zero-levels     "--levels"               $(fit --size 16 --levels -1)
+expect_refused negative-levels "--levels"               $(fit --size 16 --levels -1)
+expect_refused zero-levels     "--levels"               $(fit --size 16 --levels 0)
+expect_refused empty-levels    "--levels"               $(fit --size 16 --levels '')
+expect_refused many-iterations "--iterations"           $(fit --size 16 --iterations 1000000000)
+expect_refused many-starts     "--starts"               $(fit --size 16 --starts 100000)
+expect_refused many-hops       "--hops"                 $(fit --size 16 --hops 100000)
+expect_refused measure         "--measure"              $(fit --size 16 --measure fast)
+expect_refused jobs            "--jobs"                 $(fit --size 16 --jobs -3)
+expect_refused bank            "--bank"                 $(fit --size 16 --bank "$work/no/such/folder")
 expect_refused taps            "--taps"                 --size 16 --taps 6 --form quad --out "$work/out"
 expect_refused form            "--form"                 --size 16 --taps 4 --form cubic --out "$work/out"
 expect_refused mapping         "--mapping"              $(fit --size 16 --mapping bogus)
@@ -155,6 +193,8 @@ expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-w
 expect_refused checker-weight  "--checker-weight"       $(fit --size 16 --checker-weight -2)
 expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
 expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
+expect_refused fit-levels-empty "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels '')
+expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 1,,2)
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"

@@ -1,4 +1,4 @@
-#include "interrupt.h"
+#include "probe/interrupt.h"
 
 #include <csignal>
 #include <cstdlib>
@@ -8,7 +8,7 @@
 
 #include "probe/staged_output.h"
 
-namespace probefilter {
+namespace probe {
 
 void removeStagingOnInterrupt() {
     sigset_t signals;
@@ -18,7 +18,7 @@ void removeStagingOnInterrupt() {
     std::thread([signals] {
         int received = 0;
         if (sigwait(&signals, &received) != 0) return;
-        probe::StagedOutput::abandonAll();
+        StagedOutput::abandonAll();
         // Die of the signal itself, so that the shell sees why.
         std::signal(received, SIG_DFL);
         sigset_t one;
@@ -30,4 +30,4 @@ void removeStagingOnInterrupt() {
     }).detach();
 }
 
-} // namespace probefilter
+} // namespace probe

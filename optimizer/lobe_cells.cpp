@@ -1,0 +1,102 @@
+#include "lobe_cells.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "probe/cube.h"
+#include "probe/ggx.h"
+#include "probe/pyramid.h"
+
+namespace probefit {
+
+using namespace probe;
+
+namespace {
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+
+class CellBuilder {
+public:
+    CellBuilder(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius)
+        : R_(R), baseSize_(baseSize), density_(density), tailRadius_(tailRadius) {}
+
+    // The cells under texel (face, i, j) of pyramid level `level`; `mass` > 0 turns the variation test on.
+    void split(int level, int face, int i, int j, double mass, std::vector<LobeCell>& out) const {
+        const int size = baseSize_ >> level;
+        const glm::dvec3 centre = texelDirection({face, i, j}, size);
+        const double theta = angleBetween(R_, centre);
+        double radius = 0.0, lowest = density_(centre), highest = lowest;
+        for (int c = 0; c < 4; ++c) {
+            const double u = 2.0 * (i + (c & 1)) / size - 1.0, v = 2.0 * (j + (c >> 1)) / size - 1.0;
+            const glm::dvec3 corner = glm::normalize(faceUvToCubePoint(face, u, v));
+            radius = std::max(radius, angleBetween(centre, corner));
+            if (mass > 0.0) {
+                const double k = density_(corner);
+                lowest = std::min(lowest, k);
+                highest = std::max(highest, k);
+            }
+        }
+        const bool far = theta - radius >= kCellDistance * radius;
+        const bool straddlesTail = tailRadius_ > 0.0 && std::abs(theta - tailRadius_) < radius;
+        const double variation = highest - lowest;
+        const bool smooth = mass <= 0.0 || variation <= kCellRelativeVariation * highest ||
+                            variation * texelSolidAngle(i, j, size) <= kCellVariation * mass;
+        if (level == 0 || (far && !straddlesTail && smooth)) {
+            out.push_back({static_cast<std::uint32_t>(texelIndex({face, i, j}, size)), static_cast<std::uint8_t>(level),
+                           tailRadius_ > 0.0 && theta > tailRadius_, static_cast<float>(cellMass(level, face, i, j))});
+            return;
+        }
+        for (int c = 0; c < 4; ++c) split(level - 1, face, 2 * i + (c & 1), 2 * j + (c >> 1), mass, out);
+    }
+
+private:
+    // The density times the exact solid angle, summed over the cell's base texels or, for larger
+    // cells, over its 4x4 sub-texels.
+    double cellMass(int level, int face, int i, int j) const {
+        const int sub = std::max(0, level - 2), size = baseSize_ >> sub, span = 1 << (level - sub);
+        double sum = 0.0;
+        for (int y = j * span; y < (j + 1) * span; ++y)
+            for (int x = i * span; x < (i + 1) * span; ++x)
+                sum += density_(texelDirection({face, x, y}, size)) * texelSolidAngle(x, y, size);
+        return sum;
+    }
+
+    glm::dvec3 R_;
+    int baseSize_;
+    const LobeDensity& density_;
+    double tailRadius_;
+};
+
+} // namespace
+
+LobeCells lobeCells(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius) {
+    const CellBuilder builder(R, baseSize, density, tailRadius);
+    const int top = pyramidLevelCount(baseSize) - 1;
+    // First by distance alone, for the lobe's whole mass; then again with the variation test.
+    LobeCells result;
+    for (int pass = 0; pass < 2; ++pass) {
+        double mass = 0.0;
+        for (const LobeCell& c : result.cells) mass += static_cast<double>(c.kernel);
+        result.cells.clear();
+        for (int face = 0; face < kFaceCount; ++face) builder.split(top, face, 0, 0, pass == 0 ? 0.0 : mass, result.cells);
+    }
+    double total = 0.0;
+    for (const LobeCell& c : result.cells) total += static_cast<double>(c.kernel);
+    for (LobeCell& c : result.cells) {
+        c.kernel = total > 0.0 ? static_cast<float>(static_cast<double>(c.kernel) / total) : 0.0f;
+        if (c.tail) result.kernelTail += static_cast<double>(c.kernel);
+    }
+    return result;
+}
+
+LobeDensity ggxLobe(const glm::dvec3& R, double alpha) {
+    const double alpha2 = alpha * alpha;
+    return [R, alpha2](const glm::dvec3& l) {
+        const glm::dvec3 d = R - l;
+        return ggxKernel(glm::dot(R, l), glm::dot(d, d), alpha2);
+    };
+}
+
+} // namespace probefit
