@@ -117,6 +117,8 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
         ws.cellStamp.emplace_back(texelCount(baseSize_ >> k), 0u);
         ws.cellSlot.emplace_back(texelCount(baseSize_ >> k), -1);
         ws.route.emplace_back(texelCount(baseSize_ >> k), -1);
+        ws.resolvedStamp.emplace_back(texelCount(baseSize_ >> k), 0u);
+        ws.resolved.emplace_back(texelCount(baseSize_ >> k), -1);
     }
     return ws;
 }
@@ -316,6 +318,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
         for (auto& s : ws.cellStamp) std::fill(s.begin(), s.end(), 0u);
+        for (auto& s : ws.resolvedStamp) std::fill(s.begin(), s.end(), 0u);
         ws.generation = 1;
     }
     const std::uint32_t generation = ws.generation;
@@ -422,13 +425,22 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int t
         ws.cellSlot[cells[c].level][cells[c].index] = static_cast<std::int32_t>(c);
     }
     // The cell that holds texel (face, i, j) of level k: the texel itself or its nearest ancestor
-    // that is a cell; -1 where the cells there are finer than the texel.
+    // that is a cell; -1 where the cells there are finer than the texel. Remembered for the call in
+    // resolved (a texel is the neighbour of eight others).
     auto cellAt = [&](int k, int face, int i, int j) {
+        const std::size_t at = texelIndex({face, i, j}, baseSize_ >> k);
+        if (ws.resolvedStamp[k][at] == generation) return ws.resolved[k][at];
+        std::int32_t cell = -1;
         for (int a = k, size = baseSize_ >> k; a < pyramidLevels_; ++a, i >>= 1, j >>= 1, size >>= 1) {
             const std::size_t index = texelIndex({face, i, j}, size);
-            if (ws.cellStamp[a][index] == generation) return ws.cellSlot[a][index];
+            if (ws.cellStamp[a][index] == generation) {
+                cell = ws.cellSlot[a][index];
+                break;
+            }
         }
-        return std::int32_t{-1};
+        ws.resolvedStamp[k][at] = generation;
+        ws.resolved[k][at] = cell;
+        return cell;
     };
     // Top down: a texel's weight spreads over the cells of its 3x3 neighbourhood (across face edges
     // as the sampler steps) as its response spreads over their base texels (spread_), where all of

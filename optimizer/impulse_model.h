@@ -72,6 +72,7 @@ enum class MomentFunctions { sh, checkers };
 class MomentBasis {
 public:
     MomentBasis(int baseSize, probe::PyramidSettings pyramid, MomentFunctions functions = MomentFunctions::sh);
+    MomentBasis() = default; // none: for a fit without the term that reads it
     const double* at(std::uint32_t texel) const { return at(0, texel); }
     const double* at(int level, std::uint32_t texel) const {
         return &levels_[static_cast<std::size_t>(level)][static_cast<std::size_t>(texel) * kMomentCount];
@@ -114,9 +115,10 @@ public:
         std::vector<std::vector<std::uint32_t>> touched, stamp;
         std::uint32_t generation = 0;
         // The cells' pass: cellStamp marks the texels that are cells of this call, cellSlot names
-        // them, route holds where each touched texel's weight went (its cell, or -1: pushed down).
-        std::vector<std::vector<std::uint32_t>> cellStamp;
-        std::vector<std::vector<std::int32_t>> cellSlot, route;
+        // them, resolved (where resolvedStamp is this call's) holds the cell a texel lies in, route
+        // where each touched texel's weight went (its spread, or -1: pushed down).
+        std::vector<std::vector<std::uint32_t>> cellStamp, resolvedStamp;
+        std::vector<std::vector<std::int32_t>> cellSlot, route, resolved;
         std::vector<double> cellMass, cellSlope;
         std::vector<Spread> spreads;
     };

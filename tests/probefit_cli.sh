@@ -204,6 +204,13 @@ expect_refused mix-count       "1 source tables for 4 output levels" mix "$work/
 expect_refused mix-unwritable  "--out" \
     mix "$work/small.json" "$work/small.json" "$work/small.json" "$work/small.json" --out "$work/no/such/dir/out"
 
+# A folder where PREFIX.h goes is refused before the fit, and nothing is written beside it.
+mkdir -p "$work/dir-out/t.h"
+"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/dir-out/t" >/dev/null 2>"$work/stderr"
+[[ $? -eq 2 && $(wc -l <"$work/stderr") -eq 1 ]] && grep -q 't.h exists and is not a file' "$work/stderr" ||
+    fail "a folder at PREFIX.h: $(cat "$work/stderr")"
+[[ $(find "$work/dir-out" -mindepth 1 | wc -l) -eq 1 ]] || fail "a folder at PREFIX.h: wrote $(ls -a "$work/dir-out")"
+
 # select from one table keeps it: the same coefficients and errors at every level.
 "$PROBEFIT" select "$work/small.json" --out "$work/kept" >"$work/select.log" || fail "select one table: exit $?"
 cmp -s <(grep -v '"solver"' "$work/small.json") <(grep -v '"solver"' "$work/kept.json") ||

@@ -8,8 +8,9 @@ namespace probe {
 
 // Output face size S_0: a 2048^2 cube of float RGB is 288 MiB per level.
 inline constexpr int kMaxFaceSize = 2048;
-// probefit's base face size: the fit keeps per-texel kernels of every level in memory.
-inline constexpr int kMaxFitFaceSize = 512;
+// probefit's base face size: a fit keeps the pyramid's operators and per-thread workspaces of every
+// level (about 2.3 GiB at 1024^2, docs/optimizer.md).
+inline constexpr int kMaxFitFaceSize = 1024;
 // Taps per frame in a tap table (committed tables use 4 to 32).
 inline constexpr int kMaxTaps = 64;
 // Tap table coefficients, in magnitude (fitted tables stay under 20): far from float32 overflow in the
