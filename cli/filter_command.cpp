@@ -61,9 +61,10 @@ bool looksLikeJson(const std::filesystem::path& path) {
 }
 
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
-    return fmt::format("probefit --size {} --levels {} --taps 8 --form quad --mapping {} --pyramid {} --weighting {} --out tables/<name>",
-                       s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(pyramid.kind),
-                       probe::pyramidWeightingName(pyramid.weighting));
+    return fmt::format(
+        "probefit fit --size {} --levels {} --taps 8 --form quad --mapping {} --pyramid {} --weighting {} --out tables/<name>", s.faceSize,
+        s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(pyramid.kind),
+        probe::pyramidWeightingName(pyramid.weighting));
 }
 
 // The table that --table names (a compiled-in table or a file), or else the compiled-in table for

@@ -17,7 +17,7 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
         if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}))
             return compiled->table;
         throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
-                                            "(probefit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
+                                            "(probefit fit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
                                             scene.path.string(), p.name, p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping),
                                             p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping)));
     }

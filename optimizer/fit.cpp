@@ -388,6 +388,227 @@ void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::v
     level.minWeightSum = std::min(level.minWeightSum, every.minWeightSum);
 }
 
+// What every level's fit shares.
+struct FitContext {
+    const FitSettings& settings;
+    const std::function<void(const FitProgress&)>& progress;
+    Clock::time_point start;
+    const ImpulseModel& model;
+    const MomentBasis& basis;
+
+    void report(int level, double value, std::string stage) const {
+        if (progress) progress({level, 0, value, secondsSince(start), std::move(stage)});
+    }
+};
+
+using Start = std::pair<std::string, std::vector<double>>;
+
+// One level's fit: its start, the solver runs from it (and from the other starts), the hops, the
+// --init kept aside, and the level's records.
+class LevelFit {
+public:
+    LevelFit(const FitContext& context, TapTable& table, int m, const std::vector<OutputTexel>& texels,
+             const std::vector<OutputTexel>& judge, const CheckerTerm& checker)
+        : context_(context), settings_(context.settings), model_(context.model), table_(table), m_(m), alpha_(tableLevelAlpha(table, m)),
+          level_(table.levels[m]), texels_(texels), judge_(judge), checker_(checker), blocks_(levelBlocks(table, m)) {}
+
+    // previous: the level fitted before this one (-1: none); kernelSeconds: what preparing the texels took.
+    void run(int previous, double kernelSeconds) {
+        const std::vector<Start> starts = startsFrom(bestCandidate(previous));
+        pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.baseSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
+                                            : std::vector<SeamPair>{};
+        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
+        // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
+        // full and the lowest objective is kept).
+        const bool screen = screensStarts(settings_);
+        double bestObjective = 1e300;
+        std::vector<double> fitted;
+        for (const auto& [name, coefficients] : starts) {
+            level_.coefficients = coefficients;
+            const double value = solve(true, !screen, starts.size() > 1);
+            if (starts.size() > 1)
+                context_.report(m_, value, fmt::format("objective after {} from {}", screen ? "Levenberg-Marquardt" : "the fit", name));
+            if (value < bestObjective || fitted.empty()) {
+                bestObjective = value;
+                fitted = level_.coefficients;
+            }
+        }
+        level_.coefficients = fitted;
+        if (screen) solve(false, true, false);
+        hop();
+        if (fallback_ && fitScore(model_, blocks_.data(), texels_, judge_, checker_) > fallback_->first) {
+            level_.coefficients = fallback_->second;
+            context_.report(m_, fallback_->first, "kept the exact --init");
+        }
+        reportTerms("after the fit");
+        // Weights only matter relative to each other: scale them so the mean weight sum is 1.
+        scaleWeights(table_, m_, 1.0 / weightedMeanWeightSum(model_, blocks_.data(), texels_));
+        recordLevel(table_, m_, model_, judge_, false);
+        if (context_.progress) {
+            FitProgress done{m_, report_.iterations, level_.stratified.mean, secondsSince(context_.start), "done"};
+            done.kernelSeconds = kernelSeconds;
+            done.evaluationSeconds = modelSeconds_;
+            done.solverSeconds = std::max(0.0, report_.solverSeconds - modelSeconds_);
+            done.evaluations = evaluations_;
+            context_.progress(done);
+        }
+        if (settings_.measureAll) {
+            recordLevel(table_, m_, model_, judge_, true);
+            context_.report(m_, level_.all.mean, "all texels");
+        }
+    }
+
+private:
+    double l1() const { return evaluatePrepared(model_, blocks_.data(), texels_).error.mean; }
+
+    // The candidate with the lowest L1 among the lobe layout, the previous level, the bank and the
+    // --init tables; an --init the table can express exactly is also kept aside (fallback_).
+    std::vector<double> bestCandidate(int previous) {
+        std::vector<Start> candidates;
+        lobeLayout(table_, m_, alpha_);
+        candidates.emplace_back("lobe layout", level_.coefficients);
+        if (previous >= 0) {
+            warmStartFromLevel(table_, m_, previous);
+            candidates.emplace_back(fmt::format("level {}", previous), level_.coefficients);
+        }
+        if (!settings_.fresh && !settings_.bank.empty()) addBankCandidate(candidates);
+        // An init table whose filter this table can express exactly (same form, or const into quad)
+        // is kept aside: the fit keeps it where it cannot beat it, so more taps (or the quadratic
+        // form) are never worse. With N/2 taps the fit starts from its taps split and moved apart
+        // (the exact split sits at the init's stationary point). With --fresh they take no part.
+        const std::size_t startInits = settings_.fresh ? 0 : settings_.inits.size();
+        for (std::size_t i = 0; i < startInits; ++i) {
+            const TapTable& init = settings_.inits[i];
+            const std::string name = settings_.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
+            startFromTable(table_, m_, init);
+            if (init.form == settings_.form || init.form == TableForm::constant) {
+                const double score = fitScore(model_, blocks_.data(), texels_, judge_, checker_);
+                context_.report(m_, score, fmt::format("start {} (exact, kept aside)", name));
+                if (!fallback_ || score < fallback_->first) fallback_.emplace(score, level_.coefficients);
+            }
+            if (init.taps != settings_.taps) startFromTable(table_, m_, init, kSplitSpread);
+            candidates.emplace_back(name, level_.coefficients);
+        }
+        double best = 1e300;
+        std::vector<double> bestCoefficients;
+        for (auto& [name, coefficients] : candidates) {
+            level_.coefficients = coefficients;
+            const double value = l1();
+            context_.report(m_, value, "start " + name);
+            if (value < best) {
+                best = value;
+                bestCoefficients = coefficients;
+            }
+        }
+        return bestCoefficients;
+    }
+
+    // The bank: each table's level of the nearest roughness (within a factor of 2 in alpha), screened
+    // on every 8th stratified texel; the best joins the candidates.
+    void addBankCandidate(std::vector<Start>& candidates) {
+        std::vector<OutputTexel> screen;
+        for (std::size_t n = 0; n < texels_.size(); n += kBankScreenStride) screen.push_back(texels_[n]);
+        double best = 1e300;
+        Start chosen;
+        for (const FitSettings::BankTable& bank : settings_.bank) {
+            const int from = nearestLevel(bank.table, alpha_);
+            if (from < 0) continue;
+            startFromBank(table_, m_, bank.table, from);
+            const double value = evaluatePrepared(model_, blocks_.data(), screen).error.mean;
+            if (value < best) {
+                best = value;
+                chosen = {fmt::format("bank {} level {}", bank.name, from), level_.coefficients};
+            }
+        }
+        if (!chosen.second.empty()) candidates.push_back(std::move(chosen));
+    }
+
+    // The best candidate and, with --starts K > 1, K - 1 importance layouts (turned apart about the axis).
+    std::vector<Start> startsFrom(const std::vector<double>& best) {
+        std::vector<Start> starts{{"best start", best}};
+        for (int k = 0; k + 1 < settings_.starts; ++k) {
+            const double rotation = 2.0 * std::numbers::pi * k / ((settings_.starts - 1) * settings_.taps);
+            importanceLayout(table_, m_, alpha_, rotation);
+            const std::string name = fmt::format("importance layout {}", k + 1);
+            context_.report(m_, l1(), "start " + name);
+            starts.emplace_back(name, level_.coefficients);
+        }
+        return starts;
+    }
+
+    // Hops: refits from the best fit so far, moved at random; a hop that lowers the objective is kept.
+    void hop() {
+        if (settings_.hops <= 0) return;
+        double current = solve(false, false, true);
+        for (int k = 0; k < settings_.hops; ++k) {
+            const std::vector<double> kept = level_.coefficients;
+            hopLayout(table_, m_, alpha_, static_cast<unsigned>(1000 * m_ + k));
+            const double value = solve(true, true, true);
+            context_.report(m_, value, fmt::format("objective after hop {}", k + 1));
+            if (value < current) current = value;
+            else level_.coefficients = kept;
+        }
+    }
+
+    // Runs the Levenberg-Marquardt part (lm) and the BFGS part (bfgs) of the solver from the level's
+    // coefficients; returns the objective at the end where `compare` (one more evaluation).
+    double solve(bool lm, bool bfgs, bool compare) {
+        const LevelObjective objective(model_, texels_, weightedMeanWeightSum(model_, blocks_.data(), texels_), pairs_, context_.basis,
+                                       settings_.seamWeight, checker_);
+        reportTerms("at the start");
+        if (lm && settings_.solver != FitSolver::bfgs) {
+            ProgressCallback callback(context_.progress, m_, context_.start, 2.0);
+            std::vector<double*> blocks;
+            for (const double* b : blocks_) blocks.push_back(const_cast<double*>(b));
+            const int iterations = settings_.solver == FitSolver::lm ? settings_.maxIterations : settings_.lmIterations;
+            add(solveLevenbergMarquardt(model_, objective, blocks, levelIterations(settings_, iterations, texels_.size()), callback));
+        }
+        if (bfgs && settings_.solver != FitSolver::lm) {
+            ProgressCallback callback(context_.progress, m_, context_.start, 1.0);
+            add(solveBfgs(model_, objective, level_.coefficients.data(),
+                          levelIterations(settings_, settings_.maxIterations, texels_.size()), callback));
+        }
+        const double value = compare ? objective.value(blocks_.data()) : 0.0;
+        modelSeconds_ += objective.seconds();
+        evaluations_ += objective.evaluations();
+        return value;
+    }
+
+    void add(const SolveReport& r) {
+        report_.iterations += r.iterations;
+        report_.solverSeconds += r.solverSeconds;
+    }
+
+    // The seam and checker terms' means, where they are on.
+    void reportTerms(const char* when) const {
+        if (!pairs_.empty() && context_.progress) {
+            std::vector<double> scratch;
+            double sum = 0.0;
+            for (const SeamPair& pair : pairs_) sum += seamError(model_, blocks_.data(), pair, context_.basis, nullptr, scratch);
+            context_.report(m_, sum / static_cast<double>(pairs_.size()), fmt::format("seam term {}", when));
+        }
+        if (checker_.weight > 0.0 && context_.progress)
+            context_.report(m_, meanCheckerError(model_, blocks_.data(), texels_, checker_), fmt::format("checker term {}", when));
+    }
+
+    const FitContext& context_;
+    const FitSettings& settings_;
+    const ImpulseModel& model_;
+    TapTable& table_;
+    int m_;
+    double alpha_;
+    TableLevel& level_;
+    const std::vector<OutputTexel>& texels_;
+    const std::vector<OutputTexel>& judge_;
+    const CheckerTerm& checker_;
+    const std::vector<const double*> blocks_; // into level_.coefficients, whose storage stays put
+    std::vector<SeamPair> pairs_;
+    std::optional<std::pair<double, std::vector<double>>> fallback_;
+    SolveReport report_;
+    double modelSeconds_ = 0.0;
+    int evaluations_ = 0;
+};
+
 } // namespace
 
 bool screensStarts(const FitSettings& settings) {
@@ -451,6 +672,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     // The base's geometry, for the exact measure of the stratified texels where the fit measures cells.
     const std::optional<CubeGeometry> geometry =
         settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.baseSize) : std::nullopt;
+    const FitContext context{settings, progress, start, model, basis};
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -461,7 +683,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         }
         if (settings.resume && settings.resume->levels[m].stratified.mean >= 0.0) {
             level = settings.resume->levels[m];
-            if (progress) progress({m, 0, level.stratified.mean, secondsSince(start), "resumed"});
+            context.report(m, level.stratified.mean, "resumed");
             previous = m;
             continue;
         }
@@ -478,182 +700,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
             startFromTable(table, m, settings.inits.front());
             recordLevel(table, m, model, judge, settings.measureAll);
-            if (progress) progress({m, 0, level.stratified.mean, secondsSince(start), "copied from --init"});
-            if (levelDone) levelDone(table);
-            previous = m;
-            continue;
-        }
-
-        // Starting candidates; keep the one with the lowest L1.
-        std::vector<std::pair<std::string, std::vector<double>>> candidates;
-        lobeLayout(table, m, alpha);
-        candidates.emplace_back("lobe layout", level.coefficients);
-        if (previous >= 0) {
-            warmStartFromLevel(table, m, previous);
-            candidates.emplace_back(fmt::format("level {}", previous), level.coefficients);
-        }
-        // The bank: each table's level of the nearest roughness (within a factor of 2 in alpha), screened
-        // on every 8th stratified texel; the best joins the candidates.
-        if (!settings.fresh && !settings.bank.empty()) {
-            std::vector<OutputTexel> screen;
-            for (std::size_t n = 0; n < texels.size(); n += kBankScreenStride) screen.push_back(texels[n]);
-            double bestBank = 1e300;
-            std::string bestName;
-            std::vector<double> bestBankCoefficients;
-            for (const FitSettings::BankTable& bank : settings.bank) {
-                const int from = nearestLevel(bank.table, alpha);
-                if (from < 0) continue;
-                startFromBank(table, m, bank.table, from);
-                const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), screen).error.mean;
-                if (l1 < bestBank) {
-                    bestBank = l1;
-                    bestName = fmt::format("bank {} level {}", bank.name, from);
-                    bestBankCoefficients = level.coefficients;
-                }
-            }
-            if (!bestBankCoefficients.empty()) candidates.emplace_back(bestName, bestBankCoefficients);
-        }
-        // An init table whose filter this table can express exactly (same form, or const into quad)
-        // is kept aside: the fit keeps it where it cannot beat it, so more taps (or the quadratic
-        // form) are never worse. With N/2 taps the fit starts from its taps split and moved apart
-        // (the exact split sits at the init's stationary point). With --fresh they take no part.
-        std::optional<std::pair<double, std::vector<double>>> fallback;
-        const std::size_t startInits = settings.fresh ? 0 : settings.inits.size();
-        for (std::size_t i = 0; i < startInits; ++i) {
-            const TapTable& init = settings.inits[i];
-            const std::string name = settings.inits.size() > 1 ? fmt::format("--init {}", i + 1) : "--init";
-            startFromTable(table, m, init);
-            if (init.form == settings.form || init.form == TableForm::constant) {
-                const double score = fitScore(model, levelBlocks(table, m).data(), texels, judge, checker);
-                if (progress) progress({m, 0, score, secondsSince(start), fmt::format("start {} (exact, kept aside)", name)});
-                if (!fallback || score < fallback->first) fallback.emplace(score, level.coefficients);
-            }
-            if (init.taps != settings.taps) startFromTable(table, m, init, kSplitSpread);
-            candidates.emplace_back(name, level.coefficients);
-        }
-        double best = 1e300;
-        std::vector<double> bestCoefficients;
-        for (auto& [name, coefficients] : candidates) {
-            level.coefficients = coefficients;
-            const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean;
-            if (progress) progress({m, 0, l1, secondsSince(start), "start " + name});
-            if (l1 < best) {
-                best = l1;
-                bestCoefficients = coefficients;
-            }
-        }
-        // The fit runs from the best candidate and, with --starts K > 1, also from K - 1 importance
-        // layouts (turned apart about the axis); the lowest objective is kept.
-        std::vector<std::pair<std::string, std::vector<double>>> starts{{"best start", bestCoefficients}};
-        for (int k = 0; k + 1 < settings.starts; ++k) {
-            const double rotation = 2.0 * std::numbers::pi * k / ((settings.starts - 1) * settings.taps);
-            importanceLayout(table, m, alpha, rotation);
-            const double l1 = evaluatePrepared(model, levelBlocks(table, m).data(), texels).error.mean;
-            const std::string name = fmt::format("importance layout {}", k + 1);
-            if (progress) progress({m, 0, l1, secondsSince(start), "start " + name});
-            starts.emplace_back(name, level.coefficients);
-        }
-
-        const std::vector<const double*> constBlocks = levelBlocks(table, m);
-        const std::vector<SeamPair> pairs = settings.seamWeight > 0.0
-                                                ? prepareSeamPairs(settings.baseSize, m, alpha, settings.seamPairBudget, basis)
-                                                : std::vector<SeamPair>{};
-        auto reportSeam = [&](const char* when) {
-            if (pairs.empty() || !progress) return;
-            std::vector<double> scratch;
-            double sum = 0.0;
-            for (const SeamPair& pair : pairs) sum += seamError(model, constBlocks.data(), pair, basis, nullptr, scratch);
-            progress({m, 0, sum / static_cast<double>(pairs.size()), secondsSince(start), fmt::format("seam term {}", when)});
-        };
-        auto reportChecker = [&](const char* when) {
-            if (checker.weight > 0.0 && progress)
-                progress({m, 0, meanCheckerError(model, constBlocks.data(), texels, checker), secondsSince(start),
-                          fmt::format("checker term {}", when)});
-        };
-        SolveReport report;
-        double modelSeconds = 0.0;
-        int evaluations = 0;
-        // Runs the Levenberg-Marquardt part (lm) and the BFGS part (bfgs) of the solver from
-        // level.coefficients; returns the objective at the end where `compare` (one more evaluation).
-        auto solve = [&](bool lm, bool bfgs, bool compare) {
-            const LevelObjective objective(model, texels, weightedMeanWeightSum(model, constBlocks.data(), texels), pairs, basis,
-                                           settings.seamWeight, checker);
-            reportSeam("at the start");
-            reportChecker("at the start");
-            if (lm && settings.solver != FitSolver::bfgs) {
-                ProgressCallback callback(progress, m, start, 2.0);
-                std::vector<double*> blocks;
-                for (const double* b : constBlocks) blocks.push_back(const_cast<double*>(b));
-                const int iterations = settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations;
-                const SolveReport r =
-                    solveLevenbergMarquardt(model, objective, blocks, levelIterations(settings, iterations, texels.size()), callback);
-                report.iterations += r.iterations;
-                report.solverSeconds += r.solverSeconds;
-            }
-            if (bfgs && settings.solver != FitSolver::lm) {
-                ProgressCallback callback(progress, m, start, 1.0);
-                const SolveReport r = solveBfgs(model, objective, level.coefficients.data(),
-                                                levelIterations(settings, settings.maxIterations, texels.size()), callback);
-                report.iterations += r.iterations;
-                report.solverSeconds += r.solverSeconds;
-            }
-            const double value = compare ? objective.value(constBlocks.data()) : 0.0;
-            modelSeconds += objective.seconds();
-            evaluations += objective.evaluations();
-            return value;
-        };
-        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
-        // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
-        // full and the lowest objective is kept).
-        const bool screen = screensStarts(settings);
-        double bestObjective = 1e300;
-        std::vector<double> fitted;
-        for (const auto& [name, coefficients] : starts) {
-            level.coefficients = coefficients;
-            const double value = solve(true, !screen, starts.size() > 1);
-            if (starts.size() > 1 && progress)
-                progress({m, 0, value, secondsSince(start),
-                          fmt::format("objective after {} from {}", screen ? "Levenberg-Marquardt" : "the fit", name)});
-            if (value < bestObjective || fitted.empty()) {
-                bestObjective = value;
-                fitted = level.coefficients;
-            }
-        }
-        level.coefficients = fitted;
-        if (screen) solve(false, true, false);
-        // Hops: refits from the best fit so far, moved at random; a hop that lowers the objective is kept.
-        if (settings.hops > 0) {
-            double current = solve(false, false, true);
-            for (int k = 0; k < settings.hops; ++k) {
-                const std::vector<double> kept = level.coefficients;
-                hopLayout(table, m, alpha, static_cast<unsigned>(1000 * m + k));
-                const double value = solve(true, true, true);
-                if (progress) progress({m, 0, value, secondsSince(start), fmt::format("objective after hop {}", k + 1)});
-                if (value < current) current = value;
-                else level.coefficients = kept;
-            }
-        }
-
-        if (fallback && fitScore(model, constBlocks.data(), texels, judge, checker) > fallback->first) {
-            level.coefficients = fallback->second;
-            if (progress) progress({m, 0, fallback->first, secondsSince(start), "kept the exact --init"});
-        }
-        reportSeam("after the fit");
-        reportChecker("after the fit");
-        // Weights only matter relative to each other: scale them so the mean weight sum is 1.
-        scaleWeights(table, m, 1.0 / weightedMeanWeightSum(model, constBlocks.data(), texels));
-        recordLevel(table, m, model, judge, false);
-        if (progress) {
-            FitProgress done{m, report.iterations, level.stratified.mean, secondsSince(start), "done"};
-            done.kernelSeconds = kernelSeconds;
-            done.evaluationSeconds = modelSeconds;
-            done.solverSeconds = std::max(0.0, report.solverSeconds - modelSeconds);
-            done.evaluations = evaluations;
-            progress(done);
-        }
-        if (settings.measureAll) {
-            recordLevel(table, m, model, judge, true);
-            if (progress) progress({m, 0, level.all.mean, secondsSince(start), "all texels"});
+            context.report(m, level.stratified.mean, "copied from --init");
+        } else {
+            LevelFit(context, table, m, texels, judge, checker).run(previous, kernelSeconds);
         }
         if (levelDone) levelDone(table);
         previous = m;

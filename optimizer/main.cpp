@@ -313,78 +313,81 @@ int main(int argc, char** argv) {
     // An interrupted fit writes no table and leaves no staging file.
     probe::removeStagingOnInterrupt();
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
-    app.require_subcommand(0, 1);
+    app.require_subcommand(1);
     probefit::FitSettings settings;
     std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", measure = "cells", fitLevels,
                       out;
     std::string levels; // not given: the default for the size
     std::string bank;   // not given: the committed tables
     std::vector<std::string> init;
-    app.add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
-    CLI::Option* levelsOption = app.add_option("--levels", levels, "output levels M (default max(1, log2 S_0))");
-    app.add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
-    app.add_option("--form", form, "const or quad");
-    app.add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
-    app.add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
-    app.add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
-    app.add_option("--init", init,
-                   "table file to start from (same size and levels, N or N/2 taps; repeat for several); the fit "
-                   "keeps its filter where it cannot beat it")
+    CLI::App* fit = app.add_subcommand("fit", "fit a tap table: per level, the coefficients whose impulse response is nearest "
+                                              "the GGX lobe (writes PREFIX.json, PREFIX.h, PREFIX.glsl)");
+    fit->add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
+    CLI::Option* levelsOption = fit->add_option("--levels", levels, "output levels M (default max(1, log2 S_0))");
+    fit->add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
+    fit->add_option("--form", form, "const or quad");
+    fit->add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
+    fit->add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
+    fit->add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
+    fit->add_option("--init", init,
+                    "table file to start from (same size and levels, N or N/2 taps; repeat for several); the fit "
+                    "keeps its filter where it cannot beat it")
         ->allow_extra_args(false);
-    app.add_option("--bank", bank,
-                   "tables whose levels of the nearest roughness are starts (any size, level count or mapping; those with "
-                   "the fit's taps and pyramid are used); default: the committed tables; none: no bank");
-    app.add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
-    app.add_option("--measure", measure,
-                   "the fit's L1: cells (base texels near the lobe centre, larger squares of them further away: a cost "
-                   "that hardly grows with the size) or exact (every base texel); the table's records are exact either way")
+    fit->add_option("--bank", bank,
+                    "tables whose levels of the nearest roughness are starts (any size, level count or mapping; those with "
+                    "the fit's taps and pyramid are used); default: the committed tables; none: no bank");
+    fit->add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
+    fit->add_option("--measure", measure,
+                    "the fit's L1: cells (base texels near the lobe centre, larger squares of them further away: a cost "
+                    "that hardly grows with the size) or exact (every base texel); the table's records are exact either way")
         ->capture_default_str();
-    app.add_option("--solver", solver, "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
-    app.add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")->capture_default_str();
-    app.add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")->capture_default_str();
-    app.add_option("--rough-factor", settings.roughIterationFactor,
-                   "levels with fewer stratified texels get up to this many times the iterations")
+    fit->add_option("--solver", solver, "lm-bfgs (Levenberg-Marquardt, then BFGS on the L1), bfgs, or lm")->capture_default_str();
+    fit->add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")->capture_default_str();
+    fit->add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")
         ->capture_default_str();
-    app.add_option("--seam-weight", settings.seamWeight,
-                   "weight of the seam term (the step of the response's smooth moments across face edges against "
-                   "the reference's) beside the mean L1; 0: off")
+    fit->add_option("--rough-factor", settings.roughIterationFactor,
+                    "levels with fewer stratified texels get up to this many times the iterations")
         ->capture_default_str();
-    app.add_option("--tail-weight", settings.tailWeight,
-                   "weight of the tail term (per texel, the response's mass beyond 3 texels of the lobe centre against "
-                   "the reference's) beside the L1; 0: off")
+    fit->add_option("--seam-weight", settings.seamWeight,
+                    "weight of the seam term (the step of the response's smooth moments across face edges against "
+                    "the reference's) beside the mean L1; 0: off")
         ->capture_default_str();
-    app.add_option("--checker-weight", settings.checkerWeight,
-                   "weight of the checker term (per texel, the response's error on +-1 checkerboards of several "
-                   "scales: the aliasing of sharp content) beside the L1; 0: off")
+    fit->add_option("--tail-weight", settings.tailWeight,
+                    "weight of the tail term (per texel, the response's mass beyond 3 texels of the lobe centre against "
+                    "the reference's) beside the L1; 0: off")
         ->capture_default_str();
-    app.add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
-    app.add_option("--starts", settings.starts,
-                   "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
-                   "turned apart); the lowest objective is kept")
+    fit->add_option("--checker-weight", settings.checkerWeight,
+                    "weight of the checker term (per texel, the response's error on +-1 checkerboards of several "
+                    "scales: the aliasing of sharp content) beside the L1; 0: off")
         ->capture_default_str();
-    app.add_flag("--screen-all", settings.screenAll,
-                 "with several starts, run each through both solvers (default with lm-bfgs: only the lowest objective after "
-                 "Levenberg-Marquardt goes on to BFGS)");
-    app.add_option("--hops", settings.hops,
-                   "refits per level from the best fit with its taps moved at random (a step the gradient cannot take); "
-                   "each is kept where the objective is lower")
+    fit->add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
+    fit->add_option("--starts", settings.starts,
+                    "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
+                    "turned apart); the lowest objective is kept")
         ->capture_default_str();
-    CLI::Option* fitLevelsOption = app.add_option("--fit-levels", fitLevels,
-                                                  "fit only these levels (comma-separated); the others are copied from the "
-                                                  "first --init, which must have the table's taps and form");
-    app.add_flag("--fresh", settings.fresh,
-                 "the --fit-levels start from the lobe layout and the previous level alone and keep no --init's filter "
-                 "(for a refit at a stronger seam or tail weight, which the init's lower L1 would otherwise keep out)");
+    fit->add_flag("--screen-all", settings.screenAll,
+                  "with several starts, run each through both solvers (default with lm-bfgs: only the lowest objective after "
+                  "Levenberg-Marquardt goes on to BFGS)");
+    fit->add_option("--hops", settings.hops,
+                    "refits per level from the best fit with its taps moved at random (a step the gradient cannot take); "
+                    "each is kept where the objective is lower")
+        ->capture_default_str();
+    CLI::Option* fitLevelsOption = fit->add_option("--fit-levels", fitLevels,
+                                                   "fit only these levels (comma-separated); the others are copied from the "
+                                                   "first --init, which must have the table's taps and form");
+    fit->add_flag("--fresh", settings.fresh,
+                  "the --fit-levels start from the lobe layout and the previous level alone and keep no --init's filter "
+                  "(for a refit at a stronger seam or tail weight, which the init's lower L1 would otherwise keep out)");
     bool estimateOnly = false;
-    app.add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
+    fit->add_flag("--estimate", estimateOnly, "print how long the fit would take, and stop");
     bool resume = false;
-    app.add_flag("--resume", resume,
-                 "continue from PREFIX.resume.json, which a fit of the same settings writes after each level (an "
-                 "interrupted fit leaves it; a finished one removes it)");
+    fit->add_flag("--resume", resume,
+                  "continue from PREFIX.resume.json, which a fit of the same settings writes after each level (an "
+                  "interrupted fit leaves it; a finished one removes it)");
     int jobs = 0;
-    app.add_option("--jobs", jobs, "threads (default: every core); the table is bit for bit the same for any count");
-    app.add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
-    app.add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
+    fit->add_option("--jobs", jobs, "threads (default: every core); the table is bit for bit the same for any count");
+    fit->add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
+    fit->add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
     CLI::App* eval = app.add_subcommand("eval", "impulse-response L1 of a table per level");
     std::string table, texels = "all";

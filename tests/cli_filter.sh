@@ -76,7 +76,7 @@ refused "for the gltf roughness mapping, not authors" \
     --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
 refused "fitted over the bspline solid-angle pyramid, not box" \
     --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --pyramid box
-refused "make one with \`probefit --size 16 --levels 3" --method table --size 16 --levels 3
+refused "make one with \`probefit fit --size 16 --levels 3" --method table --size 16 --levels 3
 refused "needs --table-taps" --method table --table "$fixtures/table_16_quad4_gltf.txt" --size 16
 refused "no Vulkan device of that name" --method fis --device no-such-device --size 16
 refused "--samples 0" --method fis --samples 0 --size 16

@@ -224,7 +224,7 @@ def main():
     expect_refused("compare-cell", ["--cell 100000"], pf, "compare", good, "--size", "16", "--cell", "100000", "--out", path("out"))
     expect_refused("compare-spheres", ["--roughness"], pf, "compare", good, "--size", "16", "--roughness", ",".join(["0.5"] * 1000),
                    "--out", path("out"))
-    fit = [PROBEFIT, "--form", "quad", "--out", path("out")]
+    fit = [PROBEFIT, "fit", "--form", "quad", "--out", path("out")]
     expect_refused("probefit-size-4096", ["--size", "4096", "1024"], *fit, "--size", "4096", "--taps", "8")
     expect_refused("probefit-size-65536", ["--size", "65536"], *fit, "--size", "65536", "--taps", "8")
     expect_refused("probefit-taps-huge", ["--taps", "2147483644", "64"], *fit, "--size", "16", "--taps", "2147483644")

@@ -9,7 +9,7 @@ failures=0
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
 # A small fit; eval must reproduce what it recorded, over the stratified set and over all texels.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/small" >"$work/fit.log" || fail "small fit: exit $?"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --out "$work/small" >"$work/fit.log" || fail "small fit: exit $?"
 for f in small.json small.h small.glsl; do [[ -s $work/$f ]] || fail "small fit: $f missing"; done
 "$PROBEFIT" eval "$work/small.json" --texels stratified --check 1e-3 >"$work/eval.log" ||
     fail "eval stratified differs: $(cat "$work/eval.log")"
@@ -19,17 +19,17 @@ awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval
     fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
 
 # The same inputs give the same table, whatever the number of threads.
-OMP_NUM_THREADS=1 "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/single" >/dev/null || fail "single-thread fit"
+OMP_NUM_THREADS=1 "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --out "$work/single" >/dev/null || fail "single-thread fit"
 cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/single.json") ||
     fail "the fit with 1 thread differs from the fit with the default threads"
 
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --jobs 1 --out "$work/jobs1" >/dev/null || fail "--jobs 1 fit"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --jobs 1 --out "$work/jobs1" >/dev/null || fail "--jobs 1 fit"
 cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/jobs1.json") ||
     fail "the fit with --jobs 1 differs from the fit with every core"
 
 # An interrupted fit writes no table and leaves its checkpoint; --resume takes the finished levels from
 # it and ends at the table of an uninterrupted fit.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/cut" >"$work/cut.log" 2>&1 &
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/cut" >"$work/cut.log" 2>&1 &
 fit_pid=$!
 for _ in $(seq 600); do grep -q '^level 1 all texels' "$work/cut.log" && break; sleep 0.05; done
 kill -INT $fit_pid
@@ -39,20 +39,20 @@ code=$?
 compgen -G "$work/cut.json" >/dev/null || compgen -G "$work/cut.h" >/dev/null || compgen -G "$work/.cut*" >/dev/null &&
     fail "SIGINT left a table or a staging file: $(ls -a "$work")"
 [[ -s $work/cut.resume.json ]] || fail "SIGINT: no checkpoint after level 1"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --resume --out "$work/cut" >"$work/resumed.log" ||
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 200 --resume --out "$work/cut" >"$work/resumed.log" ||
     fail "--resume: exit $?"
 grep -q '^level 1 resumed' "$work/resumed.log" || fail "--resume did not take level 1: $(head -5 "$work/resumed.log")"
 [[ ! -e $work/cut.resume.json ]] || fail "--resume: the finished fit left its checkpoint"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/whole" >/dev/null || fail "uninterrupted fit"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/whole" >/dev/null || fail "uninterrupted fit"
 cmp -s <(grep -v fitSeconds "$work/cut.json") <(grep -v fitSeconds "$work/whole.json") ||
     fail "the resumed fit differs from the uninterrupted one"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 100 --out "$work/other-cut" >/dev/null || fail "fit to copy"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 100 --out "$work/other-cut" >/dev/null || fail "fit to copy"
 cp "$work/cut.json" "$work/other-cut.resume.json"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 100 --resume --out "$work/other-cut" 2>"$work/stderr" >/dev/null
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 100 --resume --out "$work/other-cut" 2>"$work/stderr" >/dev/null
 [[ $? -eq 2 ]] && grep -q -- '--resume' "$work/stderr" || fail "--resume from another fit's checkpoint: $(cat "$work/stderr")"
 
 # More taps are never worse: 8 taps from the 4-tap table (--init) reach at most its L1 at every level.
-"$PROBEFIT" --size 16 --levels 4 --taps 8 --form quad --init "$work/small.json" --iterations 10 --no-full-eval \
+"$PROBEFIT" fit --size 16 --levels 4 --taps 8 --form quad --init "$work/small.json" --iterations 10 --no-full-eval \
     --out "$work/eight" >/dev/null || fail "8-tap fit from --init"
 "$PROBEFIT" eval "$work/small.json" --texels stratified >"$work/eval4.log"
 "$PROBEFIT" eval "$work/eight.json" --texels stratified >"$work/eval8.log"
@@ -62,12 +62,12 @@ awk '{ n = NF / 2; if ($(n + 4) > $4 + 1e-12) { print "level " $2 ": 8 taps " $(
     "$work/pairs.log" || fail "8 taps worse than the 4-tap --init table: $(cat "$work/pairs.log")"
 
 # --estimate says how long the fit takes and writes nothing.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --estimate >"$work/estimate.log" || fail "--estimate: exit $?"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --estimate >"$work/estimate.log" || fail "--estimate: exit $?"
 grep -q '^estimate: about [0-9]* s' "$work/estimate.log" || fail "--estimate: no estimate line: $(cat "$work/estimate.log")"
 # --starts 2 --screen-all fits each level from the best start and from an importance layout, and
 # keeps the lower objective (here the L1: no seam term, no --init; measured exactly, as the records
 # are, so that the objective and the record are one number).
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --screen-all --measure exact \
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --screen-all --measure exact \
     --out "$work/two" \
     >"$work/two.log" || fail "two starts"
 [[ $(grep -c '^level [1-3] objective after the fit from' "$work/two.log") -eq 6 ]] || fail "--starts 2: not two fits per level"
@@ -76,7 +76,7 @@ awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2
     "$work/two.log" || fail "--starts 2 did not keep the best fit: $(grep -E 'objective|done' "$work/two.log")"
 # Without --screen-all both starts run Levenberg-Marquardt, and only the lower goes on to BFGS, which
 # only lowers it.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --measure exact --out "$work/screened" \
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --starts 2 --measure exact --out "$work/screened" \
     >"$work/screened.log" || fail "two screened starts"
 [[ $(grep -c '^level [1-3] objective after Levenberg-Marquardt from' "$work/screened.log") -eq 6 &&
     $(grep -c 'objective after the fit' "$work/screened.log") -eq 0 ]] || fail "--starts 2: not two screened starts per level"
@@ -86,7 +86,7 @@ awk '/objective after Levenberg-Marquardt from/ { f = $(NF - 2); if (!($2 in bes
 # --hops 2 refits a level twice from the fit moved at random, and keeps a hop only where it lowers the
 # objective: the level ends at or below the same fit without hops (one level, so both start alike).
 for hops in 0 2; do
-    "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --hops $hops \
+    "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --hops $hops \
         --measure exact --out "$work/hops$hops" >"$work/hops$hops.log" || fail "--hops $hops"
 done
 [[ $(grep -c '^level 2 objective after hop [12]:' "$work/hops2.log") -eq 2 ]] || fail "--hops 2: not two hops"
@@ -95,11 +95,11 @@ awk '/^level 2 done: L1/ { l1[FILENAME] = $5 }
      END { if (!(a in l1) || !(b in l1) || l1[b] > l1[a] + 1e-12) { print l1[a], l1[b]; exit 1 } }' \
     a="$work/hops0.log" b="$work/hops2.log" "$work/hops0.log" "$work/hops2.log" ||
     fail "--hops 2 ended above the fit without hops: $(grep -h '^level 2 done' "$work/hops0.log" "$work/hops2.log")"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --hops -1 --out "$work/neg" >"$work/neg.log" 2>&1
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --hops -1 --out "$work/neg" >"$work/neg.log" 2>&1
 [[ $? -eq 2 && $(wc -l <"$work/neg.log") -eq 1 && ! -e $work/neg.json ]] || fail "--hops -1: not one line and exit 2"
 # --fit-levels refits only the levels named: the others keep the first --init's coefficients bit for bit.
 # The fit takes the tail and checker terms too, and reports the checker term before and after.
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --tail-weight 2 \
     --checker-weight 4 --out "$work/level2" >"$work/level2.log" || fail "--fit-levels 2"
 [[ $(grep -c '^level 2 checker term \(at the start\|after the fit\): mean c [0-9.]' "$work/level2.log") -eq 2 ]] ||
     fail "--checker-weight: no checker term reported: $(grep -E 'checker|done' "$work/level2.log")"
@@ -120,7 +120,7 @@ PY
 # kept aside. At a strong seam weight a plain refit keeps the init's filter, whose L1 is lower, and so
 # its seam term; the fresh refit keeps its own fit and a weaker seam term.
 for mode in plain fresh; do
-    "$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --seam-weight 8 \
+    "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --init "$work/small.json" --fit-levels 2 --seam-weight 8 \
         $([[ $mode == fresh ]] && echo --fresh) --out "$work/$mode" >"$work/$mode.log" || fail "--fit-levels 2 ($mode)"
 done
 grep -q '^level 2 kept the exact --init' "$work/plain.log" || fail "plain refit at seam weight 8 did not keep the --init's filter"
@@ -144,7 +144,7 @@ head -c 300 "$work/small.json" >"$work/truncated.json"
 # A complete table file of the wrong layout: it says 8 taps, its coefficients are for 4.
 sed 's/"taps": 4,/"taps": 8,/' "$work/small.json" >"$work/wrong-layout.json"
 grep -q '"taps": 8,' "$work/wrong-layout.json" || fail "could not make the wrong-layout table"
-"$PROBEFIT" --size 32 --levels 4 --taps 4 --form const --iterations 1 --no-full-eval --out "$work/other" >/dev/null || fail "other fit"
+"$PROBEFIT" fit --size 32 --levels 4 --taps 4 --form const --iterations 1 --no-full-eval --out "$work/other" >/dev/null || fail "other fit"
 
 expect_refused() { # name, expected text in the message, args...
     local name=$1 text=$2
@@ -158,27 +158,27 @@ expect_refused() { # name, expected text in the message, args...
     rm -f "$work"/out*
     echo "ok $name: $(cat "$work/stderr")"
 }
-fit() { echo --taps 4 --form quad --out "$work/out" "$@"; }
+fit() { echo fit --taps 4 --form quad --out "$work/out" "$@"; }
 expect_refused size-not-pow2   "--size"                 $(fit --size 12)
 expect_refused size-one        "--size"                 $(fit --size 1)
 expect_refused too-many-levels "--levels"               $(fit --size 16 --levels 6)
 expect_refused negative-levels "--levels"               $(fit --size 16 --levels -1)
 expect_refused zero-levels     "--levels"               $(fit --size 16 --levels 0)
-expect_refused empty-levels    "--levels"               $(fit --size 16 --levels '')
+expect_refused empty-levels    "'' is not a level count" fit --taps 4 --form quad --out "$work/out" --size 16 --levels ''
 expect_refused many-iterations "--iterations"           $(fit --size 16 --iterations 1000000000)
 expect_refused many-starts     "--starts"               $(fit --size 16 --starts 100000)
 expect_refused many-hops       "--hops"                 $(fit --size 16 --hops 100000)
 expect_refused measure         "--measure"              $(fit --size 16 --measure fast)
 expect_refused jobs            "--jobs"                 $(fit --size 16 --jobs -3)
 expect_refused bank            "--bank"                 $(fit --size 16 --bank "$work/no/such/folder")
-expect_refused taps            "--taps"                 --size 16 --taps 6 --form quad --out "$work/out"
-expect_refused form            "--form"                 --size 16 --taps 4 --form cubic --out "$work/out"
+expect_refused taps            "--taps"                 fit --size 16 --taps 6 --form quad --out "$work/out"
+expect_refused form            "--form"                 fit --size 16 --taps 4 --form cubic --out "$work/out"
 expect_refused mapping         "--mapping"              $(fit --size 16 --mapping bogus)
 expect_refused pyramid         "--pyramid"              $(fit --size 16 --pyramid gauss)
 expect_refused solver          "--solver"               $(fit --size 16 --solver newton)
 expect_refused iterations      "--iterations"           $(fit --size 16 --iterations 0)
-expect_refused missing-out     "--out"                  --size 16 --taps 4 --form quad
-expect_refused unwritable-out  "--out"                  --size 16 --taps 4 --form quad --out "$work/no/such/dir/out"
+expect_refused missing-out     "--out"                  fit --size 16 --taps 4 --form quad
+expect_refused unwritable-out  "--out"                  fit --size 16 --taps 4 --form quad --out "$work/no/such/dir/out"
 expect_refused truncated-init  "$work/truncated.json"   $(fit --size 16 --levels 4 --init "$work/truncated.json")
 expect_refused missing-init    "$work/nope.json"        $(fit --size 16 --levels 4 --init "$work/nope.json")
 expect_refused init-other-size "--init $work/other.json" $(fit --size 16 --levels 4 --init "$work/other.json")
@@ -193,7 +193,8 @@ expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-w
 expect_refused checker-weight  "--checker-weight"       $(fit --size 16 --checker-weight -2)
 expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
 expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
-expect_refused fit-levels-empty "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels '')
+expect_refused fit-levels-empty "'' is not a comma-separated list" \
+    fit --taps 4 --form quad --out "$work/out" --size 16 --levels 4 --init "$work/small.json" --fit-levels ''
 expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 1,,2)
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
@@ -206,7 +207,7 @@ expect_refused mix-unwritable  "--out" \
 
 # A folder where PREFIX.h goes is refused before the fit, and nothing is written beside it.
 mkdir -p "$work/dir-out/t.h"
-"$PROBEFIT" --size 16 --levels 4 --taps 4 --form quad --out "$work/dir-out/t" >/dev/null 2>"$work/stderr"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --out "$work/dir-out/t" >/dev/null 2>"$work/stderr"
 [[ $? -eq 2 && $(wc -l <"$work/stderr") -eq 1 ]] && grep -q 't.h exists and is not a file' "$work/stderr" ||
     fail "a folder at PREFIX.h: $(cat "$work/stderr")"
 [[ $(find "$work/dir-out" -mindepth 1 | wc -l) -eq 1 ]] || fail "a folder at PREFIX.h: wrote $(ls -a "$work/dir-out")"
