@@ -223,9 +223,11 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 }
 
 // Prints the L1 per level; with a tolerance, exits 1 where it differs from the recorded value.
-int runEval(const std::string& path, const std::string& texels, double tolerance) {
+// With `cells`, also the fit's L1 over cells (lobe_cells.h) on the same texels, against the exact one.
+int runEval(const std::string& path, const std::string& texels, double tolerance, bool cells) {
     const TapTable table = readTable(path);
     if (texels != "all" && texels != "stratified") throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
+    if (cells && texels != "stratified") throw ProbeError("--cells: measures the stratified texels alone (--texels stratified)");
     const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
     fmt::print("{}: impulse-response L1 over {} texels\n", path, texels);
     bool mismatch = false;
@@ -241,6 +243,13 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
             const double difference = std::max(std::abs(e.error.mean - recorded.mean), std::abs(e.error.max - recorded.max));
             comparison = fmt::format("recorded {:.6f} / {:.6f}, difference {:.2e}", recorded.mean, recorded.max, difference);
             if (tolerance >= 0.0 && difference > tolerance) mismatch = true;
+        }
+        if (cells) {
+            const probefit::ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
+            const std::vector<probefit::OutputTexel> prepared = probefit::prepareTexels(
+                probefit::levelTexels(table, m, set), table.baseSize, m, tableLevelAlpha(table, m), false, probefit::Measure::cells);
+            const double fast = probefit::evaluatePrepared(model, probefit::levelBlocks(table, m).data(), prepared).error.mean;
+            comparison += fmt::format("; over cells {:.6f} ({:+.2f}%)", fast, 100.0 * (fast / e.error.mean - 1.0));
         }
         fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
                    e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);
@@ -395,6 +404,8 @@ int main(int argc, char** argv) {
     eval->add_option("table", table, "table file")->required();
     eval->add_option("--texels", texels, "all or stratified")->capture_default_str();
     eval->add_option("--check", tolerance, "exit 1 where the L1 differs from the recorded one by more than this");
+    bool evalCells = false;
+    eval->add_flag("--cells", evalCells, "also the fit's L1 over cells on the same texels, against the exact one (stratified texels)");
 
     CLI::App* tail = app.add_subcommand("tail", "per level, the share of the reference's mass far from the lobe centre that a table "
                                                 "reproduces (face centre, edge, corner); exit 1 where out of the bound");
@@ -428,7 +439,7 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
         if (mix->parsed()) return runMix(mixSources, mixOut);
         if (select->parsed()) return runSelect(selectSources, selectOut, selectFirst);
-        if (eval->parsed()) return runEval(table, texels, tolerance);
+        if (eval->parsed()) return runEval(table, texels, tolerance, evalCells);
         if (tail->parsed()) return runTail(tailTable);
         if (exportTable->parsed()) {
             const TapTable t = readTable(exportSource);

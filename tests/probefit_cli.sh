@@ -14,6 +14,11 @@ for f in small.json small.h small.glsl; do [[ -s $work/$f ]] || fail "small fit:
 "$PROBEFIT" eval "$work/small.json" --texels stratified --check 1e-3 >"$work/eval.log" ||
     fail "eval stratified differs: $(cat "$work/eval.log")"
 "$PROBEFIT" eval "$work/small.json" --texels all --check 1e-3 >"$work/eval.log" || fail "eval all differs: $(cat "$work/eval.log")"
+# eval --cells prints the fit's L1 over cells beside the exact one, within a few percent of it.
+"$PROBEFIT" eval "$work/small.json" --texels stratified --cells >"$work/cells.log" || fail "eval --cells: exit $?"
+[[ $(grep -c 'over cells 0\.[0-9]* ([-+][0-9.]*%)' "$work/cells.log") -eq 3 ]] || fail "eval --cells: $(cat "$work/cells.log")"
+awk -F'[()%]' '/over cells/ { d = $(NF - 2); if (d < -5 || d > 5) bad = 1 } END { exit bad }' "$work/cells.log" ||
+    fail "eval --cells: the cells' L1 is not within 5% of the exact one: $(cat "$work/cells.log")"
 # The fitted levels are far better than the lobe-shaped start (0.29 to 0.6 at this size).
 awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" ||
     fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
@@ -198,6 +203,7 @@ expect_refused fit-levels-empty "'' is not a comma-separated list" \
 expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 1,,2)
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
+expect_refused eval-cells-all  "--cells"                eval "$work/small.json" --texels all --cells
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
 expect_refused select-unwritable "--out"                select "$work/small.json" --out "$work/no/such/dir/out"
