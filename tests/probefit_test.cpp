@@ -58,34 +58,40 @@ TEST(ImpulseModel, EqualsTheSharedModel) {
     }
 }
 
-// The gradient is that of e (tail weight 0) or of e + T |W - K| (the tail term).
+// Checks every 7th coefficient's gradient of level m against central differences, on each texel: the
+// gradient of e (tail weight 0) or of e + T |W - K| (the tail term), and of the weight sum.
+void expectGradientMatchesFiniteDifferences(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& texels) {
+    ImpulseModel::Workspace ws = model.workspace();
+    const double tailWeight = model.tailWeight();
+    const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
+    std::vector<double> gradient(n), weightGradient(n);
+    int checked = 0, agreeing = 0;
+    for (const OutputTexel& t : texels) {
+        model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
+        for (std::size_t q = 0; q < n; q += 7) {
+            const double h = 1e-6, saved = table.levels[m].coefficients[q];
+            table.levels[m].coefficients[q] = saved + h;
+            const ImpulseModel::Result plus = model.evaluate(levelBlocks(table, m).data(), t, ws);
+            table.levels[m].coefficients[q] = saved - h;
+            const ImpulseModel::Result minus = model.evaluate(levelBlocks(table, m).data(), t, ws);
+            table.levels[m].coefficients[q] = saved;
+            const double fd = (plus.error + tailWeight * plus.tail - minus.error - tailWeight * minus.tail) / (2 * h);
+            ++checked;
+            // |.| and texel boundaries make e piecewise smooth; most coefficients must agree closely.
+            if (std::abs(fd - gradient[q]) <= 1e-4 + 1e-3 * std::abs(fd)) ++agreeing;
+            EXPECT_NEAR((plus.weightSum - minus.weightSum) / (2 * h), weightGradient[q], 1e-6);
+        }
+    }
+    EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked << " at tail weight " << tailWeight;
+}
+
 TEST(ImpulseModel, GradientMatchesFiniteDifferences) {
     for (const double tailWeight : {0.0, 2.0}) {
         TapTable table = lobeTable(16, 4, 4, TableForm::quadratic);
         const int m = 2;
         const ImpulseModel model(16, table.pyramid, table.taps, table.form, tailWeight);
-        ImpulseModel::Workspace ws = model.workspace();
-        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m), true);
-        const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
-        std::vector<double> gradient(n), weightGradient(n);
-        int checked = 0, agreeing = 0;
-        for (const OutputTexel& t : texels) {
-            model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
-            for (std::size_t q = 0; q < n; q += 7) {
-                const double h = 1e-6, saved = table.levels[m].coefficients[q];
-                table.levels[m].coefficients[q] = saved + h;
-                const ImpulseModel::Result plus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-                table.levels[m].coefficients[q] = saved - h;
-                const ImpulseModel::Result minus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-                table.levels[m].coefficients[q] = saved;
-                const double fd = (plus.error + tailWeight * plus.tail - minus.error - tailWeight * minus.tail) / (2 * h);
-                ++checked;
-                // |.| and texel boundaries make e piecewise smooth; most coefficients must agree closely.
-                if (std::abs(fd - gradient[q]) <= 1e-4 + 1e-3 * std::abs(fd)) ++agreeing;
-                EXPECT_NEAR((plus.weightSum - minus.weightSum) / (2 * h), weightGradient[q], 1e-6);
-            }
-        }
-        EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked << " at tail weight " << tailWeight;
+        expectGradientMatchesFiniteDifferences(table, m, model,
+                                               prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m), true));
     }
 }
 
@@ -394,27 +400,8 @@ TEST(LobeCells, GradientMatchesFiniteDifferences) {
         TapTable table = lobeTable(32, 5, 4, TableForm::quadratic);
         const int m = 2;
         const ImpulseModel model(32, table.pyramid, table.taps, table.form, tailWeight);
-        ImpulseModel::Workspace ws = model.workspace();
-        const std::vector<OutputTexel> texels =
-            prepareTexels(stratifiedTexels(32 >> m, 12), 32, m, tableLevelAlpha(table, m), true, Measure::cells);
-        const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
-        std::vector<double> gradient(n), weightGradient(n);
-        int checked = 0, agreeing = 0;
-        for (const OutputTexel& t : texels) {
-            model.evaluate(levelBlocks(table, m).data(), t, ws, gradient.data(), weightGradient.data());
-            for (std::size_t q = 0; q < n; q += 7) {
-                const double h = 1e-6, saved = table.levels[m].coefficients[q];
-                table.levels[m].coefficients[q] = saved + h;
-                const ImpulseModel::Result plus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-                table.levels[m].coefficients[q] = saved - h;
-                const ImpulseModel::Result minus = model.evaluate(levelBlocks(table, m).data(), t, ws);
-                table.levels[m].coefficients[q] = saved;
-                const double fd = (plus.error + tailWeight * plus.tail - minus.error - tailWeight * minus.tail) / (2 * h);
-                ++checked;
-                if (std::abs(fd - gradient[q]) <= 1e-4 + 1e-3 * std::abs(fd)) ++agreeing;
-            }
-        }
-        EXPECT_GE(agreeing, checked * 9 / 10) << agreeing << " of " << checked << " at tail weight " << tailWeight;
+        expectGradientMatchesFiniteDifferences(
+            table, m, model, prepareTexels(stratifiedTexels(32 >> m, 12), 32, m, tableLevelAlpha(table, m), true, Measure::cells));
     }
 }
 
