@@ -12,6 +12,12 @@ inline constexpr const char* kSamplingHelp =
     "How the GPU reads the pyramid: hardware (a cube image through the seamless sampler), exact "
     "(the CPU model's arithmetic over a buffer) or automatic (hardware on GPUs, exact on CPU devices)";
 
+inline constexpr const char* kLevelsHelp = "Output level count M (default: one per --roughness value, else max(1, log2 S_0))";
+inline constexpr const char* kMappingHelp = "Roughness per level: gltf (the default), authors, filament or unity";
+inline constexpr const char* kRoughnessHelp =
+    "Roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1] (e.g. "
+    "0,0.2,0.4,0.6,0.8,1); a table for it is fitted with probefit fit --roughness";
+
 inline constexpr const char* kForceHelp =
     "Replace --out even when it is a non-empty folder that probefilter did not write (the root folder and a folder holding an input "
     "are refused still)";

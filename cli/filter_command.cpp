@@ -36,8 +36,9 @@ struct FilterOptions {
     std::string pyramid = "bspline";
     std::string weighting = "solid-angle";
     int size = 128;
-    int levels = 0; // 0: the default for the size
-    std::string mapping = "gltf";
+    std::optional<int> levels; // default: the mapping's list, else max(1, log2 S)
+    std::string mapping;
+    std::string roughness;
     std::string sampling = "automatic";
     std::string pyramidFormat = "auto";
     std::string format = "rgba32f";
@@ -61,10 +62,9 @@ bool looksLikeJson(const std::filesystem::path& path) {
 }
 
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
-    return fmt::format(
-        "probefit fit --size {} --levels {} --taps 8 --form quad --mapping {} --pyramid {} --weighting {} --out tables/<name>", s.faceSize,
-        s.levelCount, probe::roughnessMappingName(s.mapping), probe::pyramidKindName(pyramid.kind),
-        probe::pyramidWeightingName(pyramid.weighting));
+    return fmt::format("probefit fit --size {} --levels {} --taps 8 --form quad {} --pyramid {} --weighting {} --out tables/<name>",
+                       s.faceSize, s.levelCount, probe::mappingOptions(s.mapping), probe::pyramidKindName(pyramid.kind),
+                       probe::pyramidWeightingName(pyramid.weighting));
 }
 
 // The table that --table names (a compiled-in table or a file), or else the compiled-in table for
@@ -90,28 +90,23 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
     if (!best)
         throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
                                             "and pass --table tables/<name>.json (or rebuild to compile it in)",
-                                            s.faceSize, s.levelCount, probe::roughnessMappingName(s.mapping),
+                                            s.faceSize, s.levelCount, probe::describeRoughnessMapping(s.mapping),
                                             probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting),
                                             probefitCommand(s, pyramid)));
     return best->table;
 }
 
 nlohmann::json describeTable(const probe::TapTable& t) {
-    return {{"taps_per_frame", t.taps},
-            {"form", std::string(probe::tableFormName(t.form))},
-            {"base_size", t.baseSize},
-            {"level_count", t.levelCount},
-            {"mapping", std::string(probe::roughnessMappingName(t.mapping))},
-            {"solver", t.solver}};
+    return {{"taps_per_frame", t.taps},    {"form", std::string(probe::tableFormName(t.form))},     {"base_size", t.baseSize},
+            {"level_count", t.levelCount}, {"mapping", probe::describeRoughnessMapping(t.mapping)}, {"solver", t.solver}};
 }
 
 void runFilter(const FilterOptions& o) {
     probe::gpu::FilterSettings s;
     s.method.kind = probe::parseMethodKind(o.method);
-    s.mapping = probe::parseRoughnessMapping(o.mapping);
+    s.mapping = probe::mappingFromOptions(o.mapping, o.roughness);
     s.faceSize = o.size;
-    s.levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
-    probe::validateSizeAndLevels(s.faceSize, s.levelCount);
+    s.levelCount = probe::chooseLevelCount(o.size, o.levels, s.mapping);
     s.sampling = probe::gpu::parseSampling(o.sampling);
     s.pyramidFormat = probe::gpu::parsePyramidFormat(o.pyramidFormat);
     s.outputFormat = probe::gpu::parseFormat(o.format);
@@ -231,8 +226,9 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")
         ->capture_default_str();
     cmd->add_option("--size", o->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
-    cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
-    cmd->add_option("--mapping", o->mapping, "Roughness per level: gltf, authors, filament or unity")->capture_default_str();
+    cmd->add_option("--levels", o->levels, kLevelsHelp);
+    cmd->add_option("--mapping", o->mapping, kMappingHelp);
+    cmd->add_option("--roughness", o->roughness, kRoughnessHelp);
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,
                     "Hardware sampling's pyramid image: rgba16f (half the bytes the sampler reads; a probe brighter than "

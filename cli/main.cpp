@@ -14,7 +14,7 @@ namespace {
 // A library parameter's message with the command line's flag for it: "--repeat 0: must be ...".
 std::string withFlag(const probe::ParameterError& e) {
     for (std::string_view flag :
-         {"method", "table", "samples", "fis-bias", "fis-map", "repeat", "device", "sampling", "format", "pyramid-format"})
+         {"method", "table", "samples", "fis-bias", "fis-map", "repeat", "device", "sampling", "format", "pyramid-format", "roughness"})
         if (e.parameter == flag) return fmt::format("--{}", e.what());
     return e.what();
 }

@@ -33,7 +33,7 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
         }
     }
     probe::KeyValues metadata{{"KTXwriter", "probefilter 0.1"},
-                              {"probefilter.mapping", std::string(probe::roughnessMappingName(mapping))},
+                              {"probefilter.mapping", probe::describeRoughnessMapping(mapping)},
                               {"probefilter.roughness", roughness}};
     if (partial) metadata.push_back({"probefilter.computed_levels", computed});
     const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, format, metadata);
@@ -46,7 +46,7 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
     return report;
 }
 
-void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, probe::RoughnessMapping mapping,
+void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
                         std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report) {
     const int levelCount = static_cast<int>(levels.size());
     for (int m = 0; m < levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));

@@ -25,7 +25,7 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
 
 // level_<m>.exr for every level, probe.ktx2 when asked (clamping to the half range is counted in
 // the report and warned about on stderr), preview.png.
-void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, probe::RoughnessMapping mapping,
+void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
                         std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report);
 
 } // namespace probefilter

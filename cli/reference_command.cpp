@@ -19,8 +19,9 @@ namespace {
 struct ReferenceOptions {
     std::string input;
     int size = 128;
-    std::optional<int> levels; // default: max(1, log2 S)
-    std::string mapping = "gltf";
+    std::optional<int> levels; // default: the mapping's list, else max(1, log2 S)
+    std::string mapping;
+    std::string roughness;
     std::string out;
     bool force = false;
     bool repairPixels = false;
@@ -28,10 +29,9 @@ struct ReferenceOptions {
 };
 
 void runReference(const ReferenceOptions& o) {
-    const probe::RoughnessMapping mapping = probe::parseRoughnessMapping(o.mapping);
-    const int levelCount = o.levels.value_or(probe::defaultLevelCount(o.size));
+    const probe::RoughnessMapping mapping = probe::mappingFromOptions(o.mapping, o.roughness);
+    const int levelCount = probe::chooseLevelCount(o.size, o.levels, mapping);
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
-    probe::validateSizeAndLevels(o.size, levelCount);
     probe::StagedOutput output(o.out, {o.input}, o.force);
 
     Stopwatch loadTime;
@@ -73,8 +73,9 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("input", options->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
     cmd->add_option("--size", options->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))
         ->required();
-    cmd->add_option("--levels", options->levels, "Output level count M (default max(1, log2 S_0))");
-    cmd->add_option("--mapping", options->mapping, "Roughness per level: gltf, authors, filament or unity");
+    cmd->add_option("--levels", options->levels, kLevelsHelp);
+    cmd->add_option("--mapping", options->mapping, kMappingHelp);
+    cmd->add_option("--roughness", options->roughness, kRoughnessHelp);
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_flag("--force", options->force, kForceHelp);
     cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");

@@ -11,7 +11,7 @@
 
 namespace probefilter {
 
-nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapping mapping) {
+nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping) {
     nlohmann::json levels = nlohmann::json::array();
     for (int m = 0; m < levelCount; ++m)
         levels.push_back({{"level", m},
@@ -19,10 +19,8 @@ nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapp
                           {"roughness", probe::levelRoughness(mapping, m, levelCount)},
                           {"alpha", probe::levelAlpha(mapping, m, levelCount)},
                           {"file", fmt::format("level_{}.exr", m)}});
-    return {{"face_size", faceSize},
-            {"level_count", levelCount},
-            {"mapping", std::string(probe::roughnessMappingName(mapping))},
-            {"levels", levels}};
+    return {
+        {"face_size", faceSize}, {"level_count", levelCount}, {"mapping", probe::describeRoughnessMapping(mapping)}, {"levels", levels}};
 }
 
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {

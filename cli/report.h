@@ -14,7 +14,7 @@
 namespace probefilter {
 
 // The settings block every report starts with: input, face size, levels and their roughness.
-nlohmann::json describeLevels(int faceSize, int levelCount, probe::RoughnessMapping mapping);
+nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping);
 
 // The Vulkan device a command ran on: index, name, driver, type, API version, validation.
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation);

@@ -72,7 +72,7 @@ public:
                       {"image", p.image.string()},
                       {"face_size", p.faceSize},
                       {"level_count", p.levelCount},
-                      {"mapping", std::string(probe::roughnessMappingName(p.mapping))},
+                      {"mapping", probe::describeRoughnessMapping(p.mapping)},
                       {"method", std::string(probe::methodKindName(p.method.kind))},
                       {"input_pixels", reportPixelRepairs(p.image, repairs)}};
         if (!plan.levels.empty()) filterLevels(p, plan, result, entry);

@@ -17,16 +17,17 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
         if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}))
             return compiled->table;
         throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
-                                            "(probefit fit --size {} --levels {} --taps 8 --form quad --mapping {} --out PREFIX makes one)",
-                                            scene.path.string(), p.name, p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping),
-                                            p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping)));
+                                            "(probefit fit --size {} --levels {} --taps 8 --form quad {} --out PREFIX makes one)",
+                                            scene.path.string(), p.name, p.faceSize, p.levelCount,
+                                            probe::describeRoughnessMapping(p.mapping), p.faceSize, p.levelCount,
+                                            probe::mappingOptions(p.mapping)));
     }
     probe::TapTable table = probe::readTable(*p.table);
     if (table.baseSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
         throw probe::ProbeError(
             fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",
-                        p.table->string(), table.baseSize, table.levelCount, probe::roughnessMappingName(table.mapping), p.name,
-                        scene.path.string(), p.faceSize, p.levelCount, probe::roughnessMappingName(p.mapping)));
+                        p.table->string(), table.baseSize, table.levelCount, probe::describeRoughnessMapping(table.mapping), p.name,
+                        scene.path.string(), p.faceSize, p.levelCount, probe::describeRoughnessMapping(p.mapping)));
     return table;
 }
 

@@ -4,7 +4,7 @@
 
 namespace probefilter {
 
-probe::gpu::SphereMaterial sphereMaterial(const probe::SceneMaterial& material, probe::RoughnessMapping mapping, int levelCount) {
+probe::gpu::SphereMaterial sphereMaterial(const probe::SceneMaterial& material, const probe::RoughnessMapping& mapping, int levelCount) {
     probe::gpu::SphereMaterial m;
     m.baseColor = glm::vec3(material.baseColor);
     m.metallic = static_cast<float>(material.metallic);

@@ -10,7 +10,7 @@
 namespace probefilter {
 
 // A scene material for the renderer: the filtered level its roughness reads under the mapping.
-probe::gpu::SphereMaterial sphereMaterial(const probe::SceneMaterial& material, probe::RoughnessMapping mapping, int levelCount);
+probe::gpu::SphereMaterial sphereMaterial(const probe::SceneMaterial& material, const probe::RoughnessMapping& mapping, int levelCount);
 
 // Renders the spheres (probe::gpu::renderSpheres) and writes them as a PNG, exposed for the
 // probe's own brightness. Returns the linear image.

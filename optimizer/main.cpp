@@ -35,6 +35,10 @@ template <typename Parse>
 auto parseOption(std::string_view option, const std::string& value, Parse parse) {
     try {
         return parse(value);
+    } catch (const ParameterError& e) {
+        // "<parameter> <value>: <problem>" names the option already.
+        if ("--" + e.parameter == option) throw ProbeError(fmt::format("--{}", e.what()));
+        throw ProbeError(fmt::format("{}: {}", option, e.what()));
     } catch (const ProbeError& e) {
         throw ProbeError(fmt::format("{}: {}", option, e.what()));
     }
@@ -110,20 +114,22 @@ std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder
     return bank;
 }
 
-int runFit(probefit::FitSettings settings, const std::string& form, const std::string& mapping, const std::string& pyramid,
-           const std::string& weighting, const std::string& solver, const std::string& measure, const std::optional<std::string>& fitLevels,
+int runFit(probefit::FitSettings settings, const std::string& form, const std::string& pyramid, const std::string& weighting,
+           const std::string& solver, const std::string& measure, const std::optional<std::string>& fitLevels,
            const std::vector<std::string>& init, const std::string& bank, const std::string& out, bool estimateOnly, bool resume) {
     settings.form = parseOption("--form", form, parseTableForm);
     settings.measure = parseOption("--measure", measure, parseMeasure);
     if (fitLevels) settings.fitLevels = parseOption("--fit-levels", *fitLevels, parseLevelList);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
-    settings.mapping = parseOption("--mapping", mapping, parseRoughnessMapping);
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
     if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
         throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
     if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
         throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount, settings.baseSize,
                                      maxLevelCount(settings.baseSize)));
+    if (settings.mapping.curve() == RoughnessMapping::Curve::custom && settings.mapping.list().size() != std::size_t(settings.levelCount))
+        throw ProbeError(fmt::format("--roughness: {} values for {} levels (--levels): expected one per level",
+                                     settings.mapping.list().size(), settings.levelCount));
     if (settings.taps < 4 || settings.taps % 4 != 0 || settings.taps > kMaxTaps)
         throw ProbeError(fmt::format("--taps: {} is not a multiple of 4 from 4 to {}", settings.taps, kMaxTaps));
     checkCount("--iterations", settings.maxIterations, 1, kMaxIterations);
@@ -158,7 +164,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 
     fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
-               settings.baseSize, settings.levelCount, settings.taps, form, mapping, pyramid, weighting, settings.stratifiedBudget, solver);
+               settings.baseSize, settings.levelCount, settings.taps, form, describeRoughnessMapping(settings.mapping), pyramid, weighting,
+               settings.stratifiedBudget, solver);
     const probefit::FitEstimate estimate = probefit::estimateFit(settings);
     std::string perLevel;
     for (std::size_t m = 0; m < estimate.levelSeconds.size(); ++m)
@@ -324,18 +331,22 @@ int main(int argc, char** argv) {
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
     app.require_subcommand(1);
     probefit::FitSettings settings;
-    std::string form, mapping = "gltf", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", measure = "cells", fitLevels,
-                      out;
+    std::string form, mapping, roughness, pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", measure = "cells", fitLevels,
+                                          out;
     std::string levels; // not given: the default for the size
     std::string bank;   // not given: the committed tables
     std::vector<std::string> init;
     CLI::App* fit = app.add_subcommand("fit", "fit a tap table: per level, the coefficients whose impulse response is nearest "
                                               "the GGX lobe (writes PREFIX.json, PREFIX.h, PREFIX.glsl)");
     fit->add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
-    CLI::Option* levelsOption = fit->add_option("--levels", levels, "output levels M (default max(1, log2 S_0))");
+    CLI::Option* levelsOption =
+        fit->add_option("--levels", levels, "output levels M (default: one per --roughness value, else max(1, log2 S_0))");
     fit->add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
     fit->add_option("--form", form, "const or quad");
-    fit->add_option("--mapping", mapping, "roughness per level: gltf, authors, filament, unity")->capture_default_str();
+    CLI::Option* mappingOption = fit->add_option("--mapping", mapping, "roughness per level: gltf (the default), authors, filament, unity");
+    fit->add_option("--roughness", roughness,
+                    "roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1]")
+        ->excludes(mappingOption);
     fit->add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
     fit->add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
     fit->add_option("--init", init,
@@ -456,10 +467,17 @@ int main(int argc, char** argv) {
             checkCount("--jobs", jobs, 1, 1024);
             omp_set_num_threads(jobs);
         }
-        settings.levelCount =
-            levelsOption->count() > 0 ? parseOption("--levels", levels, parseLevelCount) : defaultLevelCount(settings.baseSize);
+        settings.mapping = roughness.empty() ? parseOption("--mapping", mapping.empty() ? "gltf" : mapping, parseRoughnessMapping)
+                                             : parseOption("--roughness", roughness, parseRoughnessList);
+        const bool custom = settings.mapping.curve() == RoughnessMapping::Curve::custom;
+        if (custom && levelsOption->count() == 0 && static_cast<int>(settings.mapping.list().size()) > maxLevelCount(settings.baseSize))
+            throw ProbeError(fmt::format("--roughness: {} values, one per level, but a {}^2 face has at most {} levels",
+                                         settings.mapping.list().size(), settings.baseSize, maxLevelCount(settings.baseSize)));
+        settings.levelCount = levelsOption->count() > 0 ? parseOption("--levels", levels, parseLevelCount)
+                              : custom                  ? static_cast<int>(settings.mapping.list().size())
+                                                        : defaultLevelCount(settings.baseSize);
         const std::optional<std::string> fitLevelList = fitLevelsOption->count() > 0 ? std::optional(fitLevels) : std::nullopt;
-        return runFit(settings, form, mapping, pyramid, weighting, solver, measure, fitLevelList, init, bank, out, estimateOnly, resume);
+        return runFit(settings, form, pyramid, weighting, solver, measure, fitLevelList, init, bank, out, estimateOnly, resume);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {

@@ -21,6 +21,8 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
+// Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
+inline constexpr double kLevelRoughness[7] = {0, 0.16666666666666666, 0.3333333333333333, 0.5, 0.6666666666666666, 0.8333333333333334, 1};
 inline constexpr const char* kPyramidKind = "bspline";
 inline constexpr const char* kPyramidWeighting = "solid-angle";
 inline constexpr const char* kSolver = R"probetable(Ceres 2.1.0: 20 iterations of Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 240 of BFGS (Wolfe line search, function tolerance 1e-7) on the weighted mean impulse L1 over the stratified output texels plus 2 x the mean seam term over at most 128 face-edge pairs (the change of the response's order-1 and order-2 SH moments across the edge against the reference's), per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level, --init table quad 4x3 (taps split 1 texels apart), --init table const 8x3; an --init's exact filter is kept where the fit is not better)probetable";

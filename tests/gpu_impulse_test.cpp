@@ -41,7 +41,7 @@ using Response = std::function<std::vector<double>(int level, const Texel& texel
 
 // Per filtered level, the solid-angle weighted mean and the worst impulse L1 over every output
 // texel of a method given by its impulse responses.
-std::vector<ImpulseError> impulseL1PerLevel(int levels, RoughnessMapping mapping, const Response& response) {
+std::vector<ImpulseError> impulseL1PerLevel(int levels, const RoughnessMapping& mapping, const Response& response) {
     std::vector<ImpulseError> errors(static_cast<std::size_t>(levels));
     for (int m = 0; m < levels; ++m) {
         const double alpha = levelAlpha(mapping, m, levels);
@@ -59,14 +59,15 @@ std::vector<ImpulseError> impulseL1PerLevel(int levels, RoughnessMapping mapping
     return errors;
 }
 
-std::vector<ImpulseError> gpuImpulseL1(gpu::Filter& filter, int levels, RoughnessMapping mapping) {
+std::vector<ImpulseError> gpuImpulseL1(gpu::Filter& filter, int levels, const RoughnessMapping& mapping) {
     const auto weights = gpuImpulseResponses(filter, levels);
     return impulseL1PerLevel(levels, mapping, [&](int m, const Texel& texel) { return weights[m][texelIndex(texel, kSize >> m)]; });
 }
 
 // Per filtered level, the impulse L1 over every output texel measured on the GPU and by the CPU
 // model; they agree within 1e-3 (the GPU's float weights against the model's double ones).
-void expectImpulseL1Matches(gpu::Filter& filter, int levels, RoughnessMapping mapping, const Response& model, const std::string& what) {
+void expectImpulseL1Matches(gpu::Filter& filter, int levels, const RoughnessMapping& mapping, const Response& model,
+                            const std::string& what) {
     const std::vector<ImpulseError> gpuErrors = gpuImpulseL1(filter, levels, mapping);
     const std::vector<ImpulseError> cpuErrors = impulseL1PerLevel(levels, mapping, model);
     for (int m = 0; m < levels; ++m) {

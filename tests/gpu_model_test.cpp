@@ -35,7 +35,8 @@ std::string describe(const PyramidSettings& p) { return fmt::format("{} {}", pyr
 
 // A random table shaped like a real one: per level, taps around the frame's z axis spread with the
 // lobe, levels near the output level, positive weights, small quadratic terms.
-TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid, unsigned seed) {
+TapTable randomTable(int size, int levels, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid,
+                     unsigned seed) {
     TapTable table = emptyTable(size, levels, taps, form, mapping, pyramid);
     std::mt19937 random(seed);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -56,7 +57,7 @@ TapTable randomTable(int size, int levels, int taps, TableForm form, RoughnessMa
     return table;
 }
 
-gpu::FilterSettings settingsFor(MethodKind method, int size, int levels, RoughnessMapping mapping, PyramidSettings pyramid,
+gpu::FilterSettings settingsFor(MethodKind method, int size, int levels, const RoughnessMapping& mapping, PyramidSettings pyramid,
                                 gpu::Sampling sampling) {
     gpu::FilterSettings s;
     s.method.kind = method;

@@ -25,7 +25,7 @@ CubeImage structuredProbe(int size, unsigned seed) {
 }
 
 // The GPU reference at `levels` (empty: every level) against probe::referenceLevel.
-void expectGpuEqualsCpu(int size, RoughnessMapping mapping, unsigned seed, std::vector<int> levels = {}) {
+void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed, std::vector<int> levels = {}) {
     const CubeImage source = structuredProbe(size, seed);
     const int levelCount = defaultLevelCount(size);
     gpu::FilterSettings settings;

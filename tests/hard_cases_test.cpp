@@ -69,9 +69,9 @@ double seamCheckCap() {
     return cap;
 }
 
-const SeamCheck& seamCheck(int size, int levelCount, RoughnessMapping mapping) {
-    static std::map<std::tuple<int, int, RoughnessMapping>, SeamCheck> cache;
-    SeamCheck& check = cache[{size, levelCount, mapping}];
+const SeamCheck& seamCheck(int size, int levelCount, const RoughnessMapping& mapping) {
+    static std::map<std::tuple<int, int, std::string>, SeamCheck> cache;
+    SeamCheck& check = cache[{size, levelCount, describeRoughnessMapping(mapping)}];
     if (check.reference.empty()) {
         check.reference = skyReference(size, levelCount, mapping);
         check.bounds = seamBounds(check.reference, seamCheckCap());
@@ -79,7 +79,7 @@ const SeamCheck& seamCheck(int size, int levelCount, RoughnessMapping mapping) {
     return check;
 }
 
-gpu::FilterSettings settings(MethodKind method, int size, int levels, RoughnessMapping mapping, gpu::Sampling sampling) {
+gpu::FilterSettings settings(MethodKind method, int size, int levels, const RoughnessMapping& mapping, gpu::Sampling sampling) {
     gpu::FilterSettings s;
     s.method.kind = method;
     s.faceSize = size;
@@ -109,13 +109,13 @@ struct TableGroup {
 };
 
 std::vector<TableGroup> committedTableGroups() {
-    std::map<std::tuple<int, int, RoughnessMapping>, TableGroup> groups;
+    std::map<std::tuple<int, int, std::string>, TableGroup> groups;
     const std::filesystem::path dir = PROBEFILTER_TABLES_DIR;
     if (std::filesystem::exists(dir))
         for (const auto& entry : std::filesystem::directory_iterator(dir)) {
             if (entry.path().extension() != ".json") continue;
             const TapTable table = readTable(entry.path());
-            TableGroup& group = groups[{table.baseSize, table.levelCount, table.mapping}];
+            TableGroup& group = groups[{table.baseSize, table.levelCount, describeRoughnessMapping(table.mapping)}];
             group.name = fmt::format("{}{}_{}levels", roughnessMappingName(table.mapping), table.baseSize, table.levelCount);
             group.tables.push_back(entry.path());
         }

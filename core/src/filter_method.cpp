@@ -25,7 +25,8 @@ MethodKind parseMethodKind(std::string_view name) {
     throw ParameterError("method", fmt::format("{}: expected table, fis or reference", name));
 }
 
-void validateMethod(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping) {
+void validateMethod(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping) {
+    validateMappingLevels(mapping, levelCount);
     switch (method.kind) {
     case MethodKind::table: {
         if (!method.table) throw ParameterError("table", "missing: the table method needs a tap table");
@@ -36,8 +37,8 @@ void validateMethod(const FilterMethod& method, int baseSize, int levelCount, Ro
         if (table.baseSize != baseSize) add(fmt::format("it is for base size {}, not {}", table.baseSize, baseSize));
         if (table.levelCount != levelCount) add(fmt::format("it has {} levels, not {}", table.levelCount, levelCount));
         if (table.mapping != mapping)
-            add(fmt::format("it is for the {} roughness mapping, not {}", roughnessMappingName(table.mapping),
-                            roughnessMappingName(mapping)));
+            add(fmt::format("it is for the {} roughness mapping, not {}", describeRoughnessMapping(table.mapping),
+                            describeRoughnessMapping(mapping)));
         if (!reasons.empty()) throw ParameterError("table", fmt::format("does not fit: {}", reasons));
         break;
     }
@@ -46,7 +47,7 @@ void validateMethod(const FilterMethod& method, int baseSize, int levelCount, Ro
     }
 }
 
-TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping) {
+TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping) {
     switch (method.kind) {
     case MethodKind::table: return tableTapGenerator(*method.table);
     case MethodKind::fis: return importanceSampleTapGenerator(baseSize, levelCount, mapping, method.fis);
@@ -55,7 +56,7 @@ TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int le
     return {};
 }
 
-CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method) {
+CubeLevels filterOnCpu(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FilterMethod& method) {
     validateMethod(method, source.size, levelCount, mapping);
     if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
     const int shift = rangeShift(source);

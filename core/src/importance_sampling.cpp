@@ -70,7 +70,7 @@ std::vector<int> mixedLevelSamples(int samples, int levelCount) {
     return counts;
 }
 
-std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, RoughnessMapping mapping,
+std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, const RoughnessMapping& mapping,
                                                         const ImportanceSamplingSettings& settings) {
     validateSampleCounts(settings, levelCount);
     std::vector<std::vector<Tap>> perLevel(static_cast<std::size_t>(levelCount));
@@ -81,7 +81,7 @@ std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelC
     return perLevel;
 }
 
-TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
+TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, const RoughnessMapping& mapping,
                                           const ImportanceSamplingSettings& settings) {
     // The samples of each level, made once: the generator runs per texel.
     const std::vector<std::vector<Tap>> perLevel = importanceSamplesPerLevel(baseSize, levelCount, mapping, settings);
@@ -92,7 +92,7 @@ TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, Roughnes
     };
 }
 
-CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
                                   const ImportanceSamplingSettings& settings) {
     validateSizeAndLevels(source.size, levelCount);
     return filterWithTaps(buildPyramid(source, settings.pyramid), levelCount,
@@ -100,7 +100,7 @@ CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, Rough
 }
 
 std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
-                                                    RoughnessMapping mapping, const ImportanceSamplingSettings& settings, int level,
+                                                    const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings, int level,
                                                     const Texel& texel) {
     return impulseWithTaps(operators, baseSize, level, texel, importanceSampleTapGenerator(baseSize, levelCount, mapping, settings));
 }

@@ -5,12 +5,12 @@
 namespace probe {
 
 ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
-                          RoughnessMapping mapping, int level, const std::vector<WeightedTexel>& texels) {
+                          const RoughnessMapping& mapping, int level, const std::vector<WeightedTexel>& texels) {
     return impulseError([&](const Texel& texel) { return impulseWithTaps(operators, baseSize, level, texel, generator); }, baseSize,
                         levelCount, mapping, level, texels);
 }
 
-ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, RoughnessMapping mapping, int level,
+ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, const RoughnessMapping& mapping, int level,
                           const std::vector<WeightedTexel>& texels) {
     const double alpha = levelAlpha(mapping, level, levelCount);
     const CubeGeometry source(baseSize);

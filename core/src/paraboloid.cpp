@@ -107,7 +107,8 @@ glm::dvec3 sampleParaboloid(const ParaboloidMap& map, const glm::dvec3& directio
     return value;
 }
 
-CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ImportanceSamplingSettings& settings) {
+CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
+                            const ImportanceSamplingSettings& settings) {
     validateSizeAndLevels(source.size, levelCount);
     const ParaboloidMap map = buildParaboloidMap(source);
     const std::vector<std::vector<Tap>> samples = importanceSamplesPerLevel(source.size, levelCount, mapping, settings);
@@ -140,7 +141,8 @@ CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, RoughnessMa
     return out;
 }
 
-ParaboloidImpulse::ParaboloidImpulse(int baseSize, int levelCount, RoughnessMapping mapping, const ImportanceSamplingSettings& settings)
+ParaboloidImpulse::ParaboloidImpulse(int baseSize, int levelCount, const RoughnessMapping& mapping,
+                                     const ImportanceSamplingSettings& settings)
     : baseSize_(baseSize), levelCount_(levelCount), mapping_(mapping),
       samples_(importanceSamplesPerLevel(baseSize, levelCount, mapping, settings)) {
     const int size = paraboloidSize(baseSize);

@@ -11,7 +11,7 @@
 
 namespace probe {
 
-std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughness, int levelCount) {
+std::vector<int> levelsReadForRoughness(const RoughnessMapping& mapping, double roughness, int levelCount) {
     const double level = roughnessToLevel(mapping, roughness, levelCount);
     const int lower = static_cast<int>(std::floor(level)), upper = static_cast<int>(std::ceil(level));
     return lower == upper ? std::vector<int>{lower} : std::vector<int>{lower, upper};

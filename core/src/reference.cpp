@@ -114,7 +114,7 @@ CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
     });
 }
 
-CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ProgressCallback& progress) {
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress) {
     validateSizeAndLevels(source.size, levelCount);
     const int shift = rangeShift(source); // rows are summed in float
     const CubeImage scaled = shifted(source, -shift);

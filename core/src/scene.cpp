@@ -114,11 +114,25 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
     p.faceSize = r.optional<int>("face_size").value_or(128);
     if (log2Exact(p.faceSize) < 0 || p.faceSize > kMaxFaceSize)
         r.fail(r.field("face_size"), fmt::format("{} is not a power of two from 1 to {}", p.faceSize, kMaxFaceSize));
-    p.levelCount = r.optional<int>("levels").value_or(defaultLevelCount(p.faceSize));
-    if (p.levelCount < 1 || p.levelCount > maxLevelCount(p.faceSize))
-        r.fail(r.field("levels"),
-               fmt::format("{} is impossible for face size {} (1..{})", p.levelCount, p.faceSize, maxLevelCount(p.faceSize)));
-    p.mapping = parseNamed(r, "mapping", r.optional<std::string>("mapping").value_or("gltf"), parseRoughnessMapping);
+    // The roughness per level: a named mapping, or a list of its own (one value per level).
+    const std::optional<std::string> mapping = r.optional<std::string>("mapping");
+    const std::optional<std::vector<double>> roughness = r.optional<std::vector<double>>("roughness");
+    if (mapping && roughness) r.fail(r.field("roughness"), "is given with \"mapping\": give one of them");
+    if (roughness) {
+        try {
+            p.mapping = RoughnessMapping::custom(*roughness);
+        } catch (const ProbeError& e) {
+            r.fail(r.field("roughness"), e.what());
+        }
+    } else {
+        p.mapping = parseNamed(r, "mapping", mapping.value_or("gltf"), parseRoughnessMapping);
+    }
+    const std::optional<int> levels = r.optional<int>("levels");
+    try {
+        p.levelCount = chooseLevelCount(p.faceSize, levels, p.mapping);
+    } catch (const ProbeError& e) {
+        r.fail(r.field(levels ? "levels" : "roughness"), e.what());
+    }
     p.method.kind = parseNamed(r, "method", r.optional<std::string>("method").value_or("table"), parseMethodKind);
     p.method.fis.samples = r.optional<int>("samples").value_or(32);
     if (p.method.fis.samples < 1 || p.method.fis.samples > kMaxSamples)

@@ -41,7 +41,7 @@ double seamRatio(const CubeImage& level) {
     return steps.interior > 0.0 ? steps.edge / steps.interior : 0.0;
 }
 
-CubeLevels skyReference(int faceSize, int levelCount, RoughnessMapping mapping) {
+CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping) {
     return referenceFilter(skyProbe(faceSize), levelCount, mapping);
 }
 

@@ -164,7 +164,17 @@ std::string tableToJson(const TapTable& table) {
               {"fitSeconds", table.fitSeconds},
               {"levels", levels}};
     if (table.seamWeight > 0.0) j["seamWeight"] = table.seamWeight; // tables from before the seam term have none
+    if (table.mapping.curve() == RoughnessMapping::Curve::custom) j["roughness"] = table.mapping.list();
     return j.dump(1) + "\n";
+}
+
+// "mapping": a named curve, or "custom" with the list in "roughness".
+RoughnessMapping tableMapping(const Reader& r, const json& j) {
+    if (r.get<std::string>(j, "mapping") != "custom") {
+        if (j.contains("roughness")) r.fail("roughness", "is given with a named mapping (expected \"mapping\": \"custom\")");
+        return r.name(j, "mapping", parseRoughnessMapping);
+    }
+    return RoughnessMapping::custom(r.get<std::vector<double>>(j, "roughness"));
 }
 
 TapTable tableFromJson(std::string_view text, const std::filesystem::path& path) {
@@ -172,7 +182,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     const Reader r{path};
     r.refuseUnknown(j,
                     {"format", "version", "layout", "baseSize", "levelCount", "taps", "form", "mapping", "pyramid", "solver",
-                     "stratifiedBudget", "fitSeconds", "seamWeight", "levels"},
+                     "stratifiedBudget", "fitSeconds", "seamWeight", "roughness", "levels"},
                     "");
     if (r.get<std::string>(j, "format") != kFormatName) throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
     if (r.get<int>(j, "version") != kFormatVersion)
@@ -182,7 +192,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     TapTable table;
     try {
         table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"), r.name(j, "form", parseTableForm),
-                           r.name(j, "mapping", parseRoughnessMapping),
+                           tableMapping(r, j),
                            {r.name(pyramid, "kind", parsePyramidKind), r.name(pyramid, "weighting", parsePyramidWeighting)});
     } catch (const ProbeError& e) {
         const std::string message = e.what();
@@ -243,7 +253,7 @@ void setPublishedLayout(TapTable& table, std::span<const double> values) {
 }
 
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
-                              RoughnessMapping mapping, PyramidSettings pyramid) {
+                              const RoughnessMapping& mapping, PyramidSettings pyramid) {
     TapTable table = emptyTable(baseSize, levelCount, taps, form, mapping, pyramid);
     const std::string text = readTextFile(path);
     std::vector<double> numbers;
@@ -283,7 +293,7 @@ void writePublishedTable(const std::filesystem::path& path, const TapTable& tabl
 std::vector<std::string> tableSummary(const TapTable& table) {
     std::vector<std::string> lines;
     lines.push_back(fmt::format("base size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.baseSize, table.levelCount,
-                                table.taps, kFrameCount, tableFormName(table.form), roughnessMappingName(table.mapping)));
+                                table.taps, kFrameCount, tableFormName(table.form), describeRoughnessMapping(table.mapping)));
     lines.push_back(
         fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind), pyramidWeightingName(table.pyramid.weighting)));
     lines.push_back(fmt::format("solver: {}; stratified texels: budget {} per level", table.solver, table.stratifiedBudget));
@@ -318,6 +328,10 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
     out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form), tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kForm = \"{}\";\n", tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kMapping = \"{}\";\n", roughnessMappingName(table.mapping));
+    std::vector<double> roughness;
+    for (int m = 0; m < table.levelCount; ++m) roughness.push_back(levelRoughness(table.mapping, m, table.levelCount));
+    out += "// Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).\n";
+    out += fmt::format("inline constexpr double kLevelRoughness[{}] = {{{}}};\n", table.levelCount, fmt::join(roughness, ", "));
     out += fmt::format("inline constexpr const char* kPyramidKind = \"{}\";\n", pyramidKindName(table.pyramid.kind));
     out += fmt::format("inline constexpr const char* kPyramidWeighting = \"{}\";\n", pyramidWeightingName(table.pyramid.weighting));
     out += fmt::format("inline constexpr const char* kSolver = R\"probetable({})probetable\";\n", table.solver);

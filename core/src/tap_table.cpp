@@ -128,7 +128,7 @@ TableForm parseTableForm(std::string_view name) {
 
 std::string_view tableFormName(TableForm form) { return form == TableForm::quadratic ? "quad" : "const"; }
 
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid) {
+TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid) {
     TapTable table;
     table.baseSize = baseSize;
     table.levelCount = levelCount;
@@ -137,6 +137,7 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
     table.mapping = mapping;
     table.pyramid = pyramid;
     validateSizeAndLevels(baseSize, levelCount);
+    validateMappingLevels(mapping, levelCount);
     if (taps < 4 || taps % 4 != 0 || taps > kMaxTaps)
         throw ProbeError(fmt::format("tap count {} is not a multiple of 4 from 4 to {}", taps, kMaxTaps));
     table.levels.resize(static_cast<std::size_t>(levelCount));
@@ -151,6 +152,7 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, Roug
 void validateTable(const TapTable& table, std::string_view what) {
     try {
         validateSizeAndLevels(table.baseSize, table.levelCount);
+        validateMappingLevels(table.mapping, table.levelCount);
     } catch (const ProbeError& e) {
         throw ProbeError(fmt::format("{}: {}", what, e.what()));
     }

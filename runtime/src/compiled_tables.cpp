@@ -22,6 +22,7 @@ struct HeaderTable {
     int taps;
     std::string_view form;
     std::string_view mapping;
+    std::span<const double> levelRoughness;
     std::string_view pyramidKind;
     std::string_view pyramidWeighting;
     std::string_view solver;
@@ -38,7 +39,9 @@ ImpulseError impulseError(const double* columns) {
 
 CompiledTable compiledTable(const HeaderTable& h) {
     const std::string what = "tables/" + std::string(h.name) + ".h";
-    TapTable table = emptyTable(h.baseSize, h.levelCount, h.taps, parseTableForm(h.form), parseRoughnessMapping(h.mapping),
+    const RoughnessMapping mapping = h.mapping == "custom" ? RoughnessMapping::custom({h.levelRoughness.begin(), h.levelRoughness.end()})
+                                                           : parseRoughnessMapping(h.mapping);
+    TapTable table = emptyTable(h.baseSize, h.levelCount, h.taps, parseTableForm(h.form), mapping,
                                 {parsePyramidKind(h.pyramidKind), parsePyramidWeighting(h.pyramidWeighting)});
     table.solver = h.solver;
     table.stratifiedBudget = h.stratifiedBudget;
@@ -63,6 +66,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
                 probe_tables::name::kTaps,                                                                                                 \
                 probe_tables::name::kForm,                                                                                                 \
                 probe_tables::name::kMapping,                                                                                              \
+                probe_tables::name::kLevelRoughness,                                                                                       \
                 probe_tables::name::kPyramidKind,                                                                                          \
                 probe_tables::name::kPyramidWeighting,                                                                                     \
                 probe_tables::name::kSolver,                                                                                               \
@@ -85,7 +89,7 @@ const std::vector<CompiledTable>& compiledTables() {
     return tables;
 }
 
-const CompiledTable* findCompiledTable(int faceSize, int levelCount, RoughnessMapping mapping, const PyramidSettings& pyramid) {
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid) {
     const CompiledTable* best = nullptr;
     for (const CompiledTable& c : compiledTables()) {
         const TapTable& t = c.table;

@@ -160,6 +160,7 @@ VkFormat parseFormat(std::string_view name) {
 
 Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
+    validateMappingLevels(s.mapping, s.levelCount);
     validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
     pyramidLevels = pyramidLevelCount(s.faceSize);
     pyramidDepth = s.pyramidDepth < 0 ? pyramidLevels - 1 : s.pyramidDepth;

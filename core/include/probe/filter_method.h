@@ -28,15 +28,15 @@ struct FilterMethod {
 // Throws ParameterError naming the parameter and every reason unless `method` filters probes of
 // this base size, level count and mapping: a table of that shape (validateTable), FIS sample counts
 // of at least 1 (one per level when given per level).
-void validateMethod(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
+void validateMethod(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping);
 
 // The taps of every output level (empty for the reference, which reads no pyramid). A table's
 // generator refers to method.table. FIS on a paraboloid map has the cube's taps: the same samples,
 // which the map reads at its own levels (probe/paraboloid.h).
-TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, RoughnessMapping mapping);
+TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping);
 
 // Filters a probe on the CPU with the shared model: the reference, pass 1 and the method's taps, or
 // FIS on a paraboloid map (paraboloidFilter).
-CubeLevels filterOnCpu(const CubeImage& source, int levelCount, RoughnessMapping mapping, const FilterMethod& method);
+CubeLevels filterOnCpu(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FilterMethod& method);
 
 } // namespace probe

@@ -48,7 +48,7 @@ std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, doub
 
 // importanceSamples for every output level of a mapping, settings.samplesAt(m) at level m; empty at
 // the levels with alpha = 0, which are copies. Throws ProbeError as validateSampleCounts.
-std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, RoughnessMapping mapping,
+std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, const RoughnessMapping& mapping,
                                                         const ImportanceSamplingSettings& settings);
 
 // The tangent frame of R (unit) that the samples are rotated into: up = +Z, or +X where
@@ -60,16 +60,16 @@ void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std
 
 // As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
 // settings.samplesAt(level) samples at each level.
-TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, RoughnessMapping mapping,
+TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, const RoughnessMapping& mapping,
                                           const ImportanceSamplingSettings& settings);
 
 // Filters a probe: builds the pyramid of settings.pyramid and computes every output level.
-CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping,
+CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
                                   const ImportanceSamplingSettings& settings);
 
 // Impulse response of one output texel of level m over base texels.
 std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
-                                                    RoughnessMapping mapping, const ImportanceSamplingSettings& settings, int level,
+                                                    const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings, int level,
                                                     const Texel& texel);
 
 } // namespace probe

@@ -66,14 +66,15 @@ glm::dvec3 sampleParaboloid(const ParaboloidMap& map, const glm::dvec3& directio
 
 // Filters a probe: FIS's samples (settings.samples or per level, settings.bias) read from the
 // paraboloid map of the source. Levels with alpha = 0 are copies of the source.
-CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ImportanceSamplingSettings& settings);
+CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
+                            const ImportanceSamplingSettings& settings);
 
 // The impulse response of one output texel of level m (alpha > 0) over base texels (texelIndex at
 // baseSize): the normalized sample weights pushed back through the map's mips and the bilinear
 // resampling of the source.
 class ParaboloidImpulse {
 public:
-    ParaboloidImpulse(int baseSize, int levelCount, RoughnessMapping mapping, const ImportanceSamplingSettings& settings);
+    ParaboloidImpulse(int baseSize, int levelCount, const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings);
     std::vector<double> response(int level, const Texel& texel) const;
 
 private:

@@ -14,7 +14,7 @@ namespace probe {
 
 // The output levels that a trilinear lookup at `roughness` reads under the mapping: floor and
 // ceil of the fractional level (one level when it is whole).
-std::vector<int> levelsReadForRoughness(RoughnessMapping mapping, double roughness, int levelCount);
+std::vector<int> levelsReadForRoughness(const RoughnessMapping& mapping, double roughness, int levelCount);
 
 // The deepest pyramid level that the taps of the given output levels read (trilinear reads the
 // level above a fractional level too), clamped to the pyramid; 0 when no level has taps. A tap

@@ -23,7 +23,7 @@ CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha);
 
 // Every output level m = 0..levelCount-1 (face size source.size >> m, alpha from the mapping),
 // all cores. Throws ProbeError for an impossible level count.
-CubeLevels referenceFilter(const CubeImage& source, int levelCount, RoughnessMapping mapping, const ProgressCallback& progress = {});
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress = {});
 
 // The reference's impulse response for output direction R: normalized weights k(R, t) over the
 // source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on

@@ -8,6 +8,7 @@
 //                  "base_color": [0.95, 0.93, 0.88], "specular": 1}],
 //   "outputs": {"exr": true, "ktx2": "rgba16f", "spheres": true}
 // }
+// A probe's "roughness" (a list, one perceptual roughness per level, increasing) replaces "mapping".
 // A probe's name names its output folder (no slashes). Only "name" and "image" of a probe and
 // "name" and "roughness" of a material are required; "probe" may be left out when there is one
 // probe. Paths are relative to the scene file.
@@ -29,7 +30,7 @@ struct SceneProbe {
     std::string name;
     std::filesystem::path image; // resolved against the scene's folder
     int faceSize = 128;
-    int levelCount = 0; // after parsing: the default for the face size when not given
+    int levelCount = 0; // after parsing: the roughness list's length or the default for the face size when not given
     RoughnessMapping mapping = RoughnessMapping::gltf;
     FilterMethod method;                        // its table is left null: `table` or the compiled-in one
     std::optional<std::filesystem::path> table; // table method: a table file instead of the compiled-in one

@@ -26,7 +26,7 @@ SeamSteps steepestSteps(const CubeImage& level);
 double seamRatio(const CubeImage& level);
 
 // The exact reference of the smooth sky (synthetic.h's skyProbe), all levels; costs seconds at 128^2.
-CubeLevels skyReference(int faceSize, int levelCount, RoughnessMapping mapping);
+CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping);
 
 // The single k: 1.1x the largest seam ratio over the levels of the 64^2 sky reference.
 double seamBoundCap();

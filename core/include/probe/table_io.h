@@ -31,7 +31,7 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level);
 void setPublishedLayout(TapTable& table, std::span<const double> values);
 
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
-                              RoughnessMapping mapping, PyramidSettings pyramid);
+                              const RoughnessMapping& mapping, PyramidSettings pyramid);
 void writePublishedTable(const std::filesystem::path& path, const TapTable& table);
 
 // The inputs, solver settings, run time and per-level errors, one per line, for generated comments and logs.

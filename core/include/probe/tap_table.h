@@ -49,7 +49,7 @@ struct TapTable {
 };
 
 // A table with zero coefficients and unmeasured errors; checks the sizes (ProbeError otherwise).
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, RoughnessMapping mapping, PyramidSettings pyramid);
+TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid);
 
 // Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
 void validateTable(const TapTable& table, std::string_view what);

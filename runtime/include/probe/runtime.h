@@ -303,6 +303,6 @@ struct CompiledTable {
 const std::vector<CompiledTable>& compiledTables();
 // The compiled-in table for these settings (the quadratic 8-tap one when there are several), or
 // null.
-const CompiledTable* findCompiledTable(int faceSize, int levelCount, RoughnessMapping mapping, const PyramidSettings& pyramid);
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid);
 
 } // namespace probe::gpu
