@@ -4,6 +4,7 @@
 // heat maps of their error against the reference's (sheet.png); report.json holds the image L1 per
 // level, the spheres' L1 and the GPU times.
 #include <array>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "probe/table_io.h"
 #include "report.h"
 #include "spheres.h"
+#include "table_option.h"
 
 namespace probefilter {
 
@@ -104,20 +106,22 @@ void runCompare(const CompareOptions& o) {
     tableSettings.mapping = mapping;
     probe::TapTable table;
     if (!o.table.empty()) {
-        table = probe::readTable(o.table);
+        table = tableOption(o.table);
     } else if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(o.size, levelCount, mapping, {})) {
         table = compiled->table;
     } else {
         throw probe::ProbeError(
-            fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table FILE", o.size, levelCount));
+            fmt::format("no compiled-in tap table for {}^2, {} levels, gltf mapping; pass --table NAME|FILE", o.size, levelCount));
     }
     tableSettings.method.table = &table;
+    // A table that does not fit is refused before the reference's minutes of CPU.
+    probe::validateMethod(tableSettings.method, o.size, levelCount, mapping);
     probe::gpu::FilterSettings fisSettings = tableSettings;
     fisSettings.method = {probe::MethodKind::fis, nullptr, {}};
     fisSettings.method.fis.samples = o.samples;
 
     std::vector<std::filesystem::path> inputs{o.input};
-    if (!o.table.empty()) inputs.emplace_back(o.table);
+    if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
     probe::PixelRepairs repairs;
     const probe::CubeImage source =
@@ -201,7 +205,8 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
     cmd->add_option("--size", o->size, fmt::format("Face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
-    cmd->add_option("--table", o->table, "Tap table file (default: the compiled-in table for the size)");
+    cmd->add_option("--table", o->table,
+                    "Tap table: a compiled-in table's name or a table file (default: the compiled-in table for the size)");
     cmd->add_option("--samples", o->samples, fmt::format("FIS samples per texel (1 to {})", probe::kMaxSamples))->capture_default_str();
     cmd->add_option("--roughness", o->roughness,
                     fmt::format("Perceptual roughness of each sphere (1 to {} values)", probe::kMaxSheetSpheres))

@@ -19,6 +19,7 @@
 #include "probe/table_io.h"
 #include "probe_outputs.h"
 #include "report.h"
+#include "table_option.h"
 
 namespace probefilter {
 
@@ -53,14 +54,6 @@ struct FilterOptions {
     bool force = false;
 };
 
-bool looksLikeJson(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    char c = 0;
-    while (in.get(c))
-        if (!std::isspace(static_cast<unsigned char>(c))) return c == '{';
-    return false;
-}
-
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
     return fmt::format("probefit fit --size {} --levels {} --taps 8 --form quad {} --pyramid {} --weighting {} --out tables/<name>",
                        s.faceSize, s.levelCount, probe::mappingOptions(s.mapping), probe::pyramidKindName(pyramid.kind),
@@ -70,22 +63,7 @@ std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::Py
 // The table that --table names (a compiled-in table or a file), or else the compiled-in table for
 // the settings and pyramid (quad with 8 taps preferred). Its shape is checked by the runtime.
 probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
-    const std::vector<probe::gpu::CompiledTable>& compiled = probe::gpu::compiledTables();
-    if (!o.table.empty()) {
-        for (const probe::gpu::CompiledTable& c : compiled)
-            if (c.name == o.table) return c.table;
-        const std::filesystem::path path(o.table);
-        std::error_code ec;
-        if (!std::filesystem::exists(path, ec))
-            throw probe::ProbeError(fmt::format("--table {}: no such file and no compiled-in table of that name", o.table));
-        probe::checkInputFile(path, probe::kMaxTextFileBytes);
-        if (looksLikeJson(path)) return probe::readTable(path);
-        if (o.tableTaps <= 0 || o.tableForm.empty())
-            throw probe::ProbeError(
-                fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", o.table));
-        return probe::importPublishedTable(path, s.faceSize, s.levelCount, o.tableTaps, probe::parseTableForm(o.tableForm), s.mapping,
-                                           pyramid);
-    }
+    if (!o.table.empty()) return tableOption(o.table, {o.tableTaps, o.tableForm, s.faceSize, s.levelCount, s.mapping, pyramid});
     const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, pyramid);
     if (!best)
         throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "

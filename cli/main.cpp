@@ -1,5 +1,6 @@
 // probefilter: GGX-filtered reflection probes. Exit codes: 0 success, 2 bad input or failure.
 #include <cstdio>
+#include <string>
 #include <string_view>
 
 #include <CLI/CLI.hpp>
@@ -17,6 +18,16 @@ std::string withFlag(const probe::ParameterError& e) {
          {"method", "table", "samples", "fis-bias", "fis-map", "repeat", "device", "sampling", "format", "pyramid-format", "roughness"})
         if (e.parameter == flag) return fmt::format("--{}", e.what());
     return e.what();
+}
+
+// Every value an option or argument takes must be given: an empty number or path is refused, not
+// taken as the default.
+void refuseEmptyValues(CLI::App& app) {
+    const CLI::Validator nonEmpty([](const std::string& value) { return value.empty() ? std::string("empty value") : std::string(); }, "",
+                                  "NONEMPTY");
+    for (CLI::Option* option : app.get_options())
+        if (option->get_expected_min() > 0) option->check(nonEmpty);
+    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) refuseEmptyValues(*command);
 }
 
 // The one line of a refusal; stderr that cannot be written is ignored (the exit code tells).
@@ -38,6 +49,7 @@ int main(int argc, char** argv) {
     probefilter::addRunCommand(app);
     probefilter::addCompareCommand(app);
     probefilter::addSweepCommand(app);
+    refuseEmptyValues(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

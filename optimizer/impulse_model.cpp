@@ -114,11 +114,9 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
         ws.adjoint.emplace_back(texelCount(baseSize_ >> k), 0.0);
         ws.stamp.emplace_back(texelCount(baseSize_ >> k), 0u);
         ws.touched.emplace_back();
-        ws.cellStamp.emplace_back(texelCount(baseSize_ >> k), 0u);
-        ws.cellSlot.emplace_back(texelCount(baseSize_ >> k), -1);
+        ws.cellOf.emplace_back(texelCount(baseSize_ >> k));
         ws.route.emplace_back(texelCount(baseSize_ >> k), -1);
-        ws.resolvedStamp.emplace_back(texelCount(baseSize_ >> k), 0u);
-        ws.resolved.emplace_back(texelCount(baseSize_ >> k), -1);
+        ws.resolved.emplace_back(texelCount(baseSize_ >> k));
     }
     return ws;
 }
@@ -317,8 +315,8 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
     // else dense passes over every texel.
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
-        for (auto& s : ws.cellStamp) std::fill(s.begin(), s.end(), 0u);
-        for (auto& s : ws.resolvedStamp) std::fill(s.begin(), s.end(), 0u);
+        for (auto& s : ws.cellOf) std::fill(s.begin(), s.end(), Workspace::StampedCell{});
+        for (auto& s : ws.resolved) std::fill(s.begin(), s.end(), Workspace::StampedCell{});
         ws.generation = 1;
     }
     const std::uint32_t generation = ws.generation;
@@ -420,26 +418,22 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
 double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const {
     const std::uint32_t generation = ws.generation;
     const std::vector<LobeCell>& cells = texel.cells;
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-        ws.cellStamp[cells[c].level][cells[c].index] = generation;
-        ws.cellSlot[cells[c].level][cells[c].index] = static_cast<std::int32_t>(c);
-    }
+    for (std::size_t c = 0; c < cells.size(); ++c) ws.cellOf[cells[c].level][cells[c].index] = {generation, static_cast<std::int32_t>(c)};
     // The cell that holds texel (face, i, j) of level k: the texel itself or its nearest ancestor
     // that is a cell; -1 where the cells there are finer than the texel. Remembered for the call in
     // resolved (a texel is the neighbour of eight others).
     auto cellAt = [&](int k, int face, int i, int j) {
-        const std::size_t at = texelIndex({face, i, j}, baseSize_ >> k);
-        if (ws.resolvedStamp[k][at] == generation) return ws.resolved[k][at];
+        Workspace::StampedCell& at = ws.resolved[k][texelIndex({face, i, j}, baseSize_ >> k)];
+        if (at.stamp == generation) return at.cell;
         std::int32_t cell = -1;
         for (int a = k, size = baseSize_ >> k; a < pyramidLevels_; ++a, i >>= 1, j >>= 1, size >>= 1) {
-            const std::size_t index = texelIndex({face, i, j}, size);
-            if (ws.cellStamp[a][index] == generation) {
-                cell = ws.cellSlot[a][index];
+            const Workspace::StampedCell& c = ws.cellOf[a][texelIndex({face, i, j}, size)];
+            if (c.stamp == generation) {
+                cell = c.cell;
                 break;
             }
         }
-        ws.resolvedStamp[k][at] = generation;
-        ws.resolved[k][at] = cell;
+        at = {generation, cell};
         return cell;
     };
     // Top down: a texel's weight spreads over the cells of its 3x3 neighbourhood (across face edges
@@ -449,11 +443,13 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int t
     ws.cellMass.assign(cells.size(), 0.0);
     ws.spreads.clear();
     for (int k = top; k >= 0; --k) {
-        const int size = baseSize_ >> k;
+        const int size = baseSize_ >> k, shift = log2Exact(size);
+        const std::uint32_t mask = static_cast<std::uint32_t>(size) - 1u;
         for (const std::uint32_t p : ws.touched[k]) {
             const double v = ws.weights[k][p];
-            const int face = static_cast<int>(p / (static_cast<std::uint32_t>(size) * static_cast<std::uint32_t>(size)));
-            const int i = static_cast<int>(p) % size, j = static_cast<int>(p / static_cast<std::uint32_t>(size)) % size;
+            // size is a power of two: shifts and masks, not divisions.
+            const int face = static_cast<int>(p >> (2 * shift));
+            const int i = static_cast<int>(p & mask), j = static_cast<int>((p >> shift) & mask);
             Spread spread;
             if (k == 0) {
                 spread.cells[0] = cellAt(0, face, i, j);
@@ -461,9 +457,11 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int t
                 spread.count = 1;
             } else if (size >= 3) {
                 const std::array<double, 9>& stencil = spread_[static_cast<std::size_t>(k)];
+                // Inside the face the neighbours are plain steps; at its edge the sampler's steps.
+                const bool inside = i > 0 && j > 0 && i < size - 1 && j < size - 1;
                 for (int n = 0; n < 9; ++n) {
-                    Texel neighbour;
-                    const bool exists = texelNeighbour({face, i, j}, n % 3 - 1, n / 3 - 1, size, neighbour);
+                    Texel neighbour{face, i + n % 3 - 1, j + n / 3 - 1};
+                    const bool exists = inside || texelNeighbour({face, i, j}, n % 3 - 1, n / 3 - 1, size, neighbour);
                     const std::int32_t cell = exists ? cellAt(k, neighbour.face, neighbour.i, neighbour.j) : -1;
                     if (cell < 0) {
                         spread.count = 0;

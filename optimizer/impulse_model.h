@@ -114,11 +114,16 @@ public:
         std::vector<std::vector<double>> weights, adjoint; // per pyramid level
         std::vector<std::vector<std::uint32_t>> touched, stamp;
         std::uint32_t generation = 0;
-        // The cells' pass: cellStamp marks the texels that are cells of this call, cellSlot names
-        // them, resolved (where resolvedStamp is this call's) holds the cell a texel lies in, route
-        // where each touched texel's weight went (its spread, or -1: pushed down).
-        std::vector<std::vector<std::uint32_t>> cellStamp, resolvedStamp;
-        std::vector<std::vector<std::int32_t>> cellSlot, route, resolved;
+        // The cells' pass: cellOf names the texels that are cells of this call, resolved holds the
+        // cell a texel lies in (each valid where its stamp is this call's; stamp and value side by
+        // side, one cache line apart at most), route where each touched texel's weight went (its
+        // spread, or -1: pushed down).
+        struct StampedCell {
+            std::uint32_t stamp = 0;
+            std::int32_t cell = -1;
+        };
+        std::vector<std::vector<StampedCell>> cellOf, resolved;
+        std::vector<std::vector<std::int32_t>> route;
         std::vector<double> cellMass, cellSlope;
         std::vector<Spread> spreads;
     };

@@ -28,7 +28,7 @@ struct LobeCell {
 
 // A cell is measured whole where its nearest point lies at least this many of its angular radii
 // from R (closer, it splits into its four children; base texels always stand alone).
-inline constexpr double kCellDistance = 8.0;
+inline constexpr double kCellDistance = 3.0;
 // ... and where the lobe varies across it (max - min of the density at its centre and corners) by
 // less than this share of its largest value there, or by less than kCellVariation of the lobe's
 // whole mass times the cell's solid angle: so a lobe that is sharp away from R (a ring) is resolved

@@ -256,7 +256,10 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
             const std::vector<probefit::OutputTexel> prepared = probefit::prepareTexels(
                 probefit::levelTexels(table, m, set), table.baseSize, m, tableLevelAlpha(table, m), false, probefit::Measure::cells);
             const double fast = probefit::evaluatePrepared(model, probefit::levelBlocks(table, m).data(), prepared).error.mean;
-            comparison += fmt::format("; over cells {:.6f} ({:+.2f}%)", fast, 100.0 * (fast / e.error.mean - 1.0));
+            std::size_t cellCount = 0;
+            for (const probefit::OutputTexel& texel : prepared) cellCount += texel.cells.size();
+            comparison += fmt::format("; over cells {:.6f} ({:+.2f}%), {} cells per texel", fast, 100.0 * (fast / e.error.mean - 1.0),
+                                      cellCount / std::max<std::size_t>(prepared.size(), 1));
         }
         fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
                    e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);

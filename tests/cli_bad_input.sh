@@ -43,6 +43,13 @@ expect_refused size-zero      "face size 0"       reference "$in/good.exr" --siz
 expect_refused too-many-levels "level count 5"    reference "$in/good.exr" --size 8 --levels 5 --out "$work/out"
 expect_refused zero-levels    "level count 0"     reference "$in/good.exr" --size 8 --levels 0 --out "$work/out"
 expect_refused unwritable-out "$work/a-file/out"  reference "$in/good.exr" --size 8 --out "$work/a-file/out"
+# Empty values are refused, not taken as the defaults.
+expect_refused empty-levels   "--levels"          reference "$in/good.exr" --size 8 --levels '' --out "$work/out"
+expect_refused empty-input    "input"             reference '' --size 8 --out "$work/out"
+expect_refused empty-out      "--out"             reference "$in/good.exr" --size 8 --out ''
+expect_refused filter-zero-levels "level count 0" filter "$in/good.exr" --method fis --size 8 --levels 0 --out "$work/out"
+expect_refused filter-empty-bias "--fis-bias"     filter "$in/good.exr" --method fis --size 8 --fis-bias '' --out "$work/out"
+expect_refused filter-empty-roughness "--roughness" filter "$in/good.exr" --method fis --size 8 --roughness '' --out "$work/out"
 
 # Bad scenes for `run`: the message names the scene file and the field.
 bad_scene() { # name, probe fields, materials

@@ -25,4 +25,15 @@ png = open(sys.argv[1] + "/sheet.png", "rb").read()
 width, height = struct.unpack(">II", png[16:24])
 assert png[:8] == b"\x89PNG\r\n\x1a\n" and width == 2 * 3 * 40 + 6 and height == 3 * (40 + 26), (width, height)
 PY
+# --table also takes a compiled-in table's name; a table that does not fit is refused (exit 2, one line,
+# nothing written).
+"$PROBEFILTER" compare sky.exr --size 16 --table gltf16_quad8 --roughness 0.5 --cell 16 --repeat 1 --out named >/dev/null 2>err.txt ||
+    fail "compare --table NAME: $(cat err.txt)"
+[[ -f named/sheet.png ]] || fail "compare --table NAME: no sheet"
+set +e
+"$PROBEFILTER" compare sky.exr --size 16 --table gltf128_quad8 --out wrong >/dev/null 2>err.txt
+code=$?
+set -e
+[[ $code -eq 2 && $(wc -l <err.txt) -eq 1 && ! -e wrong ]] && grep -q "base size 128, not 16" err.txt ||
+    fail "compare with a table of another size: exit $code: $(cat err.txt)"
 echo "cli_compare: ok"

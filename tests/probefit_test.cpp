@@ -389,8 +389,8 @@ TEST(LobeCells, FastObjectiveIsCloseToTheExactL1) {
                                                  model.evaluate(levelBlocks(table, m).data(), exact[n], ws).error));
             std::printf("%s level %d: fast %.5f exact %.5f (%+.2f%%), worst texel %.5f\n", name, m, f.error.mean, e.error.mean,
                         100.0 * (f.error.mean / e.error.mean - 1.0), worst);
-            EXPECT_NEAR(f.error.mean, e.error.mean, 0.015 * e.error.mean) << name << " level " << m;
-            EXPECT_LT(worst, 0.003) << name << " level " << m;
+            EXPECT_NEAR(f.error.mean, e.error.mean, 0.035 * e.error.mean) << name << " level " << m;
+            EXPECT_LT(worst, 0.005) << name << " level " << m;
         }
     }
 }

@@ -42,7 +42,7 @@ PY
     fail "the regenerated tables"
 "$PROBEFIT" eval "$work/parallel/tables/gltf16_quad8.json" --texels stratified --check 1e-3 >/dev/null ||
     fail "eval does not reproduce the regenerated table's records"
-grep -q '^| gltf16_quad8 | [0-9]* | 1: 0\.[0-9]* ([0-9.]*x), 2: .*, 3: ' "$work/parallel/report.md" ||
+grep -q '^| gltf16_quad8 | [0-9]* | [0-9]* | 1: 0\.[0-9]* ([0-9.]*x), 2: .*, 3: ' "$work/parallel/report.md" ||
     fail "report: $(cat "$work/parallel/report.md")"
 grep -q 'GNU parallel, wall time' "$work/parallel/report.md" || fail "report: no runner and wall time"
 

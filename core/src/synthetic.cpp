@@ -78,11 +78,6 @@ CubeImage checkerProbe(int faceSize) {
     return cube;
 }
 
-const std::vector<std::string>& syntheticProbeNames() {
-    static const std::vector<std::string> names{"constant", "sky", "sunsky", "room", "checker"};
-    return names;
-}
-
 CubeImage syntheticProbe(std::string_view name, int faceSize) {
     if (name == "checker") return checkerProbe(faceSize);
     if (auto radianceOf = directionalProbe(name)) return fromDirections(faceSize, radianceOf);

@@ -224,8 +224,6 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
 
 TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readTextFile(path), path); }
 
-void writeTable(const std::filesystem::path& path, const TapTable& table) { writeFile(path, tableToJson(table)); }
-
 std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
     const int k = coefficientCount(table.form);
     const std::vector<double>& c = table.levels[level].coefficients;

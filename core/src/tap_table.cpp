@@ -8,7 +8,6 @@
 
 #include "probe/error.h"
 #include "probe/limits.h"
-#include "probe/table_filter.h"
 
 namespace probe {
 

@@ -1,9 +1,7 @@
 // Probes the project makes itself, for tests, benchmarks and the demo: no download needed.
 #pragma once
 
-#include <string>
 #include <string_view>
-#include <vector>
 
 #include "probe/cube_image.h"
 
@@ -38,6 +36,5 @@ CubeImage syntheticProbe(std::string_view name, int faceSize);
 // The same probes as equirectangular images of width x width/2 (the convention of probe_io.h),
 // for testing the equirectangular path; checker is a cube-only pattern and is refused.
 Image syntheticEquirect(std::string_view name, int width);
-const std::vector<std::string>& syntheticProbeNames();
 
 } // namespace probe

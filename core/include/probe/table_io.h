@@ -15,7 +15,6 @@ namespace probe {
 // The project's table file. Reading refuses (ProbeError naming the file and the problem) anything
 // that is not a complete table of a consistent layout: truncated, wrong sizes, unknown names.
 TapTable readTable(const std::filesystem::path& path);
-void writeTable(const std::filesystem::path& path, const TapTable& table);
 std::string tableToJson(const TapTable& table);
 TapTable tableFromJson(std::string_view text, const std::filesystem::path& path);
 

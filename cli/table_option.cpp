@@ -1,0 +1,45 @@
+#include "table_option.h"
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "probe/error.h"
+#include "probe/input_file.h"
+#include "probe/limits.h"
+#include "probe/runtime.h"
+#include "probe/table_io.h"
+
+namespace probefilter {
+
+namespace {
+
+bool looksLikeJson(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    char c = 0;
+    while (in.get(c))
+        if (!std::isspace(static_cast<unsigned char>(c))) return c == '{';
+    return false;
+}
+
+} // namespace
+
+probe::TapTable tableOption(const std::string& table, const PublishedLayout& published) {
+    for (const probe::gpu::CompiledTable& c : probe::gpu::compiledTables())
+        if (c.name == table) return c.table;
+    const std::filesystem::path path(table);
+    std::error_code ec;
+    if (table.empty() || !std::filesystem::exists(path, ec))
+        throw probe::ProbeError(fmt::format("--table {}: no such file and no compiled-in table of that name", table));
+    probe::checkInputFile(path, probe::kMaxTextFileBytes);
+    if (looksLikeJson(path)) return probe::readTable(path);
+    if (published.taps <= 0 || published.form.empty())
+        throw probe::ProbeError(
+            fmt::format("--table {}: a table in the published text layout needs --table-taps N and --table-form const|quad", table));
+    return probe::importPublishedTable(path, published.faceSize, published.levelCount, published.taps,
+                                       probe::parseTableForm(published.form), published.mapping, published.pyramid);
+}
+
+} // namespace probefilter
