@@ -629,6 +629,18 @@ FitSolver parseFitSolver(const std::string& name) {
     throw ProbeError(fmt::format("'{}' is none of lm-bfgs, bfgs, lm", name));
 }
 
+bool copiesInitRecords(const FitSettings& settings, int m) {
+    if (settings.fitLevels.empty() || settings.inits.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end())
+        return false;
+    // The exact measure of a level costs seconds at 512^2: a per-level job pays for its own level alone.
+    const TapTable& init = settings.inits.front();
+    if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount || init.taps != settings.taps ||
+        init.form != settings.form || init.stratifiedBudget != settings.stratifiedBudget)
+        return false;
+    const TableLevel& level = init.levels[static_cast<std::size_t>(m)];
+    return level.stratified.mean >= 0.0 && (!settings.measureAll || level.all.mean >= 0.0);
+}
+
 TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
                   const std::function<void(const TapTable&)>& levelDone) {
     TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
@@ -687,6 +699,14 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
             previous = m;
             continue;
         }
+        const bool copied = !settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end();
+        if (copiesInitRecords(settings, m)) {
+            level = settings.inits.front().levels[m];
+            context.report(m, level.stratified.mean, "copied from --init");
+            if (levelDone) levelDone(table);
+            previous = m;
+            continue;
+        }
         const auto kernelStart = Clock::now();
         const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
         const std::vector<OutputTexel> texels =
@@ -697,7 +717,7 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const std::vector<OutputTexel>& judge = measured.empty() ? texels : measured;
         const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);
-        if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) {
+        if (copied) {
             startFromTable(table, m, settings.inits.front());
             recordLevel(table, m, model, judge, settings.measureAll);
             context.report(m, level.stratified.mean, "copied from --init");

@@ -85,6 +85,10 @@ struct FitProgress {
     int evaluations = 0;            // model evaluations over all stratified texels
 };
 
+// Whether level m is copied from the first --init with its records (it is not fitted, and the init
+// measured it on the same stratified texels): such a level costs nothing.
+bool copiesInitRecords(const FitSettings& settings, int m);
+
 // Whether only the start with the lowest objective after Levenberg-Marquardt goes on to BFGS.
 bool screensStarts(const FitSettings& settings);
 

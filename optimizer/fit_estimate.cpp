@@ -52,7 +52,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
             : std::nullopt;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
-        if (alpha <= 0.0) {
+        if (alpha <= 0.0 || copiesInitRecords(settings, m)) {
             estimate.levelSeconds.push_back(0.0);
             continue;
         }
