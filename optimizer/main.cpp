@@ -116,7 +116,8 @@ std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder
 
 int runFit(probefit::FitSettings settings, const std::string& form, const std::string& pyramid, const std::string& weighting,
            const std::string& solver, const std::string& measure, const std::optional<std::string>& fitLevels,
-           const std::vector<std::string>& init, const std::string& bank, const std::string& out, bool estimateOnly, bool resume) {
+           const std::vector<std::string>& init, const std::string& bank, const std::string& out, bool estimateOnly, bool resume,
+           std::optional<int> levels) {
     settings.form = parseOption("--form", form, parseTableForm);
     settings.measure = parseOption("--measure", measure, parseMeasure);
     if (fitLevels) settings.fitLevels = parseOption("--fit-levels", *fitLevels, parseLevelList);
@@ -124,12 +125,14 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
     if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
         throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
-    if (settings.levelCount < 1 || settings.levelCount > maxLevelCount(settings.baseSize))
-        throw ProbeError(fmt::format("--levels: {} levels are impossible for face size {} (1..{})", settings.levelCount, settings.baseSize,
-                                     maxLevelCount(settings.baseSize)));
-    if (settings.mapping.curve() == RoughnessMapping::Curve::custom && settings.mapping.list().size() != std::size_t(settings.levelCount))
-        throw ProbeError(fmt::format("--roughness: {} values for {} levels (--levels): expected one per level",
-                                     settings.mapping.list().size(), settings.levelCount));
+    // The level count: --levels, else one per --roughness value, else the size's default (core's rule).
+    try {
+        settings.levelCount = chooseLevelCount(settings.baseSize, levels, settings.mapping);
+    } catch (const ParameterError& e) {
+        throw ProbeError(fmt::format("--{}", e.what()));
+    } catch (const ProbeError& e) {
+        throw ProbeError(fmt::format("--levels: {}", e.what()));
+    }
     if (settings.taps < 4 || settings.taps % 4 != 0 || settings.taps > kMaxTaps)
         throw ProbeError(fmt::format("--taps: {} is not a multiple of 4 from 4 to {}", settings.taps, kMaxTaps));
     checkCount("--iterations", settings.maxIterations, 1, kMaxIterations);
@@ -472,15 +475,10 @@ int main(int argc, char** argv) {
         }
         settings.mapping = roughness.empty() ? parseOption("--mapping", mapping.empty() ? "gltf" : mapping, parseRoughnessMapping)
                                              : parseOption("--roughness", roughness, parseRoughnessList);
-        const bool custom = settings.mapping.curve() == RoughnessMapping::Curve::custom;
-        if (custom && levelsOption->count() == 0 && static_cast<int>(settings.mapping.list().size()) > maxLevelCount(settings.baseSize))
-            throw ProbeError(fmt::format("--roughness: {} values, one per level, but a {}^2 face has at most {} levels",
-                                         settings.mapping.list().size(), settings.baseSize, maxLevelCount(settings.baseSize)));
-        settings.levelCount = levelsOption->count() > 0 ? parseOption("--levels", levels, parseLevelCount)
-                              : custom                  ? static_cast<int>(settings.mapping.list().size())
-                                                        : defaultLevelCount(settings.baseSize);
+        const std::optional<int> levelCount =
+            levelsOption->count() > 0 ? std::optional(parseOption("--levels", levels, parseLevelCount)) : std::nullopt;
         const std::optional<std::string> fitLevelList = fitLevelsOption->count() > 0 ? std::optional(fitLevels) : std::nullopt;
-        return runFit(settings, form, pyramid, weighting, solver, measure, fitLevelList, init, bank, out, estimateOnly, resume);
+        return runFit(settings, form, pyramid, weighting, solver, measure, fitLevelList, init, bank, out, estimateOnly, resume, levelCount);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
