@@ -157,9 +157,15 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                                          path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount, settings.taps));
     }
     settings.bank = readBank(bank, settings);
-    if (!estimateOnly) probefit::checkWritable(out);
     // After each level the table so far goes to PREFIX.resume.json, which --resume continues from.
     const std::filesystem::path checkpointPath = out + ".resume.json";
+    if (!estimateOnly) {
+        probefit::checkWritable(out);
+        parseOption("--out", checkpointPath.string(), [](const std::string& path) {
+            const StagedFile checked(path); // checks, creating nothing
+            return true;
+        });
+    }
     std::optional<TapTable> checkpoint;
     std::error_code error;
     if (resume && !estimateOnly && std::filesystem::exists(checkpointPath, error)) checkpoint = readTable(checkpointPath);

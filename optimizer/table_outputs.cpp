@@ -5,8 +5,6 @@
 #include <memory>
 #include <vector>
 
-#include <unistd.h>
-
 #include <fmt/format.h>
 
 #include "probe/error.h"
@@ -31,20 +29,14 @@ constexpr std::array<const char*, 3> kExtensions{".json", ".h", ".glsl"};
 } // namespace
 
 void checkWritable(const std::filesystem::path& prefix) {
-    const std::filesystem::path folder = prefix.has_parent_path() ? prefix.parent_path() : std::filesystem::path(".");
-    std::error_code error;
-    if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK | X_OK) != 0)
-        throw probe::ProbeError(fmt::format("--out {}: folder does not exist or is not writable", prefix.string()));
-    for (const char* extension : kExtensions) {
-        const std::filesystem::path file = prefix.string() + extension;
-        const std::filesystem::file_status status = std::filesystem::status(file, error);
-        if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-            throw probe::ProbeError(fmt::format("--out {}: {} exists and is not a file", prefix.string(), file.string()));
+    try {
+        for (const char* extension : kExtensions) probe::StagedFile(prefix.string() + extension);
+    } catch (const probe::ProbeError& e) {
+        throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
     }
 }
 
 void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table) {
-    checkWritable(prefix);
     const std::string name = tableIdentifier(prefix);
     const std::array<std::string, 3> texts{probe::tableToJson(table), probe::tableCppHeader(table, name),
                                            probe::tableGlslInclude(table, name)};

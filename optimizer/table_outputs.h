@@ -11,8 +11,8 @@ namespace probefit {
 // The C identifier of the generated sources: the prefix's file name, other characters as '_'.
 std::string tableIdentifier(const std::filesystem::path& prefix);
 
-// Throws ProbeError (naming --out) unless the prefix's folder is writable and none of the three files
-// is something other than a file (a folder, a device); creates nothing.
+// Throws ProbeError (naming --out) unless the prefix's folder is writable and each of the three files
+// is absent or a regular file (not a link, a folder, a device); creates nothing.
 void checkWritable(const std::filesystem::path& prefix);
 
 // Writes the three files as staged files (probe/staged_output.h: written beside, renamed over), so that

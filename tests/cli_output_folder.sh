@@ -114,7 +114,7 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     proc = subprocess.Popen([probefilter, "synth", "sky", "--size", "1024", "--out", "big.exr"], stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     # The staging file appears when the writing starts (after the probe is made).
-    while proc.poll() is None and not os.path.exists(".big.exr.partial"):
+    while proc.poll() is None and not any(n.startswith(".big.exr.") and n.endswith(".partial") for n in os.listdir(".")):
         time.sleep(0.005)
     if proc.poll() is not None:
         print(f"FAIL: synth --size 1024 ended before {sig.name} could reach it while writing")

@@ -3,12 +3,19 @@
 stderr naming the file (or option) and the problem, within a few seconds and 1 GiB of resident
 memory (the child's own getrusage), and nothing on disk is created or changed.
 
+Outputs that are not the tool's to replace are among them: symbolic links (dangling, looping, to a
+folder or a file), FIFOs, device nodes, a mount inside an output folder, links planted at the staging
+names. Device nodes and mounts are made here, privately (a node in the work folder, a tmpfs in a mount
+namespace of the suite's own); where that is not permitted those cases are skipped, and say so.
+
 The hostile files are made here. Usage: hostile_inputs.py PROBEFILTER PROBEFIT
 """
 import json
 import os
+import shutil
 import re
 import resource
+import stat
 import struct
 import subprocess
 import sys
@@ -93,6 +100,39 @@ def expect_refused(name, needles, tool, *args):
     else:
         refused += 1
         print(f"ok {name} ({seconds:.2f} s, {rss_mib:.0f} MiB): {text.strip()}")
+
+
+def fnv1a(data):
+    """The hash in an output folder's staging name (core's staged_output.cpp)."""
+    h = 2166136261
+    for byte in data:
+        h = ((h ^ byte) * 16777619) & 0xFFFFFFFF
+    return h
+
+
+def expect_written(name, args, outputs, precious):
+    """Runs a command that must succeed beside links planted in its output's folder: exit 0, `outputs`
+    written, every link in that folder still there with its target, and `precious` unchanged."""
+    global tried, refused
+    tried += 1
+    folder = os.path.dirname(precious)
+    links = {n: os.readlink(os.path.join(folder, n)) for n in os.listdir(folder) if os.path.islink(os.path.join(folder, n))}
+    with open(precious, "rb") as f:
+        before = f.read()
+    result = subprocess.run(args, cwd=work, capture_output=True, text=True)
+    problems = []
+    if result.returncode != 0: problems.append(f"exit code {result.returncode}: {result.stderr.strip()[:200]}")
+    problems += [f"{out} not written" for out in outputs if not os.path.exists(out)]
+    for n, target in links.items():
+        link = os.path.join(folder, n)
+        if not os.path.islink(link) or os.readlink(link) != target: problems.append(f"link {n} changed")
+    with open(precious, "rb") as f:
+        if f.read() != before: problems.append(f"{precious} written through a link")
+    if problems:
+        print(f"FAIL {name}: {'; '.join(problems)}")
+    else:
+        refused += 1
+        print(f"ok {name}: written beside {len(links)} planted links, none followed")
 
 
 # --- File makers ---------------------------------------------------------------------------------
@@ -206,6 +246,71 @@ def main():
                    *filter_args(path("good.exr"), "--table", path("huge-table.json")))
     expect_refused("device-scene", ["/dev/zero", "device"], pf, "run", "/dev/zero", "--out", path("out"))
 
+    # Outputs: nothing but the tool's own output is replaced, no link is followed. All in outs/.
+    o = lambda name: path(os.path.join("outs", name))
+    os.makedirs(o("kept"))
+    write("outs/kept/mine.txt", "not probefilter's")
+    write("outs/precious.txt", "precious")
+    for link, target in (("dangling", "nowhere"), ("loop", "loop"), ("folder-link", "kept"), ("file-link", "precious.txt")):
+        os.symlink(target, o(link))
+    os.mkfifo(o("fifo"))
+    nodes = []
+    try:
+        os.mknod(o("node"), 0o600 | stat.S_IFCHR, os.makedev(1, 3))  # a private null device
+        nodes = ["node"]
+    except PermissionError:
+        print("skip device-node outputs: mknod is not permitted here")
+    os.makedirs(o("mounted/sub"))
+    write("outs/mounted/report.json", '{"command": "filter"}')  # probefilter's own output, but for the mount
+    mounted = os.environ.get("HOSTILE_PRIVATE_MOUNTS") == "1" and subprocess.run(
+        ["mount", "-t", "tmpfs", "probe-test", o("mounted/sub")], capture_output=True).returncode == 0
+    if mounted:
+        write("outs/mounted/sub/theirs.txt", "another file system's")
+    else:
+        print("skip the mount inside an output folder: no private mount namespace here")
+    scene = write("scene.json", '{"probes": [{"name": "sky", "image": "good.exr", "face_size": 16}], "materials": []}')
+    folder_commands = {
+        "filter": [pf, "filter", path("good.exr"), "--size", "16"],
+        "reference": [pf, "reference", path("good.exr"), "--size", "8"],
+        "run": [pf, "run", scene],
+        "compare": [pf, "compare", path("good.exr"), "--size", "16", "--repeat", "1"],
+        "sweep": [pf, "sweep", "--size", "16", "--synthetic", "sunsky", "--repeat", "1"],
+    }
+    links = ("dangling", "loop", "folder-link", "file-link")
+    for command, args in folder_commands.items():
+        for out in links + ("fifo", *nodes):
+            needle = "symbolic link" if out in links else "not a folder"
+            expect_refused(f"{command}-out-{out}", [o(out), needle], *args, "--out", o(out))
+        if mounted:
+            expect_refused(f"{command}-out-mount-inside", [o("mounted"), "mount point"], *args, "--out", o("mounted"))
+    level_count = len(json.loads(table)["levels"])
+    file_commands = {
+        "synth": ([pf, "synth", "sky", "--size", "16", "--out"], ""),
+        "probefit-fit": ([PROBEFIT, "fit", "--size", "16", "--levels", "3", "--taps", "4", "--form", "quad", "--out"], ".json"),
+        "probefit-export": ([PROBEFIT, "export", path("gltf16_quad8.json"), "--out"], ".h"),
+        "probefit-select": ([PROBEFIT, "select", path("gltf16_quad8.json"), "--out"], ".glsl"),
+        "probefit-mix": ([PROBEFIT, "mix", *[path("gltf16_quad8.json")] * level_count, "--out"], ".json"),
+    }
+    for command, (args, extension) in file_commands.items():
+        for out in links + ("kept", "fifo", *nodes):
+            needle = "symbolic link" if out in links else "not a regular file"
+            os.rename(o(out), o(out + extension))  # a prefix names PREFIX.json, .h, .glsl: one of them
+            expect_refused(f"{command}-out-{out}", [o(out + extension), needle], *args, o(out))
+            os.rename(o(out + extension), o(out))
+    # Links planted at staging names (the old fixed name and the pattern a killed run leaves) are
+    # neither followed nor removed: the output is written beside them.
+    for planted in (".probe.exr.partial", ".probe.exr.0badf00d.partial", ".t.json.partial", ".t.json.0badf00d.partial"):
+        os.symlink("precious.txt", o(planted))
+    os.symlink("kept", o(".probefilter-%08x-1-0badf00d" % fnv1a(b"filtered")))
+    for name, args, outputs in (("synth", [pf, "synth", "sky", "--size", "16", "--out", o("probe.exr")], ["probe.exr"]),
+                                ("probefit-export", [PROBEFIT, "export", path("gltf16_quad8.json"), "--out", o("t")],
+                                 ["t.json", "t.h", "t.glsl"]),
+                                ("filter", [pf, "filter", path("good.exr"), "--size", "16", "--out", o("filtered")], ["filtered"])):
+        expect_written(f"{name}-beside-planted-staging-links", args, [o(out) for out in outputs], o("precious.txt"))
+    if mounted:
+        subprocess.run(["umount", o("mounted/sub")], check=True)
+    shutil.rmtree(o(""))
+
     # Limits, checked before the work
     good = path("good.exr")
     expect_refused("samples-huge", ["--samples 1000000000", "65536"], pf, *filter_args(good, "--method", "fis", "--samples", "1000000000"))
@@ -308,9 +413,15 @@ def main():
 
 
 if __name__ == "__main__":
+    # A mount namespace of the suite's own, where it may mount a tmpfs that goes with it.
+    if "HOSTILE_PRIVATE_MOUNTS" not in os.environ:
+        private = subprocess.run(["unshare", "--mount", "--propagation", "private", "true"], capture_output=True).returncode == 0
+        os.environ["HOSTILE_PRIVATE_MOUNTS"] = "1" if private else "0"
+        if private: os.execvp("unshare", ["unshare", "--mount", "--propagation", "private", sys.executable, *sys.argv])
     try:
         main()
     finally:
+        subprocess.run(["umount", os.path.join(work, "outs/mounted/sub")], capture_output=True)
         subprocess.run(["rm", "-rf", work])
     print(f"hostile_inputs: {refused} of {tried} bad inputs refused as required")
     sys.exit(0 if refused == tried else 1)

@@ -214,7 +214,7 @@ expect_refused mix-unwritable  "--out" \
 # A folder where PREFIX.h goes is refused before the fit, and nothing is written beside it.
 mkdir -p "$work/dir-out/t.h"
 "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --out "$work/dir-out/t" >/dev/null 2>"$work/stderr"
-[[ $? -eq 2 && $(wc -l <"$work/stderr") -eq 1 ]] && grep -q 't.h exists and is not a file' "$work/stderr" ||
+[[ $? -eq 2 && $(wc -l <"$work/stderr") -eq 1 ]] && grep -q 't.h: exists and is not a regular file' "$work/stderr" ||
     fail "a folder at PREFIX.h: $(cat "$work/stderr")"
 [[ $(find "$work/dir-out" -mindepth 1 | wc -l) -eq 1 ]] || fail "a folder at PREFIX.h: wrote $(ls -a "$work/dir-out")"
 

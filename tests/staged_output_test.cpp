@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -172,7 +173,7 @@ TEST(StagedFile, ReplacesTheFileOnlyOnCommit) {
     {
         StagedFile staged(out);
         writeText(staged.path(), "new");
-        EXPECT_EQ(entries(dir.path), (std::set<std::string>{".probe.exr.partial", "probe.exr"}));
+        EXPECT_EQ(entries(dir.path), (std::set<std::string>{staged.path().filename().string(), "probe.exr"}));
     }
     EXPECT_EQ(entries(dir.path), std::set<std::string>{"probe.exr"});
     EXPECT_EQ(readText(out), "old");
@@ -183,4 +184,65 @@ TEST(StagedFile, ReplacesTheFileOnlyOnCommit) {
     }
     EXPECT_EQ(entries(dir.path), std::set<std::string>{"probe.exr"});
     EXPECT_EQ(readText(out), "new");
+}
+
+TEST(StagedFile, RefusesWhatIsNotARegularFileAndFollowsNoLink) {
+    TempDir dir;
+    writeText(dir.path / "precious", "precious");
+    fs::create_symlink("precious", dir.path / "link");
+    fs::create_symlink("nowhere", dir.path / "dangling");
+    fs::create_directories(dir.path / "folder");
+    ASSERT_EQ(::mkfifo((dir.path / "fifo").c_str(), 0600), 0);
+    for (const char* name : {"link", "dangling", "folder", "fifo", "missing/probe.exr"})
+        EXPECT_THROW(StagedFile(dir.path / name), ProbeError) << name;
+
+    // A link planted at the name a killed run's staging file has is neither followed nor removed.
+    const fs::path planted = dir.path / ".probe.exr.0badf00d.partial";
+    fs::create_symlink("precious", planted);
+    {
+        StagedFile staged(dir.path / "probe.exr");
+        writeText(staged.path(), "new");
+        staged.commit();
+    }
+    EXPECT_EQ(readText(dir.path / "probe.exr"), "new");
+    EXPECT_TRUE(fs::is_symlink(planted));
+    EXPECT_EQ(readText(dir.path / "precious"), "precious");
+}
+
+TEST(StagedFile, AKilledRunsStagingFileIsRemovedByTheNextRun) {
+    TempDir dir;
+    const fs::path out = dir.path / "probe.exr";
+    const pid_t child = ::fork();
+    if (child == 0) {
+        StagedFile staged(out);
+        writeText(staged.path(), "killed");
+        ::raise(SIGKILL);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status));
+    EXPECT_EQ(entries(dir.path).size(), 1u); // the killed run's staging file
+    StagedFile live(out);
+    writeText(live.path(), "live");
+    {
+        StagedFile other(out); // a second run beside a live one leaves the live one's file
+        writeText(other.path(), "other");
+        EXPECT_EQ(entries(dir.path).size(), 2u);
+    }
+    live.commit();
+    EXPECT_EQ(entries(dir.path), std::set<std::string>{"probe.exr"});
+    EXPECT_EQ(readText(out), "live");
+}
+
+TEST(StagedOutput, RefusesASymbolicLinkWhereverItPoints) {
+    TempDir dir;
+    fs::create_directories(dir.path / "folder");
+    writeText(dir.path / "folder/report.json", R"({"command": "filter"})");
+    fs::create_symlink("folder", dir.path / "to-folder");
+    fs::create_symlink("nowhere", dir.path / "dangling");
+    fs::create_symlink("loop", dir.path / "loop");
+    for (const char* name : {"to-folder", "to-folder/", "dangling", "loop"})
+        EXPECT_THROW(StagedOutput(dir.path / name, {}, true), ProbeError) << name;
+    EXPECT_EQ(entries(dir.path), (std::set<std::string>{"dangling", "folder", "loop", "to-folder"}));
+    EXPECT_EQ(entries(dir.path / "folder"), std::set<std::string>{"report.json"});
 }

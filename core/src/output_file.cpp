@@ -23,7 +23,7 @@ int writeAll(int fd, std::string_view bytes) {
 
 void writeFile(const std::filesystem::path& path, std::string_view bytes) {
     const auto fail = [&](int error) { return ProbeError(fmt::format("{}: cannot write ({})", path.string(), std::strerror(error))); };
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0) throw fail(errno);
     if (const int error = writeAll(fd, bytes)) {
         ::close(fd);

@@ -276,7 +276,7 @@ namespace {
 class CheckedExrStream final : public Imf::OStream {
 public:
     explicit CheckedExrStream(const fs::path& path)
-        : Imf::OStream(path.c_str()), fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)) {
+        : Imf::OStream(path.c_str()), fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666)) {
         if (fd_ < 0) error_ = errno;
     }
     ~CheckedExrStream() override {

@@ -38,13 +38,22 @@ bool abandoned = false;
     throw ProbeError(fmt::format("{}: {}", path.string(), problem));
 }
 
-// The output folder as a file system path: absolute, symbolic links resolved, no trailing "/".
-fs::path resolve(const fs::path& path) {
+// An output as a file system path: absolute, no trailing "/", the links of its parents resolved but
+// not its own name's (an output is replaced, never reached through a link).
+fs::path outputPath(const fs::path& path) {
+    fs::path absolute = fs::absolute(path).lexically_normal();
+    if (absolute.filename().empty() && absolute != absolute.root_path()) absolute = absolute.parent_path();
+    if (absolute == absolute.root_path()) return absolute;
     std::error_code ec;
-    fs::path resolved = fs::weakly_canonical(fs::absolute(path), ec);
-    if (ec) resolved = fs::absolute(path).lexically_normal();
-    if (resolved.filename().empty() && resolved != resolved.root_path()) resolved = resolved.parent_path();
-    return resolved;
+    const fs::path parent = fs::weakly_canonical(absolute.parent_path(), ec);
+    return (ec ? absolute.parent_path() : parent) / absolute.filename();
+}
+
+// An input as a file system path, every link resolved.
+fs::path inputPath(const fs::path& path) {
+    std::error_code ec;
+    const fs::path resolved = fs::weakly_canonical(fs::absolute(path), ec);
+    return ec ? fs::absolute(path).lexically_normal() : resolved;
 }
 
 bool contains(const fs::path& folder, const fs::path& path) {
@@ -52,6 +61,75 @@ bool contains(const fs::path& folder, const fs::path& path) {
     for (; f != folder.end(); ++f, ++p)
         if (p == path.end() || *f != *p) return false;
     return true;
+}
+
+// The mount points of this process's namespace (/proc/self/mountinfo's fifth field, octal escapes
+// decoded); empty where it cannot be read.
+std::vector<fs::path> mountPoints() {
+    std::vector<fs::path> points;
+    std::FILE* file = std::fopen("/proc/self/mountinfo", "re");
+    if (!file) return points;
+    char* line = nullptr;
+    std::size_t capacity = 0;
+    while (::getline(&line, &capacity, file) > 0) {
+        std::string field;
+        const char* c = line;
+        for (int skip = 0; skip < 4 && *c; ++c)
+            if (*c == ' ') ++skip;
+        for (; *c && *c != ' ' && *c != '\n'; ++c) {
+            if (c[0] == '\\' && c[1] && c[2] && c[3]) {
+                field += static_cast<char>(std::strtol(std::string(c + 1, 3).c_str(), nullptr, 8));
+                c += 3;
+            } else field += *c;
+        }
+        points.emplace_back(field);
+    }
+    std::free(line);
+    std::fclose(file);
+    return points;
+}
+
+// Throws unless the existing output folder `folder` can be removed whole without leaving it: nothing
+// inside is another file system (its files are not the output's), and every folder inside can be
+// listed and emptied. Links inside are removed, never followed.
+void checkRemovable(const fs::path& shown, const fs::path& folder, dev_t device) {
+    for (const fs::path& point : mountPoints())
+        if (point != folder && contains(folder, point))
+            fail(shown, fmt::format("holds the mount point {}, whose files are not the output's; unmount it or name another folder",
+                                    point.string()));
+    const auto checkFolder = [&](const fs::path& path) {
+        if (::access(path.c_str(), R_OK | W_OK | X_OK) != 0)
+            fail(shown, fmt::format("cannot replace it: {} inside it cannot be emptied ({})", path.string(), std::strerror(errno)));
+    };
+    checkFolder(folder);
+    std::error_code ec;
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        struct stat entry = {};
+        if (::lstat(it->path().c_str(), &entry) != 0) continue; // gone meanwhile
+        if (entry.st_dev != device)
+            fail(shown, fmt::format("holds {}, on another file system; unmount it or name another folder", it->path().string()));
+        if (S_ISDIR(entry.st_mode)) checkFolder(it->path());
+    }
+    if (ec) fail(shown, fmt::format("cannot replace it: cannot list what it holds ({})", ec.message()));
+}
+
+// Removes `path` and everything in it, never following a link nor entering another file system
+// (a mount made after checkRemovable). Returns the first entry that stays, empty if none.
+fs::path removeTree(const fs::path& path, dev_t device) {
+    struct stat entry = {};
+    if (::lstat(path.c_str(), &entry) != 0) return errno == ENOENT ? fs::path() : path;
+    if (entry.st_dev != device) return path;
+    fs::path stays;
+    if (S_ISDIR(entry.st_mode)) {
+        std::error_code ec;
+        std::vector<fs::path> children;
+        for (const fs::directory_entry& child : fs::directory_iterator(path, ec)) children.push_back(child.path());
+        if (ec) return path;
+        for (const fs::path& child : children)
+            if (fs::path left = removeTree(child, device); stays.empty()) stays = left;
+    }
+    if (::remove(path.c_str()) != 0 && stays.empty()) stays = path;
+    return stays;
 }
 
 // Short and fixed for a folder name: FNV-1a of it.
@@ -78,7 +156,7 @@ bool writtenByProbefilter(const fs::path& folder) {
 // folder is removed under the lock, so that a run that has just made a folder and not yet locked it
 // finds it taken or gone (lockNewStaging), never removed from under it later.
 void removeIfStale(const fs::path& folder) {
-    const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) return;
     std::error_code ec;
     if (::flock(fd, LOCK_EX | LOCK_NB) == 0) fs::remove_all(folder, ec);
@@ -102,11 +180,11 @@ int lockNewStaging(const fs::path& folder) {
 } // namespace
 
 StagedOutput::StagedOutput(fs::path outDir, const std::vector<fs::path>& inputs, bool force)
-    : outDir_(std::move(outDir)), target_(resolve(outDir_)), force_(force) {
+    : outDir_(std::move(outDir)), target_(outputPath(outDir_)), force_(force) {
     if (outDir_.empty()) throw ProbeError("the output folder is empty");
     for (const fs::path& input : inputs) {
         inputs_.push_back(fs::absolute(input).lexically_normal()); // a link inside the folder is its content too
-        inputs_.push_back(resolve(input));
+        inputs_.push_back(inputPath(input));
     }
     checkReplaceable();
     fs::path parent = target_.parent_path();
@@ -141,16 +219,20 @@ void StagedOutput::checkReplaceable() const {
     if (target_ == target_.root_path()) fail(outDir_, "refusing to replace the root folder");
     for (const fs::path& input : inputs_)
         if (contains(target_, input)) fail(outDir_, fmt::format("holds the input {}; name another output folder", input.string()));
-    std::error_code ec;
-    const fs::file_status status = fs::status(target_, ec);
-    if (!fs::exists(status)) return;
-    if (!fs::is_directory(status)) fail(outDir_, "exists and is not a folder");
     struct stat folder = {}, parent = {};
-    if (::stat(target_.c_str(), &folder) == 0 && ::stat(target_.parent_path().c_str(), &parent) == 0 && folder.st_dev != parent.st_dev)
+    if (::lstat(target_.c_str(), &folder) != 0) {
+        if (errno == ENOENT) return;
+        fail(outDir_, fmt::format("cannot replace it ({})", std::strerror(errno)));
+    }
+    if (S_ISLNK(folder.st_mode)) fail(outDir_, "is a symbolic link; name the folder itself (an output is replaced, never followed)");
+    if (!S_ISDIR(folder.st_mode)) fail(outDir_, "exists and is not a folder");
+    if (::stat(target_.parent_path().c_str(), &parent) == 0 && folder.st_dev != parent.st_dev)
         fail(outDir_, "is a mount point, which cannot be replaced whole; name a folder inside it");
+    std::error_code ec;
     if (!force_ && !fs::is_empty(target_, ec) && !writtenByProbefilter(target_))
         fail(outDir_,
              "is not empty and holds no report.json of probefilter's; remove it, name another folder or pass --force to replace it");
+    checkRemovable(outDir_, target_, folder.st_dev);
 }
 
 // The staging folders of earlier runs into the same folder that were killed (none holds its lock).
@@ -218,8 +300,11 @@ void StagedOutput::commit() {
     }
     if (result != 0) fail(outDir_, fmt::format("cannot move the output into place ({})", std::strerror(errno)));
     committed_ = true;
-    std::error_code ec;
-    fs::remove_all(staging_, ec);
+    struct stat previous = {};
+    if (::lstat(staging_.c_str(), &previous) != 0) return;
+    if (const fs::path stays = removeTree(staging_, previous.st_dev); !stays.empty())
+        fail(outDir_, fmt::format("is written, but the previous output's {} cannot be removed; what is left of it is in {}", stays.string(),
+                                  staging_.string()));
 }
 
 void StagedOutput::abandonAll() {
@@ -232,14 +317,18 @@ void StagedOutput::abandonAll() {
         for (int attempt = 0; attempt < 5 && fs::exists(output->staging_, ec); ++attempt) fs::remove_all(output->staging_, ec);
         output->removeCreatedParents();
     }
-    for (const StagedFile* file : fileRegistry) {
-        std::error_code ec;
-        if (!file->committed_) fs::remove(file->staging_, ec);
-    }
+    for (const StagedFile* file : fileRegistry)
+        if (!file->committed_ && !file->staging_.empty()) ::unlink(file->staging_.c_str());
 }
 
-StagedFile::StagedFile(fs::path out) : out_(std::move(out)) {
-    staging_ = out_.parent_path() / fmt::format(".{}.partial", out_.filename().string());
+StagedFile::StagedFile(fs::path out) : out_(outputPath(out)), shown_(std::move(out)) {
+    const fs::path parent = out_.parent_path();
+    struct stat folder = {};
+    if (::stat(parent.c_str(), &folder) != 0 || !S_ISDIR(folder.st_mode))
+        fail(shown_, fmt::format("cannot write it: {} is not a folder", parent.string()));
+    if (::access(parent.c_str(), W_OK | X_OK) != 0)
+        fail(shown_, fmt::format("cannot write it: {} is not writable (the file is replaced whole, from beside it)", parent.string()));
+    checkReplaceable();
     const std::lock_guard lock(registryMutex);
     fileRegistry.push_back(this);
 }
@@ -247,22 +336,59 @@ StagedFile::StagedFile(fs::path out) : out_(std::move(out)) {
 StagedFile::~StagedFile() {
     const std::lock_guard lock(registryMutex);
     fileRegistry.erase(std::find(fileRegistry.begin(), fileRegistry.end(), this));
-    std::error_code ec;
-    if (!committed_) fs::remove(staging_, ec);
+    if (!committed_ && !staging_.empty()) ::unlink(staging_.c_str());
+    if (stagingLock_ >= 0) ::close(stagingLock_);
 }
 
-fs::path StagedFile::path() const {
+// Nothing but a regular file is replaced: not a folder, a device, a FIFO or a socket, and not a
+// symbolic link, which would be replaced by a file rather than followed.
+void StagedFile::checkReplaceable() const {
+    struct stat entry = {};
+    if (::lstat(out_.c_str(), &entry) != 0) return;
+    if (S_ISLNK(entry.st_mode)) fail(shown_, "is a symbolic link; name the file itself (an output is replaced, never followed)");
+    if (!S_ISREG(entry.st_mode)) fail(shown_, "exists and is not a regular file");
+}
+
+fs::path StagedFile::path() {
     const std::lock_guard lock(registryMutex);
-    if (abandoned) fail(out_, "interrupted");
+    if (abandoned) fail(shown_, "interrupted");
+    if (!staging_.empty()) return staging_;
+    // The staging files of killed runs (none holds its lock), then a name no other run has, created
+    // exclusively (nothing planted there is followed) and locked while this run lives.
+    const std::string prefix = fmt::format(".{}.", out_.filename().string());
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(out_.parent_path(), ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() == prefix.size() + 16 && name.starts_with(prefix) && name.ends_with(".partial")) {
+            const int fd = ::open(entry.path().c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+            struct stat opened = {};
+            if (fd >= 0 && ::fstat(fd, &opened) == 0 && S_ISREG(opened.st_mode) && ::flock(fd, LOCK_EX | LOCK_NB) == 0)
+                ::unlink(entry.path().c_str());
+            if (fd >= 0) ::close(fd);
+        }
+    }
+    std::random_device random;
+    for (int attempt = 0; staging_.empty(); ++attempt) {
+        if (attempt == 16) fail(shown_, "cannot create its staging file (16 names taken)");
+        const fs::path candidate = out_.parent_path() / fmt::format("{}{:08x}.partial", prefix, random());
+        const int fd = ::open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            if (errno == EEXIST) continue;
+            fail(shown_, fmt::format("cannot create its staging file ({})", std::strerror(errno)));
+        }
+        ::flock(fd, LOCK_EX | LOCK_NB);
+        stagingLock_ = fd;
+        staging_ = candidate;
+    }
     return staging_;
 }
 
 void StagedFile::commit() {
     const std::lock_guard lock(registryMutex);
-    if (abandoned) fail(out_, "interrupted");
-    std::error_code ec;
-    fs::rename(staging_, out_, ec);
-    if (ec) fail(out_, fmt::format("cannot move the output into place ({})", ec.message()));
+    if (abandoned) fail(shown_, "interrupted");
+    checkReplaceable();
+    if (::rename(staging_.c_str(), out_.c_str()) != 0)
+        fail(shown_, fmt::format("cannot move the output into place ({})", std::strerror(errno)));
     committed_ = true;
 }
 

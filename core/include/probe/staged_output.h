@@ -57,26 +57,32 @@ private:
     bool committed_ = false;
 };
 
-// A single output file, written as ".NAME.partial" beside it and renamed over it by commit(): a run
-// killed at any point leaves the previous file as it was (a killed run's staging file is replaced by
-// the next run's). The staging file is removed unless committed, when the StagedFile ends or at once
-// on an interrupt (StagedOutput::abandonAll()).
+// A single output file, written as ".NAME.XXXXXXXX.partial" beside it and renamed over it by commit():
+// a run killed at any point leaves the previous file as it was (a killed run's staging file is removed
+// by the next run's). The staging file is removed unless committed, when the StagedFile ends or at
+// once on an interrupt (StagedOutput::abandonAll()).
 class StagedFile {
 public:
-    explicit StagedFile(std::filesystem::path out); // creates nothing
+    // Checks, creating nothing, that `out` may be replaced, and throws ProbeError naming it otherwise:
+    // its folder exists and is writable, and it is absent or a regular file (not a link).
+    explicit StagedFile(std::filesystem::path out);
     ~StagedFile();
     StagedFile(const StagedFile&) = delete;
     StagedFile& operator=(const StagedFile&) = delete;
 
-    // Where to write the file.
-    std::filesystem::path path() const;
-    // Moves the file written into place.
+    // Where to write the file; the first call creates the staging file.
+    std::filesystem::path path();
+    // Moves the file written into place (checking again that it may be replaced).
     void commit();
 
 private:
     friend class StagedOutput;
-    std::filesystem::path out_;
-    std::filesystem::path staging_;
+    void checkReplaceable() const;
+
+    std::filesystem::path out_;     // absolute, the parents' links resolved
+    std::filesystem::path shown_;   // as given, for messages
+    std::filesystem::path staging_; // empty until the first path()
+    int stagingLock_ = -1;          // the staging file, open and flocked
     bool committed_ = false;
 };
 
