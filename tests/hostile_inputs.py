@@ -297,6 +297,28 @@ def main():
             os.rename(o(out), o(out + extension))  # a prefix names PREFIX.json, .h, .glsl: one of them
             expect_refused(f"{command}-out-{out}", [o(out + extension), needle], *args, o(out))
             os.rename(o(out + extension), o(out))
+    # An output folder that holds a folder the user cannot empty (as root: run as nobody, in a folder
+    # of nobody's holding one of root's).
+    as_user = []
+    if os.geteuid() == 0:
+        as_user = ["setpriv", "--reuid", "65534", "--regid", "65534", "--clear-groups"]
+        os.chmod(work, 0o755)
+        os.chmod(o(""), 0o755)
+    os.makedirs(o("user/out/locked"))
+    write("outs/user/out/report.json", '{"command": "filter"}')
+    write("outs/user/out/locked/level_0.exr", "")
+    if as_user:
+        for folder in (o("user"), o("user/out")):
+            os.chown(folder, 65534, 65534)
+    os.chmod(o("user/out/locked"), 0o555)
+    if as_user and shutil.which("setpriv") is None:
+        print("skip the output that cannot be emptied: no setpriv to run as another user")
+    else:
+        expect_refused("filter-out-cannot-be-emptied", [o("user/out"), "cannot be emptied"], *as_user, pf, "filter", path("good.exr"),
+                       "--size", "16", "--out", o("user/out"))
+    os.chmod(o("user/out/locked"), 0o755)
+    os.chmod(work, 0o700)
+
     # Links planted at staging names (the old fixed name and the pattern a killed run leaves) are
     # neither followed nor removed: the output is written beside them.
     for planted in (".probe.exr.partial", ".probe.exr.0badf00d.partial", ".t.json.partial", ".t.json.0badf00d.partial"):
