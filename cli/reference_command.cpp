@@ -35,12 +35,20 @@ void runReference(const ReferenceOptions& o) {
     probe::StagedOutput output(o.out, {o.input}, o.force);
 
     Stopwatch loadTime;
-    probe::Image image = probe::readImage(o.input);
-    const probe::ProbeLayout layout = probe::detectLayout(image, o.input);
-    const probe::PixelRepairs repairs =
-        probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
-    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
-    const probe::CubeImage source = probe::imageToCube(image, layout, o.size);
+    nlohmann::json input, pixels;
+    // The image lives only until it is a cube: at the pixel limit it is 1.5 GiB.
+    const probe::CubeImage source = [&] {
+        probe::Image image = probe::readImage(o.input);
+        const probe::ProbeLayout layout = probe::detectLayout(image, o.input);
+        const probe::PixelRepairs repairs =
+            probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
+        pixels = reportPixelRepairs(o.input, repairs);
+        input = {{"path", o.input},
+                 {"width", image.width},
+                 {"height", image.height},
+                 {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"}};
+        return probe::imageToCube(image, layout, o.size);
+    }();
     const double loadSeconds = loadTime.seconds();
 
     Stopwatch filterTime;
@@ -51,10 +59,7 @@ void runReference(const ReferenceOptions& o) {
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
     writeFilteredProbe(output, levels, mapping, ktx2, report);
     report["command"] = "reference";
-    report["input"] = {{"path", o.input},
-                       {"width", image.width},
-                       {"height", image.height},
-                       {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"}};
+    report["input"] = input;
     report["input_pixels"] = pixels;
     report["method"] = "reference";
     report["device"] = {{"kind", "cpu"}, {"threads", omp_get_max_threads()}};

@@ -146,18 +146,18 @@ def rle_scanline(width, runs):
     return bytes([2, 2, width >> 8, width & 255]) + runs
 
 
-def exr_header(width, height, tiles=None, extra=b""):
+def exr_header(width, height, tiles=None, extra=b"", tiled_flag=None, display=None, channel_names=(b"B", b"G", b"R")):
     def attribute(name, kind, value):
         return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
 
-    channels = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
+    channels = b"".join(c + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in channel_names) + b"\0"
     window = struct.pack("<iiii", 0, 0, width - 1, height - 1)
-    version = 2 | (0x200 if tiles else 0)
+    version = 2 | (0x200 if (tiles if tiled_flag is None else tiled_flag) else 0)
     out = struct.pack("<ii", 20000630, version)
     out += attribute("channels", "chlist", channels)
     out += attribute("compression", "compression", b"\0")
     out += attribute("dataWindow", "box2i", window)
-    out += attribute("displayWindow", "box2i", window)
+    out += attribute("displayWindow", "box2i", struct.pack("<iiii", *display) if display else window)
     out += attribute("lineOrder", "lineOrder", b"\0")
     out += attribute("pixelAspectRatio", "float", struct.pack("<f", 1.0))
     out += attribute("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
@@ -190,9 +190,9 @@ def main():
 
     # Radiance .hdr
     # A literal of 0 bytes: stb_image's loader loops on it forever.
-    reference("zero-literal.hdr", ["literal of 0"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([0x82, 7, 0]) + bytes(64))))
-    reference("literal-past-width.hdr", ["literal of 128"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([128]) + bytes(200))))
-    reference("run-past-width.hdr", ["run of 100"], hdr(b"-Y 2 +X 8", rle_scanline(8, bytes([0x80 + 100, 1]) + bytes(64))))
+    reference("zero-literal.hdr", ["literal of 0"], hdr(b"-Y 4 +X 8", rle_scanline(8, bytes([0x82, 7, 0]) + bytes(64))))
+    reference("literal-past-width.hdr", ["literal of 128"], hdr(b"-Y 4 +X 8", rle_scanline(8, bytes([128]) + bytes(200))))
+    reference("run-past-width.hdr", ["run of 100"], hdr(b"-Y 4 +X 8", rle_scanline(8, bytes([0x80 + 100, 1]) + bytes(64))))
     reference("huge-no-data.hdr", ["ends early"], hdr(b"-Y 8192 +X 16384"))
     reference("over-limit.hdr", ["over the limit"], hdr(b"-Y 20000 +X 40000"))
     reference("int-overflow.hdr", ["over the limit"], hdr(b"-Y 99999999999 +X 2"))
@@ -214,6 +214,17 @@ def main():
     reference("huge-window.exr", ["over the limit"], exr_header(40000, 20000) + bytes(29000))
     reference("tiny-tiles.exr", ["tiles"], exr_header(16384, 8192, tiles=(1, 1)) + bytes(1000))
     reference("no-pixel-data.exr", ["EXR"], exr_header(2048, 1024))
+    # OpenEXR goes by the version field's tiled flag: tiles without it would read as black scanlines.
+    reference("tiles-without-flag.exr", ["tile description", "tiled flag"],
+              exr_header(64, 32, tiles=(16, 16), tiled_flag=False) + bytes(512))
+    reference("flag-without-tiles.exr", ["says tiled"], exr_header(64, 32, tiled_flag=True) + bytes(512))
+    # A 2:1 data window cropped from a larger display window would be stretched over the sphere.
+    reference("cropped-window.exr", ["data window (0, 0) to (63, 31)", "display window (0, 0) to (127, 127)"],
+              exr_header(64, 32, display=(0, 0, 127, 127)) + bytes(512))
+    many = tuple(b"C%03d" % k for k in range(128))
+    reference("128-channels.exr", ["128 channels", "64"], exr_header(8192, 4096, channel_names=many) + bytes(1 << 20))
+    reference("wrong-shape-huge.exr", ["aspect ratio 11584x11584"], exr_header(11584, 11584) + bytes(1 << 20))
+    reference("wrong-shape-huge.hdr", ["aspect ratio 11584x11584"], hdr(b"-Y 11584 +X 11584", bytes(1 << 20)))
     reference("header-only.exr", ["EXR"], exr_header(64, 32)[:60])
     # A complete offset table whose chunks are not there: refused before the image's memory is taken.
     offsets = b"".join(struct.pack("<Q", 10**9 + k) for k in range(8192))

@@ -47,11 +47,8 @@ std::string readMagic(const fs::path& path) {
     return std::string(magic, static_cast<std::size_t>(in.gcount()));
 }
 
-void checkImageSize(const fs::path& path, std::int64_t width, std::int64_t height) {
-    if (width <= 0 || height <= 0) fail(path, "image has zero size");
-    if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)
-        fail(path,
-             fmt::format("{} x {} pixels is over the limit of {} pixels ({} per side)", width, height, kMaxImagePixels, kMaxImageSide));
+std::string describeWindow(const Imath::Box2i& window) {
+    return fmt::format("({}, {}) to ({}, {})", window.min.x, window.min.y, window.max.x, window.max.y);
 }
 
 // The header alone, read before OpenEXR opens the file: opening allocates by the data window and the
@@ -96,9 +93,26 @@ void checkExrHeader(const fs::path& path) {
     if (version & 0x800) fail(path, "deep EXR data; probefilter reads flat images");
     Imf::Header header;
     header.readFrom(stream, version);
+    // OpenEXR reads a file by its version field's tiled flag, whatever the header holds: a tiled
+    // header without it would read as scanlines of nothing.
+    const bool tiledFlag = (version & 0x200) != 0;
+    if (header.hasTileDescription() != tiledFlag)
+        fail(path, tiledFlag ? "EXR version field says tiled, but the header has no tile description"
+                             : "EXR header has a tile description, but the version field lacks the tiled flag");
+    if (header.channels().begin() == header.channels().end()) fail(path, "EXR has no channels");
+    int channelCount = 0;
+    for (auto channel = header.channels().begin(); channel != header.channels().end(); ++channel) ++channelCount;
+    if (channelCount > kMaxExrChannels)
+        fail(path, fmt::format("EXR has {} channels, over the limit of {} (a probe needs R, G and B)", channelCount, kMaxExrChannels));
+    // The panorama is the display window; the pixels are the data window's. Where they differ the
+    // image would be stretched or cropped without a word.
     const Imath::Box2i window = header.dataWindow();
+    if (window != header.displayWindow())
+        fail(path, fmt::format("EXR data window {} differs from its display window {}; a probe's pixels must cover the display "
+                               "window exactly",
+                               describeWindow(window), describeWindow(header.displayWindow())));
     const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1, height = std::int64_t{window.max.y} - window.min.y + 1;
-    checkImageSize(path, width, height);
+    if (const std::string problem = imageSizeProblem(width, height); !problem.empty()) fail(path, problem);
     if (header.hasTileDescription()) {
         const Imf::TileDescription& tiles = header.tileDescription();
         if (tiles.xSize < 1 || tiles.ySize < 1) fail(path, "EXR tiles have zero size");

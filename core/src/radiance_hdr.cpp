@@ -67,9 +67,7 @@ void parseResolution(const Decoder& d, const std::string& text, int& width, int&
     if (std::sscanf(text.c_str(), "-Y %lld +X %lld%c", &h, &w, &rest) != 2)
         d.fail(
             fmt::format("resolution line '{}' is not '-Y <height> +X <width>' (other orientations are not supported)", text.substr(0, 64)));
-    if (w < 1 || h < 1) d.fail(fmt::format("image has zero size ({} x {})", w, h));
-    if (w > kMaxImageSide || h > kMaxImageSide || w * h > kMaxImagePixels)
-        d.fail(fmt::format("{} x {} pixels is over the limit of {} pixels ({} per side)", w, h, kMaxImagePixels, kMaxImageSide));
+    if (const std::string problem = imageSizeProblem(w, h); !problem.empty()) d.fail(problem);
     width = static_cast<int>(w);
     height = static_cast<int>(h);
 }

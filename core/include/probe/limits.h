@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace probe {
 
@@ -33,10 +34,17 @@ inline constexpr int kMaxRepeat = 1000;
 // Input images: width x height (16384 x 8192, 1.5 GiB as float RGB) and either side.
 inline constexpr std::int64_t kMaxImagePixels = std::int64_t{16384} * 8192;
 inline constexpr int kMaxImageSide = 65536;
+// EXR channels: OpenEXR decodes every channel of a chunk, whichever are read (a probe needs 3 or 4).
+inline constexpr int kMaxExrChannels = 64;
 // Table, scene and published-text files are read whole; none needs more.
 inline constexpr std::uintmax_t kMaxTextFileBytes = 64u << 20;
 // JSON nesting: tables and scenes need 4 levels.
 inline constexpr int kMaxJsonDepth = 32;
+
+// What is wrong with a probe image of this size, as an image file's header declares it, or empty:
+// a size within kMaxImagePixels and kMaxImageSide, and a probe's shape (2:1 or 6:1), so that a large
+// image of another shape is refused before its pixels are read.
+std::string imageSizeProblem(std::int64_t width, std::int64_t height);
 
 // Throws ParameterError("repeat", ...) unless 1 <= repeat <= kMaxRepeat.
 void checkRepeat(int repeat);
