@@ -97,6 +97,9 @@ void runCompare(const CompareOptions& o) {
     probe::checkRepeat(o.repeat);
     if (o.samples < 1 || o.samples > probe::kMaxSamples)
         throw probe::ProbeError(fmt::format("--samples {}: must be 1 to {}", o.samples, probe::kMaxSamples));
+    // The heat maps' white: a relative error, shown in the legend as a percentage.
+    if (!(o.maxError >= 1e-6 && o.maxError <= 1e6))
+        throw probe::ProbeError(fmt::format("--max-error {}: must be a relative error from 1e-06 to 1e+06", o.maxError));
 
     probe::gpu::FilterSettings tableSettings;
     tableSettings.method.kind = probe::MethodKind::table;

@@ -20,14 +20,12 @@ std::string withFlag(const probe::ParameterError& e) {
     return e.what();
 }
 
-// Every value an option or argument takes must be given: an empty number or path is refused, not
-// taken as the default.
-void refuseEmptyValues(CLI::App& app) {
-    const CLI::Validator nonEmpty([](const std::string& value) { return value.empty() ? std::string("empty value") : std::string(); }, "",
-                                  "NONEMPTY");
+// Every value an option or argument takes is given and UTF-8 (probe::commandLineValueProblem).
+void refuseBadValues(CLI::App& app) {
+    const CLI::Validator check([](const std::string& value) { return probe::commandLineValueProblem(value); }, "", "VALUE");
     for (CLI::Option* option : app.get_options())
-        if (option->get_expected_min() > 0) option->check(nonEmpty);
-    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) refuseEmptyValues(*command);
+        if (option->get_expected_min() > 0) option->check(check);
+    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; })) refuseBadValues(*command);
 }
 
 // The one line of a refusal; stderr that cannot be written is ignored (the exit code tells).
@@ -49,7 +47,7 @@ int main(int argc, char** argv) {
     probefilter::addRunCommand(app);
     probefilter::addCompareCommand(app);
     probefilter::addSweepCommand(app);
-    refuseEmptyValues(app);
+    refuseBadValues(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

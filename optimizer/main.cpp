@@ -458,6 +458,11 @@ int main(int argc, char** argv) {
     mix->add_option("tables", mixSources, "one table file per output level, level 0 first")->required();
     mix->add_option("--out", mixOut, "output prefix")->required();
 
+    // Every value an option or argument takes is given and UTF-8 (core's rule, as in probefilter).
+    const CLI::Validator valueCheck([](const std::string& value) { return commandLineValueProblem(value); }, "", "VALUE");
+    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
+        for (CLI::Option* option : command->get_options())
+            if (option->get_expected_min() > 0) option->check(valueCheck);
     try {
         app.parse(argc, argv);
         if (mix->parsed()) return runMix(mixSources, mixOut);
@@ -490,7 +495,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         printToStderr(fmt::format("probefit: {}\n", oneLine(e.what())));
         return 2;
-    } catch (const ProbeError& e) {
+    } catch (const std::exception& e) {
         printToStderr(fmt::format("probefit: {}\n", oneLine(e.what())));
         return 2;
     }

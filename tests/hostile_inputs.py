@@ -359,6 +359,22 @@ def main():
                    path("out"))
     expect_refused("compare-samples", ["--samples 1000000000"], pf, "compare", good, "--size", "16", "--samples", "1000000000",
                    "--out", path("out"))
+    for value in ("0", "-1", "nan", "inf", "1e+300"):
+        expect_refused(f"compare-max-error-{value}", [f"--max-error {value}"], pf, "compare", good, "--size", "16", "--max-error", value,
+                       "--out", path("out"))
+    # Values that are empty or not UTF-8 (reports and tables are JSON, UTF-8 only), for any option.
+    not_utf8 = os.fsdecode(b"in\xff.exr")
+    shutil.copy(good, path(not_utf8))
+    expect_refused("filter-input-not-utf8", ["input", "UTF-8"], pf, "filter", path(not_utf8), "--size", "16", "--out", path("out"))
+    expect_refused("filter-out-not-utf8", ["--out", "UTF-8"], pf, "filter", good, "--size", "16", "--out", path(os.fsdecode(b"o\xff")))
+    expect_refused("probefit-select-not-utf8", ["tables", "UTF-8"], PROBEFIT, "select", path(not_utf8), "--out", path("t"))
+    for flag in ("--levels", "--fis-bias", "--table", "--out", "--size"):
+        expect_refused(f"filter-empty{flag}", [flag, "empty value"], pf, *filter_args(good, flag, ""))
+    expect_refused("filter-empty-input", ["input", "empty value"], pf, "filter", "", "--size", "16", "--out", path("out"))
+    for flag in ("--levels", "--fit-levels", "--out", "--roughness"):
+        expect_refused(f"probefit-empty{flag}", [flag, "empty value"], PROBEFIT, "fit", "--size", "16", "--taps", "4", "--form", "quad",
+                       "--out", path("t"), flag, "")
+    os.remove(path(not_utf8))
     expect_refused("compare-cell", ["--cell 100000"], pf, "compare", good, "--size", "16", "--cell", "100000", "--out", path("out"))
     expect_refused("compare-spheres", ["--roughness"], pf, "compare", good, "--size", "16", "--roughness", ",".join(["0.5"] * 1000),
                    "--out", path("out"))

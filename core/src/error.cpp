@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 namespace probe {
 
@@ -21,5 +22,15 @@ std::string oneLine(std::string_view message) {
 }
 
 void printToStderr(std::string_view text) { std::fwrite(text.data(), 1, text.size(), stderr); }
+
+std::string commandLineValueProblem(std::string_view value) {
+    if (value.empty()) return "empty value";
+    try {
+        (void)nlohmann::json(value).dump();
+    } catch (const nlohmann::json::type_error&) {
+        return "not valid UTF-8 (reports and tables are JSON, which holds UTF-8 text only)";
+    }
+    return {};
+}
 
 } // namespace probe

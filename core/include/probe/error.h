@@ -23,6 +23,10 @@ struct ParameterError : ProbeError {
 // quotes) written as escapes, so that a refusal stays the one line it promises.
 std::string oneLine(std::string_view message);
 
+// What is wrong with a value given on a command line, or empty: an empty value is not taken as the
+// default, and a value must be UTF-8, since reports and tables are JSON, which holds nothing else.
+std::string commandLineValueProblem(std::string_view value);
+
 // Writes `text` to stderr. A stderr that cannot be written (closed, a full disk) is ignored: the
 // exit code still tells what happened.
 void printToStderr(std::string_view text);
