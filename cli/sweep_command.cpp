@@ -9,7 +9,6 @@
 // summarizes a sweep.csv again without running anything.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +20,8 @@
 #include "probe/error.h"
 #include "probe/importance_sampling.h"
 #include "probe/impulse_error.h"
+#include "probe/input_file.h"
+#include "probe/json_input.h"
 #include "probe/limits.h"
 #include "probe/paraboloid.h"
 #include "probe/probe_io.h"
@@ -226,8 +227,7 @@ void summarizeAgain(const SweepOptions& o) {
     std::string name, driver, sampling, pyramidFormat;
     int size = 0, levelCount = 0;
     try {
-        std::ifstream in(dir / "report.json");
-        const nlohmann::json previous = nlohmann::json::parse(in);
+        const nlohmann::json previous = probe::parseJsonFile(probe::readTextFile(dir / "report.json"), dir / "report.json", "sweep report");
         name = previous.at("device").at("name").get<std::string>();
         driver = previous.at("device").at("driver").get<std::string>();
         sampling = previous.at("sampling").get<std::string>();

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/input_file.h"
 #include "probe/output_file.h"
 
 namespace probefilter {
@@ -249,8 +249,7 @@ void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow
 }
 
 std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    if (!in) throw probe::ProbeError(fmt::format("{}: cannot read", path.string()));
+    std::istringstream in(probe::readTextFile(path)); // a regular file, bounded in size
     std::string line;
     if (!std::getline(in, line) || line != kCsvHeader)
         throw probe::ProbeError(fmt::format("{}: not a sweep.csv of this version (header differs)", path.string()));

@@ -408,6 +408,26 @@ def main():
     # Checked in time linear in the file: 400000 objects in one array (a quadratic check takes minutes).
     objects = ", ".join(["{}"] * 400000)
     bad_table("many-objects.json", ["unknown field 'x'"], table.replace('"taps": 8', '"taps": 8, "x": [%s]' % objects, 1))
+    # At the text-file limit, a document of empty objects: a tree of 2 GiB, refused by its value count
+    # before it is built.
+    empties = '{"levels": [' + ",".join(["{}"] * ((64 << 20) // 3 - 10)) + "]}"
+    bad_table("64MiB-of-objects.json", ["more than 1048576 values"], empties)
+    f = write("64MiB-of-objects-scene.json", empties)
+    expect_refused("64MiB-of-objects-scene.json", [f, "more than 1048576 values"], pf, "run", f, "--out", path("out"))
+    os.makedirs(path("sweep-again"))
+    write("sweep-again/report.json", empties)
+    del empties  # a child's peak resident set starts from this process's, which it is forked from
+    write("sweep-again/sweep.csv", "")
+    expect_refused("sweep-summarize-empty-csv", [path("sweep-again/sweep.csv"), "header"], pf, "sweep", "--summarize",
+                   path("sweep-again"), "--out", path("out"))
+    os.remove(path("sweep-again/sweep.csv"))
+    os.mkfifo(path("sweep-again/sweep.csv"))
+    expect_refused("sweep-summarize-fifo-csv", [path("sweep-again/sweep.csv"), "FIFO"], pf, "sweep", "--summarize",
+                   path("sweep-again"), "--out", path("out"))
+    os.remove(path("sweep-again/sweep.csv"))
+    expect_refused("out-with-64MiB-report", [path("sweep-again"), "holds no report.json of probefilter's"], pf,
+                   *filter_args(good)[:-1], path("sweep-again"))
+    shutil.rmtree(path("sweep-again"))
     bad_table("newline-key.json", ["unknown field 'line\\none'"], table.replace('"taps": 8', '"taps": 8, "line\\none": 1', 1))
     t = json.loads(table)
     t["levels"][2]["coefficients"][7] = 1e38

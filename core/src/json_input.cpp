@@ -1,4 +1,4 @@
-#include "json_input.h"
+#include "probe/json_input.h"
 
 #include <cmath>
 #include <functional>
@@ -17,22 +17,23 @@ using nlohmann::json;
 
 namespace {
 
-// What the library's parser leaves to its caller: the nesting depth and keys that appear twice in
-// one object, checked in a SAX pass (the DOM parser's callback form rescans an array each time an
+// What the library's parser leaves to its caller: the nesting depth, the number of values and keys
+// that appear twice in one object, checked in a SAX pass (the DOM parser's callback form rescans an array each time an
 // object in it ends, which is quadratic in the objects of one array). Throws ProbeError through
 // `fail`; a syntax error is kept for the caller.
 class JsonChecks final : public json::json_sax_t {
 public:
     explicit JsonChecks(const std::function<ProbeError(const std::string&)>& fail) : fail_(fail) {}
 
-    bool null() override { return true; }
-    bool boolean(bool) override { return true; }
-    bool number_integer(json::number_integer_t) override { return true; }
-    bool number_unsigned(json::number_unsigned_t) override { return true; }
-    bool number_float(json::number_float_t, const json::string_t&) override { return true; }
-    bool string(json::string_t&) override { return true; }
-    bool binary(json::binary_t&) override { return true; }
+    bool null() override { return value(); }
+    bool boolean(bool) override { return value(); }
+    bool number_integer(json::number_integer_t) override { return value(); }
+    bool number_unsigned(json::number_unsigned_t) override { return value(); }
+    bool number_float(json::number_float_t, const json::string_t&) override { return value(); }
+    bool string(json::string_t&) override { return value(); }
+    bool binary(json::binary_t&) override { return value(); }
     bool start_object(std::size_t) override {
+        value();
         enter();
         keys_.emplace_back();
         return true;
@@ -47,6 +48,7 @@ public:
         return true;
     }
     bool start_array(std::size_t) override {
+        value();
         enter();
         return true;
     }
@@ -64,12 +66,19 @@ public:
     const std::string& error() const { return error_; }
 
 private:
+    // The document's tree takes some 100 bytes a value (an empty object's map included): the count
+    // bounds it before it is built.
+    bool value() {
+        if (++values_ > kMaxJsonValues) throw fail_(fmt::format("holds more than {} values", kMaxJsonValues));
+        return true;
+    }
     void enter() {
         if (++depth_ > kMaxJsonDepth) throw fail_(fmt::format("nested deeper than {} levels", kMaxJsonDepth));
     }
 
     const std::function<ProbeError(const std::string&)>& fail_;
     int depth_ = 0;
+    std::int64_t values_ = 0;
     std::vector<std::set<std::string>> keys_; // of each object open, innermost last
     std::string error_;
 };

@@ -7,9 +7,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "json_input.h"
 #include "probe/error.h"
 #include "probe/input_file.h"
+#include "probe/json_input.h"
 #include "probe/limits.h"
 
 namespace probe {

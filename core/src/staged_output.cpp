@@ -17,9 +17,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "json_input.h"
 #include "probe/error.h"
 #include "probe/input_file.h"
+#include "probe/json_input.h"
 
 namespace probe {
 

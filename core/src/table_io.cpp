@@ -9,9 +9,9 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
-#include "json_input.h"
 #include "probe/error.h"
 #include "probe/input_file.h"
+#include "probe/json_input.h"
 #include "probe/output_file.h"
 
 namespace probe {

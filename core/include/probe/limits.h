@@ -40,6 +40,8 @@ inline constexpr int kMaxExrChannels = 64;
 inline constexpr std::uintmax_t kMaxTextFileBytes = 64u << 20;
 // JSON nesting: tables and scenes need 4 levels.
 inline constexpr int kMaxJsonDepth = 32;
+// JSON values in one document (a 64-tap 12-level table holds under 40000): bounds its tree's memory.
+inline constexpr std::int64_t kMaxJsonValues = std::int64_t{1} << 20;
 
 // What is wrong with a probe image of this size, as an image file's header declares it, or empty:
 // a size within kMaxImagePixels and kMaxImageSide, and a probe's shape (2:1 or 6:1), so that a large

@@ -12,9 +12,9 @@
 namespace probe {
 
 // Parses `text`, the contents of `path` (a `what`: "table file", "scene file"). Throws ProbeError
-// ("<path>: <what>: <problem>") on a syntax
-// error, a number out of double's range, nesting deeper than kMaxJsonDepth (limits.h) or a key that
-// an object holds twice.
+// ("<path>: <what>: <problem>") on a syntax error, a number out of double's range, nesting deeper
+// than kMaxJsonDepth or more than kMaxJsonValues values (limits.h), or a key that an object holds
+// twice; the document's tree is built only after these checks.
 nlohmann::json parseJsonFile(std::string_view text, const std::filesystem::path& path, std::string_view what);
 
 // The value as an int, or std::nullopt unless it is an integer (no fraction) within int's range.
