@@ -22,6 +22,9 @@ inline constexpr const char* kForceHelp =
     "Replace --out even when it is a non-empty folder that probefilter did not write (the root folder and a folder holding an input "
     "are refused still)";
 
+inline constexpr const char* kAllowLongHelp =
+    "Run the CPU reference even when its estimate (printed up front) is over an hour; it is quadratic in the face size (days at 2048)";
+
 void addReferenceCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);

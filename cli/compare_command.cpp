@@ -47,6 +47,7 @@ struct CompareOptions {
     bool repairPixels = false;
     std::string out;
     bool force = false;
+    bool allowLong = false;
 };
 
 struct MethodRun {
@@ -126,6 +127,7 @@ void runCompare(const CompareOptions& o) {
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
+    checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
     probe::PixelRepairs repairs;
     const probe::CubeImage source =
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
@@ -228,6 +230,7 @@ void addCompareCommand(CLI::App& app) {
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--out", o->out, "Output folder: sheet.png and report.json")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
+    cmd->add_flag("--allow-long", o->allowLong, kAllowLongHelp);
     cmd->callback([o] { runCompare(*o); });
 }
 

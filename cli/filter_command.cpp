@@ -52,6 +52,7 @@ struct FilterOptions {
     std::string ktx2 = "none";
     std::string out;
     bool force = false;
+    bool allowLong = false;
 };
 
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
@@ -111,6 +112,7 @@ void runFilter(const FilterOptions& o) {
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
+    if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, 1, o.allowLong);
     probe::PixelRepairs repairs;
     const probe::CubeImage source =
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
@@ -229,6 +231,7 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
     cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
+    cmd->add_flag("--allow-long", o->allowLong, "With --against-reference: " + std::string(kAllowLongHelp));
     cmd->callback([o] { runFilter(*o); });
 }
 

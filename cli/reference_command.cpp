@@ -25,6 +25,7 @@ struct ReferenceOptions {
     std::string out;
     bool force = false;
     bool repairPixels = false;
+    bool allowLong = false;
     std::string ktx2 = "none";
 };
 
@@ -33,6 +34,7 @@ void runReference(const ReferenceOptions& o) {
     const int levelCount = probe::chooseLevelCount(o.size, o.levels, mapping);
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     probe::StagedOutput output(o.out, {o.input}, o.force);
+    checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
 
     Stopwatch loadTime;
     nlohmann::json input, pixels;
@@ -83,6 +85,7 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--roughness", options->roughness, kRoughnessHelp);
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_flag("--force", options->force, kForceHelp);
+    cmd->add_flag("--allow-long", options->allowLong, kAllowLongHelp);
     cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");
     cmd->add_flag("--repair-pixels", options->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");

@@ -8,6 +8,7 @@
 
 #include "probe/error.h"
 #include "probe/output_file.h"
+#include "probe/reference.h"
 
 namespace probefilter {
 
@@ -75,6 +76,18 @@ void printProgress(const std::string& label, std::size_t done, std::size_t total
     probe::printToStderr(fmt::format("\r{:<12} [{:<{}}] {:3}%", label, std::string(static_cast<std::size_t>(filled), '#'), width,
                                      total ? 100 * done / total : 100));
     if (done >= total) probe::printToStderr("\n");
+}
+
+void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, std::size_t probes, bool allowLong) {
+    const double seconds = static_cast<double>(probes) * probe::estimateReferenceSeconds(faceSize, levelCount, mapping);
+    if (seconds < 60.0) return;
+    const std::string estimate =
+        seconds < 3600.0 ? fmt::format("{:.1f} minutes", seconds / 60.0) : fmt::format("{:.1f} hours", seconds / 3600.0);
+    if (seconds > 3600.0 && !allowLong)
+        throw probe::ProbeError(fmt::format("the CPU reference at {}^2 would take about {} here (quadratic in the face size); pass "
+                                            "--allow-long to run it, or use a smaller --size",
+                                            faceSize, estimate));
+    probe::printToStderr(fmt::format("reference: about {} at {}^2 (estimated)\n", estimate, faceSize));
 }
 
 } // namespace probefilter

@@ -40,6 +40,10 @@ nlohmann::json reportPixelRepairs(const std::filesystem::path& input, const prob
 
 void writeJson(const std::filesystem::path& path, const nlohmann::json& json);
 
+// The exact reference's time for `probes` probes of these levels, estimated before any work: printed
+// when over a minute, and refused (ProbeError) when over an hour unless `allowLong` (--allow-long).
+void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, std::size_t probes, bool allowLong);
+
 // A one-line progress bar on stderr, redrawn in place.
 void printProgress(const std::string& label, std::size_t done, std::size_t total);
 

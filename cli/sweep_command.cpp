@@ -56,6 +56,7 @@ struct SweepOptions {
     std::string summarize;
     std::string out;
     bool force = false;
+    bool allowLong = false;
 };
 
 struct NamedProbe {
@@ -267,6 +268,7 @@ void runSweep(const SweepOptions& o) {
     deviceOptions.choice = o.device;
     const probe::gpu::Device device(deviceOptions);
     const std::vector<NamedProbe> probes = sweepProbes(o);
+    checkReferenceTime(o.size, levelCount, probe::RoughnessMapping::gltf, probes.size(), o.allowLong);
     const std::vector<NamedTable> tables = sweepTables(o, levelCount);
     std::vector<Method> methods = sweepMethods(o, levelCount, tables);
     probe::printToStderr(fmt::format("sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size,
@@ -389,6 +391,7 @@ void addSweepCommand(CLI::App& app) {
                     "Run nothing: summarize the sweep in this folder (its sweep.csv) again into --out (another folder)");
     cmd->add_option("--out", o->out, "Output folder")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
+    cmd->add_flag("--allow-long", o->allowLong, kAllowLongHelp);
     cmd->callback([o] { runSweep(*o); });
 }
 

@@ -353,6 +353,11 @@ def main():
     expect_refused("fis-bias-huge", ["--fis-bias 1e+300"], pf, *filter_args(good, "--method", "fis", "--fis-bias", "1e300"))
     expect_refused("repeat-huge", ["--repeat 1000000", "1000"], pf, *filter_args(good, "--repeat", "1000000"))
     expect_refused("filter-size-65536", ["face size 65536", "2048"], pf, "filter", good, "--size", "65536", "--out", path("out"))
+    # The exact reference is quadratic in the face size: over an hour's estimate is refused up front.
+    expect_refused("reference-size-2048", ["reference at 2048^2 would take", "--allow-long"], pf, "reference", good, "--size", "2048",
+                   "--out", path("out"))
+    expect_refused("filter-against-reference-2048", ["reference at 2048^2 would take", "--allow-long"], pf, "filter", good, "--size",
+                   "2048", "--method", "fis", "--against-reference", "--out", path("out"))
     expect_refused("reference-size-4096", ["face size 4096", "2048"], pf, "reference", good, "--size", "4096", "--out", path("out"))
     expect_refused("sweep-repeat", ["--repeat 1000000"], pf, "sweep", "--size", "16", "--repeat", "1000000", "--out", path("out"))
     expect_refused("sweep-samples", ["--samples 1000000000"], pf, "sweep", "--size", "16", "--samples", "1000000000", "--out",

@@ -1,10 +1,12 @@
 #include "probe/reference.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
 #include <glm/geometric.hpp>
+#include <omp.h>
 
 #include "probe/ggx.h"
 #include "probe/range_scale.h"
@@ -128,6 +130,28 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, const Roughn
     }
     shiftLevels(levels, shift);
     return levels;
+}
+
+double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping) {
+    validateSizeAndLevels(faceSize, levelCount);
+    // Every filtered output texel sums over every source texel (less the faces behind it): the time
+    // of one output texel grows with the source's texel count. Measured on one thread over a
+    // 128^2 source at directions spread over the cube, then scaled.
+    constexpr int kSampleSize = 128, kSampleDirections = 24;
+    const SourceTexels src{CubeImage(kSampleSize)};
+    const CubeGeometry sample(4);
+    volatile double kept = 0.0; // the sums are used, so that the timed work is done
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0; k < kSampleDirections; ++k) {
+        const glm::dvec3& R = sample.directions[static_cast<std::size_t>(k) * sample.directions.size() / kSampleDirections];
+        kept = kept + convolve(src, R, [](float cosRL, float d2) { return ggxKernel(cosRL, d2, 0.25f); }).weight;
+    }
+    const double perTexel = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kSampleDirections *
+                            (static_cast<double>(faceSize) / kSampleSize) * (static_cast<double>(faceSize) / kSampleSize);
+    double outputTexels = 0.0;
+    for (int m = 0; m < levelCount; ++m)
+        if (levelAlpha(mapping, m, levelCount) > 0.0) outputTexels += static_cast<double>(texelCount(faceSize >> m));
+    return outputTexels * perTexel / std::max(1, omp_get_max_threads());
 }
 
 std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha) {

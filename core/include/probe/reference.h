@@ -25,6 +25,12 @@ CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha);
 // all cores. Throws ProbeError for an impossible level count.
 CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress = {});
 
+// The seconds referenceFilter takes for these levels of a faceSize^2 source on this machine's
+// threads: the time of one output texel measured on a small source (about 0.1 s) and scaled by the
+// texel counts, since the reference is quadratic in them (a lower bound where a large source no
+// longer fits the caches).
+double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping);
+
 // The reference's impulse response for output direction R: normalized weights k(R, t) over the
 // source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on
 // the texel that contains R.
