@@ -6,6 +6,8 @@
 #ifndef PROBE_BUFFERS_GLSL
 #define PROBE_BUFFERS_GLSL
 
+#include "probe/shared_constants.h"
+
 // Pass 1's pyramid of the source: level 0 is the source at S_0, down to 1x1. Each face of each level
 // carries a one-texel border (pyramid.comp fills it from the adjacent faces), so that a bilinear
 // read never leaves its face: a level of face size S holds texels (i, j), i and j in [-1, S].
@@ -58,7 +60,7 @@ uint pyramidTexelIndex(int face, int i, int j, int size) {
 // The linear invocation index of a dispatch of (x, y) workgroups: dispatches with more than 65535
 // workgroups are split over y (probe runtime's ComputePipeline::dispatch).
 uint invocationIndex() {
-    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(PROBE_WORKGROUP_SIZE) + gl_GlobalInvocationID.x;
 }
 
 #endif

@@ -8,7 +8,7 @@
 #include "buffers.glsl"
 #include "probe/shared_constants.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 // The RGBA32F mip, and the words written at element 0 of images.glsl's written mips.
 layout(set = 0, binding = 6) uniform sampler2DArray convertInput;

@@ -15,7 +15,7 @@
 #include "paraboloid.glsl"
 #endif
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 // 0: the level's sample count from the push constants (the runtime); n > 0: n samples, a constant
 // that unrolls the loop, so that tools/shader_stats measures the cost of a sample as the difference

@@ -6,7 +6,7 @@
 #include "paraboloid.glsl"
 #include "sampling.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
     int baseSize; // S_0

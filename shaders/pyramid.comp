@@ -12,7 +12,7 @@
 #include "images.glsl"
 #include "sampling.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 // The pyramid's settings, fixed per pipeline so that the other paths are compiled out.
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box

@@ -7,7 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
     int baseSize; // S_0

@@ -11,7 +11,7 @@
 #include "images.glsl"
 #include "probe/shared_constants.h"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse

@@ -16,7 +16,7 @@
 #include "ggx.glsl"
 #include "images.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
     int sourceSize; // S_0: pyramid level 0

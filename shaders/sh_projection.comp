@@ -9,7 +9,7 @@
 #include "buffers.glsl"
 #include "sh.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 #define ITEMS_PER_INVOCATION 16u
 #define ITEMS_PER_GROUP (64u * ITEMS_PER_INVOCATION)

@@ -17,7 +17,7 @@
 #include "sampling.glsl"
 #include "sh.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
     int cellSize;       // pixels per sphere cell (square)

@@ -20,7 +20,7 @@
 #include "sampling.glsl"
 #include "tap_sum.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 // The table's form and taps per frame N (a multiple of 4), fixed per pipeline: the other form's
 // reads are compiled out, and every table index is a base plus a constant offset.

@@ -363,3 +363,16 @@ TEST_F(GpuTest, LargestFiniteValuesEveryMethod) {
             expectFinite(half.run(oneLargest), 65504.0f, what + " one FLT_MAX, rgba16f");
         }
 }
+
+// A dispatch of more than 65535 workgroups goes over y (ComputePipeline::dispatch): level 0 of a
+// 1024^2 probe, 6.3M texels, is copied whole, its last face included.
+TEST_F(GpuTest, LargeDispatchCoversEveryTexel) {
+    const CubeImage source = probetest::randomProbe(1024, 5);
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, 1024, 1, RoughnessMapping::gltf, {}, gpu::Sampling::hardware);
+    gpu::Filter filter(probetest::testDevice(), s);
+    const CubeLevels levels = filter.run(source);
+    std::size_t differing = 0, first = 0;
+    for (std::size_t t = 0; t < texelCount(1024); ++t)
+        if (levels[0].texel(t) != source.texel(t) && differing++ == 0) first = t;
+    EXPECT_EQ(differing, 0u) << "first at texel " << first;
+}

@@ -14,13 +14,14 @@
 #include <vulkan/vulkan.h>
 
 #include "buffer.h"
+#include "probe/shared_constants.h"
 
 namespace probe::gpu {
 
 inline constexpr uint32_t kBufferCount = 4; // pyramid, output, geometry, table
 inline constexpr uint32_t kPushConstantBytes = 64;
-inline constexpr uint32_t kWorkgroupSize = 64; // local_size_x of every shader
-inline constexpr uint32_t kMaxGroupsX = 65535; // per dispatch row
+inline constexpr uint32_t kWorkgroupSize = PROBE_WORKGROUP_SIZE; // local_size_x of every per-texel shader
+inline constexpr uint32_t kMaxGroupsX = 65535;                   // per dispatch row
 
 // The layout and the one descriptor set that binds the four buffers (RGBA32F texels, 16 bytes
 // each). Throws ProbeError naming the device's limit when a texel buffer would exceed it.

@@ -24,6 +24,11 @@
 // (shaders/pyramid_tail.comp), keeping two of them in shared memory.
 #define PROBE_PYRAMID_TAIL_SIZE 8
 
+// The workgroup size (local_size_x) of the runtime's per-texel shaders, which invocationIndex()
+// (shaders/buffers.glsl) and the runtime's group counts share. A constant, since a shader's
+// gl_WorkGroupSize before its own local_size declaration reads as 1.
+#define PROBE_WORKGROUP_SIZE 64
+
 // Dual-paraboloid FIS (probe/paraboloid.h): the image square holds the mapping's (u, v) times this,
 // so the unit disc of a hemisphere ends inside it.
 #define PROBE_PARABOLOID_SCALE 0.9
