@@ -76,3 +76,40 @@ TEST_F(GpuSpheres, BackgroundIsInterpolated) {
         }
     EXPECT_GT(between, pixels / 2) << "the background shows the checkerboard's texels as blocks";
 }
+
+// A scene's every material is drawn: spheres past what one storage buffer of the guaranteed range
+// holds (227 of 192^2) are drawn in further batches, each cell as it is drawn alone. A batch is
+// 8.4M pixels, a dispatch of more than 65535 workgroups.
+TEST_F(GpuSpheres, ManyMaterialsInBatches) {
+    const CubeImage sky = syntheticProbe("sky", 16);
+    CubeLevels prefiltered;
+    for (int m = 0; m < 4; ++m) prefiltered.push_back(syntheticProbe("sky", 16 >> m));
+    const Image dfg = dfgTable(32, 256);
+    gpu::SphereScene scene;
+    scene.prefiltered = &prefiltered;
+    scene.background = &sky;
+    scene.irradiance = radianceToIrradiance(projectRadiance(sky));
+    scene.dfg = &dfg;
+    scene.cellSize = 192;
+    for (int k = 0; k < 230; ++k) {
+        gpu::SphereMaterial m;
+        m.baseColor = glm::vec3(0.2f + 0.003f * static_cast<float>(k), 0.5f, 0.7f);
+        m.metallic = static_cast<float>(k % 2);
+        m.roughness = static_cast<float>(k % 4) / 3.0f;
+        m.level = 3.0f * m.roughness;
+        scene.materials.push_back(m);
+    }
+    const Image all = gpu::renderSpheres(probetest::testDevice(), scene);
+    ASSERT_EQ(all.width, 230 * 192);
+
+    const std::vector<gpu::SphereMaterial> materials = scene.materials;
+    for (int k : {0, 226, 227, 229}) {
+        scene.materials = {materials[static_cast<std::size_t>(k)]};
+        const Image alone = gpu::renderSpheres(probetest::testDevice(), scene);
+        int differing = 0;
+        for (int y = 0; y < 192; ++y)
+            for (int x = 0; x < 192; ++x)
+                if (alone.pixel(x, y) != all.pixel(192 * k + x, y)) ++differing;
+        EXPECT_EQ(differing, 0) << "material " << k;
+    }
+}

@@ -1,6 +1,6 @@
 // The sphere renderer (shaders/spheres.comp): packs the filtered levels and the background (both
 // bordered, for seamless bilinear reads), the DFG table, the irradiance and the materials into the
-// four storage buffers and runs one dispatch.
+// four storage buffers and runs one dispatch per batch of spheres.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -28,6 +28,9 @@ struct SphereConstants {
     float tanHalfFov;
     float distance;
 };
+
+// The storage buffer range Vulkan guarantees on every device (maxStorageBufferRange >= 2^27).
+constexpr std::size_t kGuaranteedStorageRange = std::size_t{1} << 27;
 
 // The unit sphere seen from 4 units away fills about 80% of its cell.
 constexpr float kCameraDistance = 4.0f;
@@ -85,52 +88,66 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
         lookup.insert(lookup.end(), {0.0f, 0.0f, 0.0f, 0.0f});
     }
 
-    std::vector<float> parameters;
-    for (const glm::dvec3& irradiance : scene.irradiance) {
-        const glm::dvec3 c = std::ldexp(1.0, -shift) * irradiance;
-        parameters.insert(parameters.end(), {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b), 0.0f});
-    }
-    for (const SphereMaterial& m : scene.materials) {
+    for (const SphereMaterial& m : scene.materials)
         if (m.hasSpecular && !scene.dfg) throw ProbeError("sphere renderer: a specular material needs the DFG table");
-        parameters.insert(parameters.end(), {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.specular, m.roughness, m.level,
-                                             m.hasSpecular ? 1.0f : 0.0f});
+    std::vector<float> irradiance;
+    for (const glm::dvec3& e : scene.irradiance) {
+        const glm::dvec3 c = std::ldexp(1.0, -shift) * e;
+        irradiance.insert(irradiance.end(), {static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b), 0.0f});
     }
 
+    // The spheres in batches whose image stays within the storage buffer range every Vulkan device
+    // has (2^27 bytes: 227 spheres of 192^2), so that a scene's every material can be drawn.
+    const std::size_t cellPixels = static_cast<std::size_t>(scene.cellSize) * scene.cellSize;
+    const std::size_t batch = std::max<std::size_t>(1, kGuaranteedStorageRange / (cellPixels * 4 * sizeof(float)));
     const int width = scene.cellSize * static_cast<int>(scene.materials.size()), height = scene.cellSize;
-    const std::size_t pixels = static_cast<std::size_t>(width) * height;
+    Image out{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
     Buffer cubeBuffer(device, cubes.size() * sizeof(float), Buffer::Kind::storage);
-    Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
     Buffer lookupBuffer(device, lookup.size() * sizeof(float), Buffer::Kind::storage);
-    Buffer parameterBuffer(device, parameters.size() * sizeof(float), Buffer::Kind::storage);
-    PipelineLayout layout(device, {&cubeBuffer, &image, &lookupBuffer, &parameterBuffer});
-    ComputePipeline pipeline(device.device(), layout, kSpheresSpv);
     Submission submission(device);
     submission.upload(cubeBuffer, cubes.data(), cubeBuffer.bytes());
     submission.upload(lookupBuffer, lookup.data(), lookupBuffer.bytes());
-    submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
-
-    const SphereConstants constants{scene.cellSize,
-                                    static_cast<int32_t>(scene.materials.size()),
-                                    baseSize,
-                                    static_cast<int32_t>(levels.size()),
-                                    scene.background->size,
-                                    dfgSize,
-                                    kTanHalfFov,
-                                    kCameraDistance};
-    VkCommandBuffer commandBuffer = submission.begin();
-    computeBarrier(commandBuffer);
-    layout.bind(commandBuffer);
-    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groupsFor(pixels));
-    computeBarrier(commandBuffer);
-    submission.submitAndWait(commandBuffer);
-    submission.release(commandBuffer);
-
-    std::vector<float> rgba(pixels * 4);
-    submission.download(image, rgba.data(), image.bytes());
-    Image out{width, height, std::vector<float>(pixels * 3)};
     constexpr float largestFloat = std::numeric_limits<float>::max();
-    for (std::size_t p = 0; p < pixels; ++p)
-        for (int k = 0; k < 3; ++k) out.rgb[3 * p + k] = std::min(std::ldexp(rgba[4 * p + k], shift), largestFloat);
+    for (std::size_t first = 0; first < scene.materials.size(); first += batch) {
+        const std::size_t count = std::min(batch, scene.materials.size() - first);
+        std::vector<float> parameters = irradiance;
+        for (std::size_t k = first; k < first + count; ++k) {
+            const SphereMaterial& m = scene.materials[k];
+            parameters.insert(parameters.end(), {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.specular, m.roughness, m.level,
+                                                 m.hasSpecular ? 1.0f : 0.0f});
+        }
+        const std::size_t pixels = count * cellPixels;
+        Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
+        Buffer parameterBuffer(device, parameters.size() * sizeof(float), Buffer::Kind::storage);
+        PipelineLayout layout(device, {&cubeBuffer, &image, &lookupBuffer, &parameterBuffer});
+        ComputePipeline pipeline(device.device(), layout, kSpheresSpv);
+        submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
+        const SphereConstants constants{scene.cellSize,
+                                        static_cast<int32_t>(count),
+                                        baseSize,
+                                        static_cast<int32_t>(levels.size()),
+                                        scene.background->size,
+                                        dfgSize,
+                                        kTanHalfFov,
+                                        kCameraDistance};
+        VkCommandBuffer commandBuffer = submission.begin();
+        computeBarrier(commandBuffer);
+        layout.bind(commandBuffer);
+        pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groupsFor(pixels));
+        computeBarrier(commandBuffer);
+        submission.submitAndWait(commandBuffer);
+        submission.release(commandBuffer);
+
+        // The batch's row of cells into its place in the whole row.
+        std::vector<float> rgba(pixels * 4);
+        submission.download(image, rgba.data(), image.bytes());
+        const std::size_t batchWidth = count * static_cast<std::size_t>(scene.cellSize);
+        for (std::size_t y = 0; y < static_cast<std::size_t>(height); ++y)
+            for (std::size_t x = 0; x < batchWidth; ++x)
+                for (std::size_t c = 0; c < 3; ++c)
+                    out.rgb[3 * (y * width + first * scene.cellSize + x) + c] =
+                        std::min(std::ldexp(rgba[4 * (y * batchWidth + x) + c], shift), largestFloat);
+    }
     return out;
 }
 
