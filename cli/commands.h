@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "probe/limits.h"
+
 namespace probefilter {
 
 // The help of the options that every command running on a Vulkan device shares.
@@ -21,6 +23,13 @@ inline constexpr const char* kRoughnessHelp =
 inline constexpr const char* kForceHelp =
     "Replace --out even when it is a non-empty folder that probefilter did not write (the root folder and a folder holding an input "
     "are refused still)";
+
+// The GPU commands' face size: the stated limit, and the device's own, checked before the work.
+static_assert(probe::kMaxFaceSize == 2048, "kGpuSizeHelp states the face-size limit");
+inline constexpr const char* kGpuSizeHelp =
+    "Output face size S_0, a power of two, at most 2048 where the device's maxStorageBufferRange holds the per-texel buffers (a "
+    "1024^2 probe needs 128 MiB, 2048^2 512 MiB; lavapipe's 128 MiB allows 512 with exact sampling, 1024 with hardware sampling); "
+    "refused up front otherwise";
 
 inline constexpr const char* kAllowLongHelp =
     "Run the CPU reference even when its estimate (printed up front) is over an hour; it is quadratic in the face size (days at 2048)";

@@ -128,14 +128,15 @@ void runCompare(const CompareOptions& o) {
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
     checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
-    probe::PixelRepairs repairs;
-    const probe::CubeImage source =
-        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
-    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
     const probe::gpu::Device device(deviceOptions);
+    for (const probe::gpu::FilterSettings& settings : {tableSettings, fisSettings}) probe::gpu::Filter::checkLimits(device, settings);
+    probe::PixelRepairs repairs;
+    const probe::CubeImage source =
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
+    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
 
     const Stopwatch referenceClock;
     const probe::CubeLevels reference = probe::referenceFilter(
@@ -208,7 +209,7 @@ void addCompareCommand(CLI::App& app) {
     auto o = std::make_shared<CompareOptions>();
     CLI::App* cmd = app.add_subcommand("compare", "Comparison sheet: reference, tap table and FIS spheres with error heat maps");
     cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
-    cmd->add_option("--size", o->size, fmt::format("Face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
+    cmd->add_option("--size", o->size, kGpuSizeHelp)->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--table", o->table,
                     "Tap table: a compiled-in table's name or a table file (default: the compiled-in table for the size)");

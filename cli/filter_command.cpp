@@ -113,15 +113,15 @@ void runFilter(const FilterOptions& o) {
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
     if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, 1, o.allowLong);
-    probe::PixelRepairs repairs;
-    const probe::CubeImage source =
-        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
-    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
-
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
     probe::gpu::Device device(deviceOptions);
+    probe::gpu::Filter::checkLimits(device, s); // before the probe is read: at the pixel limit that takes 25 s and 1.5 GiB
+    probe::PixelRepairs repairs;
+    const probe::CubeImage source =
+        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
+    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
     probe::gpu::Filter filter(device, s);
     const probe::CubeLevels levels =
         filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
@@ -205,7 +205,7 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--pyramid", o->pyramid, "Pass 1 pyramid: bspline or box")->capture_default_str();
     cmd->add_option("--pyramid-weighting", o->weighting, "Pass 1 Jacobian weighting: solid-angle or inverse-solid-angle")
         ->capture_default_str();
-    cmd->add_option("--size", o->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))->required();
+    cmd->add_option("--size", o->size, kGpuSizeHelp)->required();
     cmd->add_option("--levels", o->levels, kLevelsHelp);
     cmd->add_option("--mapping", o->mapping, kMappingHelp);
     cmd->add_option("--roughness", o->roughness, kRoughnessHelp);

@@ -62,6 +62,15 @@ public:
     SceneRun(const RunOptions& options, const probe::Scene& scene, probe::StagedOutput& output, const probe::gpu::Device& device)
         : options_(options), scene_(scene), output_(output), device_(device) {}
 
+    // Every probe's filter settings checked against the device before any probe is read.
+    void checkLimits(const probe::Plan& plan) const {
+        for (std::size_t k = 0; k < scene_.probes.size(); ++k)
+            if (!plan.probes[k].levels.empty()) {
+                probe::TapTable table;
+                probe::gpu::Filter::checkLimits(device_, filterSettings(scene_.probes[k], plan.probes[k], table));
+            }
+    }
+
     // The passes of one probe's plan; appends to the report.
     void runProbe(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
         const probe::BadPixelPolicy policy = options_.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse;
@@ -135,8 +144,8 @@ private:
         ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
     }
 
-    // The planned levels over the planned pyramid depth; the passes recorded are those its dispatches ran.
-    void filterLevels(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+    // The planned levels over the planned pyramid depth; `table` holds the probe's table for them.
+    probe::gpu::FilterSettings filterSettings(const probe::SceneProbe& p, const probe::ProbePlan& plan, probe::TapTable& table) const {
         probe::gpu::FilterSettings s;
         s.method = p.method;
         s.faceSize = p.faceSize;
@@ -145,12 +154,17 @@ private:
         s.sampling = probe::gpu::parseSampling(options_.sampling);
         s.levels = plan.levels;
         s.pyramidDepth = plan.pyramidLevels;
-        probe::TapTable table;
         if (p.method.kind == probe::MethodKind::table) {
             table = sceneProbeTable(scene_, p);
             s.method.table = &table;
         }
-        probe::gpu::Filter filter(device_, s);
+        return s;
+    }
+
+    // The planned levels over the planned pyramid depth; the passes recorded are those its dispatches ran.
+    void filterLevels(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+        probe::TapTable table;
+        probe::gpu::Filter filter(device_, filterSettings(p, plan, table));
         result.levels = filter.run(result.source, 1, probe::gpu::Timestamps::levels);
 
         std::vector<probe::gpu::Dispatch> pyramid, levels;
@@ -224,6 +238,7 @@ void runScene(const RunOptions& o) {
     const probe::gpu::Device device(deviceOptions);
 
     SceneRun run(o, scene, output, device);
+    run.checkLimits(plan);
     for (std::size_t k = 0; k < scene.probes.size(); ++k)
         if (!plan.probes[k].levels.empty() || plan.probes[k].irradiance) run.runProbe(scene.probes[k], plan.probes[k]);
     if (plan.dfgTable) run.makeDfgTable();

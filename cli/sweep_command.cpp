@@ -364,7 +364,7 @@ void runSweep(const SweepOptions& o) {
 void addSweepCommand(CLI::App& app) {
     auto o = std::make_shared<SweepOptions>();
     CLI::App* cmd = app.add_subcommand("sweep", "Error against time for every table and FIS setting on a probe set (one device, one run)");
-    cmd->add_option("--size", o->size, fmt::format("Face size S_0 (a power of two, at most {})", probe::kMaxFaceSize));
+    cmd->add_option("--size", o->size, kGpuSizeHelp);
     cmd->add_option("--synthetic", o->synthetic,
                     "Generated probes: impulse-centre, impulse-edge, impulse-corner, sunsky, room, checker, sky");
     cmd->add_option("--hdri-dir", o->hdriDir, "Folder of real HDRIs (.exr) to add (scripts/fetch-hdri prints one)");

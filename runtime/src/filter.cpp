@@ -158,46 +158,104 @@ VkFormat parseFormat(std::string_view name) {
     throw ParameterError("format", fmt::format("{}: expected rgba16f, rgba32f or b10g11r11", name));
 }
 
-Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
+namespace {
+
+// What a Filter of `s` computes and the texel counts of its large buffers, from the settings and the
+// device's features alone: nothing is allocated. Throws for settings the method or the device refuses.
+struct FilterShape {
+    int pyramidLevels = 0, pyramidDepth = 0;
+    std::vector<int> levels;
+    uint32_t copyLevels = 0;
+    bool filters = false; // a computed level is filtered, not copied
+    bool buildsPyramid = false, paraboloid = false, convertOutput = false;
+    Sampling sampling = Sampling::exact;
+    std::vector<uint32_t> outputOffsets, pyramidOffsets;
+    std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 0;
+};
+
+FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
     validateMappingLevels(s.mapping, s.levelCount);
     validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
-    pyramidLevels = pyramidLevelCount(s.faceSize);
-    pyramidDepth = s.pyramidDepth < 0 ? pyramidLevels - 1 : s.pyramidDepth;
-    if (pyramidDepth > pyramidLevels - 1)
+    FilterShape shape;
+    shape.pyramidLevels = pyramidLevelCount(s.faceSize);
+    shape.pyramidDepth = s.pyramidDepth < 0 ? shape.pyramidLevels - 1 : s.pyramidDepth;
+    if (shape.pyramidDepth > shape.pyramidLevels - 1)
         throw ParameterError("pyramid-depth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth,
-                                                          s.faceSize, pyramidLevels - 1));
-    for (int m = 0; m < s.levelCount; ++m) levels.push_back(m);
+                                                          s.faceSize, shape.pyramidLevels - 1));
+    for (int m = 0; m < s.levelCount; ++m) shape.levels.push_back(m);
     if (!s.levels.empty()) {
         for (std::size_t k = 0; k < s.levels.size(); ++k)
             if (s.levels[k] < 0 || s.levels[k] >= s.levelCount || (k > 0 && s.levels[k] <= s.levels[k - 1]))
                 throw ParameterError("levels", fmt::format("{}: not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
-        levels = s.levels;
+        shape.levels = s.levels;
     }
-    outputOffsets = packedOffsets(s.faceSize, s.levelCount);
+    shape.outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
-        if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) copyLevels |= 1u << m;
-    const bool filters = std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) == 0; });
+        if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) shape.copyLevels |= 1u << m;
+    const bool filters = std::any_of(shape.levels.begin(), shape.levels.end(), [&](int m) { return (shape.copyLevels & (1u << m)) == 0; });
+    shape.filters = filters;
     const MethodKind kind = s.method.kind;
-    buildsPyramid = kind != MethodKind::reference && filters;
-    paraboloid = readsParaboloid(s.method) && filters;
-    if (paraboloid) pyramidDepth = 0; // the map reads the source alone
-    sampling = resolveSampling(d, s);
+    shape.buildsPyramid = kind != MethodKind::reference && filters;
+    shape.paraboloid = readsParaboloid(s.method) && filters;
+    if (shape.paraboloid) shape.pyramidDepth = 0; // the map reads the source alone
+    shape.sampling = resolveSampling(d, s);
     if (s.pyramidFormat != VK_FORMAT_UNDEFINED) {
         if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT)
             throw ParameterError("pyramid-format",
                                  fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT", int(s.pyramidFormat)));
-        if (sampling == Sampling::exact)
+        if (shape.sampling == Sampling::exact)
             throw ParameterError("pyramid-format",
                                  fmt::format("{}: only hardware sampling's pyramid is an image; exact sampling's is a float32 "
                                              "buffer (choose hardware sampling)",
                                              formatName(s.pyramidFormat)));
     }
-    if (kind == MethodKind::table && sampling == Sampling::exact && !d.impl().computeSubgroupVote)
+    if (kind == MethodKind::table && shape.sampling == Sampling::exact && !d.impl().computeSubgroupVote)
         throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method's exact "
                                      "sampling needs (use hardware sampling)",
                                      d.info().name));
-    convertOutput = checkOutputFormat(d, s.outputFormat);
+    shape.convertOutput = checkOutputFormat(d, s.outputFormat);
+
+    // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
+    shape.pyramidOffsets = pyramidOffsetsFor(s.faceSize, shape.pyramidLevels);
+    if (shape.buildsPyramid && shape.sampling == Sampling::exact) shape.pyramidTexels = shape.pyramidOffsets.back();
+    else if (kind == MethodKind::reference && filters) shape.pyramidTexels = shape.pyramidOffsets[1];
+    if (kind == MethodKind::reference) shape.accumulatorTexels = shape.outputOffsets.back();
+    if (shape.paraboloid) shape.accumulatorTexels = paraboloidMapTexels(s.faceSize);
+    for (int m = 0; m < shape.pyramidLevels; ++m) shape.geometryTexels += texelCount(s.faceSize >> m);
+
+    // Every storage buffer within the device's range, and the texel buffers within its element count.
+    const VkPhysicalDeviceLimits& limits = d.impl().limits;
+    for (const std::size_t texels : {shape.pyramidTexels, shape.accumulatorTexels, shape.geometryTexels})
+        if (texels * kTexelBytes > limits.maxStorageBufferRange)
+            throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {:.1f} MiB at {}^2, over its maxStorageBufferRange of "
+                                         "{:.1f} MiB; use a smaller --size",
+                                         d.info().name, static_cast<double>(texels * kTexelBytes) / (1 << 20), s.faceSize,
+                                         static_cast<double>(limits.maxStorageBufferRange) / (1 << 20)));
+    if (shape.pyramidTexels > limits.maxTexelBufferElements)
+        throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size",
+                                     d.info().name, limits.maxTexelBufferElements, shape.pyramidTexels));
+    return shape;
+}
+
+} // namespace
+
+void Filter::checkLimits(const Device& device, const FilterSettings& settings) { shapeOf(device, settings); }
+
+Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
+    FilterShape shape = shapeOf(d, s);
+    pyramidLevels = shape.pyramidLevels;
+    pyramidDepth = shape.pyramidDepth;
+    levels = std::move(shape.levels);
+    copyLevels = shape.copyLevels;
+    buildsPyramid = shape.buildsPyramid;
+    paraboloid = shape.paraboloid;
+    sampling = shape.sampling;
+    convertOutput = shape.convertOutput;
+    outputOffsets = std::move(shape.outputOffsets);
+    pyramidOffsets = std::move(shape.pyramidOffsets);
+    const MethodKind kind = s.method.kind;
+    const bool filters = shape.filters;
 
     std::vector<float> tableData(4, 0.0f);
     if (kind == MethodKind::table) {
@@ -207,22 +265,13 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
         tableData = importanceSamplingBufferData(s, sampleOffsets);
     }
     const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
-    // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
-    pyramidOffsets = pyramidOffsetsFor(s.faceSize, pyramidLevels);
-    std::size_t pyramidTexels = 1;
-    if (buildsPyramid && sampling == Sampling::exact) pyramidTexels = pyramidOffsets.back();
-    else if (kind == MethodKind::reference && filters) pyramidTexels = pyramidOffsets[1];
-
-    pyramidBuffer = Buffer(d, pyramidTexels * kTexelBytes, Buffer::Kind::storage);
-    std::size_t accumulatorTexels = kind == MethodKind::reference ? outputOffsets.back() : 1;
-    if (paraboloid) accumulatorTexels = paraboloidMapTexels(s.faceSize);
-    accumulator = Buffer(d, accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
+    pyramidBuffer = Buffer(d, shape.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    accumulator = Buffer(d, shape.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
-    for (const Buffer* b : {&table, &pyramidBuffer})
-        if (b->bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
-            throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size",
-                                         d.info().name, d.impl().limits.maxTexelBufferElements, b->bytes() / kTexelBytes));
+    if (table.bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
+        throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}", d.info().name,
+                                     d.impl().limits.maxTexelBufferElements, table.bytes() / kTexelBytes));
     tableView = BufferView(d.device(), table);
     pyramidView = BufferView(d.device(), pyramidBuffer);
 

@@ -181,6 +181,9 @@ public:
     // the pyramid and the tables.
     Filter(const Device& device, const FilterSettings& settings);
     ~Filter();
+    // The constructor's checks alone, allocating nothing: a tool calls it before it reads a probe,
+    // so that settings the device cannot run are refused before the work.
+    static void checkLimits(const Device& device, const FilterSettings& settings);
     Filter(const Filter&) = delete;
     Filter& operator=(const Filter&) = delete;
 
