@@ -169,7 +169,7 @@ expect_refused size-one        "--size"                 $(fit --size 1)
 expect_refused too-many-levels "--levels"               $(fit --size 16 --levels 6)
 expect_refused negative-levels "--levels"               $(fit --size 16 --levels -1)
 expect_refused zero-levels     "--levels"               $(fit --size 16 --levels 0)
-expect_refused empty-levels    "'' is not a level count" fit --taps 4 --form quad --out "$work/out" --size 16 --levels ''
+expect_refused empty-levels    "--levels: empty value" fit --taps 4 --form quad --out "$work/out" --size 16 --levels ''
 expect_refused many-iterations "--iterations"           $(fit --size 16 --iterations 1000000000)
 expect_refused many-starts     "--starts"               $(fit --size 16 --starts 100000)
 expect_refused many-hops       "--hops"                 $(fit --size 16 --hops 100000)
@@ -198,7 +198,7 @@ expect_refused tail-weight     "--tail-weight"          $(fit --size 16 --tail-w
 expect_refused checker-weight  "--checker-weight"       $(fit --size 16 --checker-weight -2)
 expect_refused fit-levels-init "--fit-levels"           $(fit --size 16 --levels 4 --fit-levels 1)
 expect_refused fit-levels-range "--fit-levels"          $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 4)
-expect_refused fit-levels-empty "'' is not a comma-separated list" \
+expect_refused fit-levels-empty "--fit-levels: empty value" \
     fit --taps 4 --form quad --out "$work/out" --size 16 --levels 4 --init "$work/small.json" --fit-levels ''
 expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 1,,2)
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
