@@ -212,7 +212,7 @@ void addCompareCommand(CLI::App& app) {
     cmd->add_option("--size", o->size, kGpuSizeHelp)->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");
     cmd->add_option("--table", o->table,
-                    "Tap table: a compiled-in table's name or a table file (default: the compiled-in table for the size)");
+                    "Tap table: a committed table's name or a table file (default: the compiled-in table for the size)");
     cmd->add_option("--samples", o->samples, fmt::format("FIS samples per texel (1 to {})", probe::kMaxSamples))->capture_default_str();
     cmd->add_option("--roughness", o->roughness,
                     fmt::format("Perceptual roughness of each sphere (1 to {} values)", probe::kMaxSheetSpheres))

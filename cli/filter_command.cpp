@@ -186,8 +186,9 @@ void addFilterCommand(CLI::App& app) {
         app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
     cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
-    cmd->add_option("--table", o->table,
-                    "Tap table: a compiled-in table's name, a table file (probefit's JSON) or the published text layout");
+    cmd->add_option(
+        "--table", o->table,
+        "Tap table: a committed table's name (tables/<name>.json), a table file (probefit's JSON) or the published text layout");
     cmd->add_option("--table-taps", o->tableTaps, "Published text layout: taps per frame");
     cmd->add_option("--table-form", o->tableForm, "Published text layout: const or quad");
     cmd->add_option(

@@ -1,5 +1,6 @@
 // What a --table names, in every command that takes one: a compiled-in table's name (tables/<name>.h),
-// a table file (probefit's JSON) or, with its taps and form, a file in the published text layout.
+// a table file (probefit's JSON), a committed table's name (probe::committedTablesFolder()/<name>.json,
+// where no file of that name is here) or, with its taps and form, a file in the published text layout.
 #pragma once
 
 #include <string>

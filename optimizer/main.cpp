@@ -15,6 +15,7 @@
 #include "fit.h"
 #include "fit_estimate.h"
 #include "initial_layout.h"
+#include "probe/committed_tables.h"
 #include "probe/error.h"
 #include "probe/interrupt.h"
 #include "probe/limits.h"
@@ -85,21 +86,11 @@ std::vector<int> parseLevelList(const std::string& text) {
     }
 }
 
-// The committed tables: installed beside the executable (bin/../share/probefilter/tables), else the
-// source tree's.
-std::filesystem::path defaultBank() {
-    std::error_code error;
-    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", error);
-    const std::filesystem::path installed = exe.parent_path().parent_path() / "share" / "probefilter" / "tables";
-    if (!error && std::filesystem::is_directory(installed, error)) return installed;
-    return PROBEFIT_BANK_DIR;
-}
-
 // The bank's tables with the fit's taps and pyramid, by name.
 std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder, const probefit::FitSettings& settings) {
     std::vector<probefit::FitSettings::BankTable> bank;
     if (folder == "none") return bank;
-    const std::filesystem::path path = folder.empty() ? defaultBank() : std::filesystem::path(folder);
+    const std::filesystem::path path = folder.empty() ? committedTablesFolder() : std::filesystem::path(folder);
     std::error_code error;
     if (!std::filesystem::is_directory(path, error)) throw ProbeError(fmt::format("--bank {}: not a folder", path.string()));
     std::vector<std::filesystem::path> files;

@@ -97,6 +97,12 @@ for format in auto rgba32f; do
         fail "--pyramid-format $format: the report does not name $expected"
 done
 
+# Any committed table by its name, compiled in or not (tables/authors128_const4.json is not).
+"$PROBEFILTER" filter sky128.exr --size 128 --mapping authors --table authors128_const4 --out named-table >/dev/null 2>err.txt ||
+    fail "--table authors128_const4: $(cat err.txt)"
+python3 -c "import json,sys; t=json.load(open('named-table/report.json'))['table']
+sys.exit(not (t['form'] == 'const' and t['taps_per_frame'] == 4))" || fail "--table authors128_const4: another table was used"
+
 # FIS with a count per level: the report lists them.
 "$PROBEFILTER" filter sky.exr --method fis --samples 8 8 32 128 --size 16 --out fis-levels >/dev/null 2>&1 || fail "fis per level"
 python3 -c "import json,sys; sys.exit(json.load(open('fis-levels/report.json'))['fis']['samples'] != [8, 8, 32, 128])" ||
