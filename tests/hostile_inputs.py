@@ -330,16 +330,39 @@ def main():
     os.chmod(o("user/out/locked"), 0o755)
     os.chmod(work, 0o700)
 
-    # Links planted at staging names (the old fixed name and the pattern a killed run leaves) are
-    # neither followed nor removed: the output is written beside them.
-    for planted in (".probe.exr.partial", ".probe.exr.0badf00d.partial", ".t.json.partial", ".t.json.0badf00d.partial"):
-        os.symlink("precious.txt", o(planted))
-    os.symlink("kept", o(".probefilter-%08x-1-0badf00d" % fnv1a(b"filtered")))
-    for name, args, outputs in (("synth", [pf, "synth", "sky", "--size", "16", "--out", o("probe.exr")], ["probe.exr"]),
-                                ("probefit-export", [PROBEFIT, "export", path("gltf16_quad8.json"), "--out", o("t")],
-                                 ["t.json", "t.h", "t.glsl"]),
-                                ("filter", [pf, "filter", path("good.exr"), "--size", "16", "--out", o("filtered")], ["filtered"])):
+    # Links planted at every staging name (a file's old fixed name and the pattern a killed run
+    # leaves; an output folder's staging name) are neither followed nor removed by any command: the
+    # output is written beside them.
+    table16 = path("gltf16_quad8.json")
+    files = {
+        "synth": ([pf, "synth", "sky", "--size", "16", "--out", o("probe.exr")], ["probe.exr"]),
+        "probefit-fit": ([PROBEFIT, "fit", "--size", "16", "--levels", "3", "--taps", "4", "--form", "quad", "--iterations", "2",
+                          "--starts", "1", "--no-full-eval", "--bank", "none", "--out", o("fit")], ["fit.json", "fit.h", "fit.glsl"]),
+        "probefit-export": ([PROBEFIT, "export", table16, "--out", o("export")], ["export.json", "export.h", "export.glsl"]),
+        "probefit-select": ([PROBEFIT, "select", table16, "--out", o("select")], ["select.json", "select.h", "select.glsl"]),
+        "probefit-mix": ([PROBEFIT, "mix", *[table16] * level_count, "--out", o("mix")], ["mix.json", "mix.h", "mix.glsl"]),
+    }
+    folders = {
+        "filter": [pf, "filter", path("good.exr"), "--size", "16"],
+        "reference": [pf, "reference", path("good.exr"), "--size", "8"],
+        "run": [pf, "run", scene],
+        "compare": [pf, "compare", path("good.exr"), "--size", "16", "--table", table16, "--repeat", "1", "--cell", "16"],
+        "sweep": [pf, "sweep", "--size", "16", "--synthetic", "sunsky", "--samples", "8", "--fis-bias", "0", "--pyramid", "bspline",
+                  "--fis-maps", "cube", "--repeat", "1", "--tables", os.environ["PROBE_TABLES"]],
+    }
+    for name, (args, outputs) in files.items():
+        for output in outputs + (["fit.resume.json"] if name == "probefit-fit" else []):  # the fit's checkpoint too
+            for planted in (f".{output}.partial", f".{output}.0badf00d.partial"):
+                os.symlink("precious.txt", o(planted))
+    for name in folders:
+        os.symlink("kept", o(".probefilter-%08x-1-0badf00d" % fnv1a(f"{name}-out".encode())))
+    for name, (args, outputs) in files.items():
         expect_written(f"{name}-beside-planted-staging-links", args, [o(out) for out in outputs], o("precious.txt"))
+    for name, args in folders.items():
+        expect_written(f"{name}-beside-planted-staging-links", [*args, "--out", o(f"{name}-out")], [o(f"{name}-out/report.json")],
+                       o("precious.txt"))
+    with open(o("kept/mine.txt")) as f:
+        if f.read() != "not probefilter's": print("FAIL the folder behind the planted staging links changed")
     if mounted:
         subprocess.run(["umount", o("mounted/sub")], check=True)
     shutil.rmtree(o(""))
