@@ -10,6 +10,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "gpu_test_support.h"
+#include "probe/error.h"
 #include "probe/range_scale.h"
 #include "probe/synthetic.h"
 #include "probe/table_io.h"
@@ -179,7 +180,9 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
                VK_ACCESS_SHADER_READ_BIT);
     transition(cmd, out.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
 
-    engine.record(cmd, {inView, sourceFormat}, {out.image, outputFormat});
+    engine.record(
+        cmd, {inView, sourceFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size)},
+        {out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT});
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
@@ -309,4 +312,64 @@ TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
                             << what << ", +-FLT_MAX and +-0, level " << m << ": " << v;
                 }
             }
+}
+
+// record() checks the cubes as the engine describes them and refuses a mismatch naming the field,
+// before anything is recorded: a 2D or 2D-array view, a source or output of another face size, an
+// output with fewer mips than levels or not 6 layers, without storage usage, or of another format,
+// and null handles.
+TEST_F(GpuTest, RecordRefusesCubesThatDoNotMatch) {
+    gpu::FilterSettings settings;
+    settings.method.kind = MethodKind::fis;
+    settings.faceSize = 32;
+    settings.levelCount = 6;
+    settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    gpu::Filter filter(probetest::testDevice(), settings);
+    // Handles that are never used: every case is refused before anything is recorded.
+    const auto fake = [](auto handle) { return reinterpret_cast<decltype(handle)>(std::uintptr_t{0x1000}); };
+    const VkCommandBuffer cmd = fake(VkCommandBuffer{});
+    const gpu::SourceCube source{fake(VkImageView{}), VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 32};
+    const gpu::OutputCube output{fake(VkImage{}), VK_FORMAT_R16G16B16A16_SFLOAT, 32, 6, 6, VK_IMAGE_USAGE_STORAGE_BIT};
+    struct Case {
+        const char* field;
+        gpu::SourceCube source;
+        gpu::OutputCube output;
+    };
+    std::vector<Case> cases;
+    const auto withSource = [&](const char* field, auto change) {
+        gpu::SourceCube s = source;
+        change(s);
+        cases.push_back({field, s, output});
+    };
+    const auto withOutput = [&](const char* field, auto change) {
+        gpu::OutputCube o = output;
+        change(o);
+        cases.push_back({field, source, o});
+    };
+    withSource("source.view", [](gpu::SourceCube& s) { s.view = VK_NULL_HANDLE; });
+    withSource("source.viewType", [](gpu::SourceCube& s) { s.viewType = VK_IMAGE_VIEW_TYPE_2D; });
+    withSource("source.viewType", [](gpu::SourceCube& s) { s.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY; });
+    withSource("source.viewType", [](gpu::SourceCube& s) { s.viewType = VK_IMAGE_VIEW_TYPE_MAX_ENUM; }); // not described
+    withSource("source.faceSize", [](gpu::SourceCube& s) { s.faceSize = 16; });
+    withSource("source.format", [](gpu::SourceCube& s) { s.format = VK_FORMAT_UNDEFINED; });
+    withOutput("output.image", [](gpu::OutputCube& o) { o.image = VK_NULL_HANDLE; });
+    withOutput("output.format", [](gpu::OutputCube& o) { o.format = VK_FORMAT_R32G32B32A32_SFLOAT; });
+    withOutput("output.faceSize", [](gpu::OutputCube& o) { o.faceSize = 64; });
+    withOutput("output.mipLevels", [](gpu::OutputCube& o) { o.mipLevels = 4; });
+    withOutput("output.arrayLayers", [](gpu::OutputCube& o) { o.arrayLayers = 1; });
+    withOutput("output.usage", [](gpu::OutputCube& o) { o.usage = VK_IMAGE_USAGE_SAMPLED_BIT; });
+    for (const Case& c : cases) {
+        try {
+            filter.record(cmd, c.source, c.output);
+            ADD_FAILURE() << c.field << ": not refused";
+        } catch (const ProbeError& e) {
+            EXPECT_NE(std::string(e.what()).find(c.field), std::string::npos) << e.what();
+        }
+    }
+    try {
+        filter.record(VK_NULL_HANDLE, source, output);
+        ADD_FAILURE() << "a null command buffer: not refused";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("commandBuffer"), std::string::npos) << e.what();
+    }
 }

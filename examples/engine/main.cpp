@@ -280,7 +280,16 @@ int run(int argc, char** argv) {
             VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     barrier(cmd, outputCube.image, static_cast<uint32_t>(levels), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
             VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
-    filter.record(cmd, {sourceCube.view, kFormat}, {outputCube.image, kFormat});
+    // The cubes as the engine made them, which record() checks.
+    const probe::gpu::SourceCube sourceDescription{sourceCube.view, kFormat, VK_IMAGE_VIEW_TYPE_CUBE, kFaceSize};
+    const probe::gpu::OutputCube outputDescription{outputCube.image,
+                                                   kFormat,
+                                                   kFaceSize,
+                                                   static_cast<uint32_t>(levels),
+                                                   6,
+                                                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                                       VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+    filter.record(cmd, sourceDescription, outputDescription);
     // The engine's work again: read every mip back.
     barrier(cmd, outputCube.image, static_cast<uint32_t>(levels), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);

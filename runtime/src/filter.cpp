@@ -530,12 +530,33 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
 
 void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output) {
     Impl& f = *impl_;
+    const auto refuse = [](const std::string& field, const std::string& problem) {
+        return ProbeError(fmt::format("Filter::record: {} {}", field, problem));
+    };
+    const uint32_t faceSize = static_cast<uint32_t>(f.settings.faceSize), levelCount = static_cast<uint32_t>(f.settings.levelCount);
+    if (commandBuffer == VK_NULL_HANDLE) throw refuse("commandBuffer", "is VK_NULL_HANDLE");
+    if (source.view == VK_NULL_HANDLE) throw refuse("source.view", "is VK_NULL_HANDLE");
+    if (source.viewType != VK_IMAGE_VIEW_TYPE_CUBE)
+        throw refuse("source.viewType", fmt::format("is {}, not VK_IMAGE_VIEW_TYPE_CUBE ({}): the passes read a cube view",
+                                                    int(source.viewType), int(VK_IMAGE_VIEW_TYPE_CUBE)));
+    if (source.faceSize != faceSize)
+        throw refuse("source.faceSize", fmt::format("is {}, but the filter was built for S_0 = {}", source.faceSize, faceSize));
     if (!has(f.device, source.format, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
-        throw ProbeError(fmt::format("Vulkan: {} cannot sample source cubes of format {} (sampled image usage)", f.device.info().name,
-                                     int(source.format)));
+        throw refuse("source.format",
+                     fmt::format("{} cannot be sampled on {} (sampled image usage)", int(source.format), f.device.info().name));
+    if (output.image == VK_NULL_HANDLE) throw refuse("output.image", "is VK_NULL_HANDLE");
     if (output.format != f.settings.outputFormat)
-        throw ParameterError("format", fmt::format("{}: the output cube's format, but the filter was built for {}",
-                                                   formatName(output.format), formatName(f.settings.outputFormat)));
+        throw refuse("output.format",
+                     fmt::format("is {}, but the filter was built for {}", formatName(output.format), formatName(f.settings.outputFormat)));
+    if (output.faceSize != faceSize)
+        throw refuse("output.faceSize", fmt::format("is {}, but the filter was built for S_0 = {}", output.faceSize, faceSize));
+    if (output.mipLevels < levelCount)
+        throw refuse("output.mipLevels", fmt::format("is {}, but the filter writes {} levels", output.mipLevels, levelCount));
+    if (output.arrayLayers != 6) throw refuse("output.arrayLayers", fmt::format("is {}, not the 6 faces of a cube", output.arrayLayers));
+    const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+    if ((output.usage & written) == 0)
+        throw refuse("output.usage", f.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
+                                                     : "lacks STORAGE, which the passes write the output with");
     f.bindImages(source.view, output.image);
     f.recordPasses(commandBuffer, Timestamps::passes);
     f.timer->clear();

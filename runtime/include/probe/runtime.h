@@ -159,19 +159,27 @@ struct Dispatch {
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
 };
 
-// The caller's source cube for Filter::record: a view of type VK_IMAGE_VIEW_TYPE_CUBE whose first
+// The caller's source cube for Filter::record, described as the engine made it (record() checks
+// every field and refuses a mismatch naming it): a view of type VK_IMAGE_VIEW_TYPE_CUBE whose first
 // mip is the S_0 face size (other mips are not read), of a format the device can sample
 // (VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT): RGBA16F, RGBA32F and B10G11R11 on every desktop GPU.
 struct SourceCube {
     VkImageView view = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
+    VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_MAX_ENUM; // the view's type: VK_IMAGE_VIEW_TYPE_CUBE
+    uint32_t faceSize = 0;                                  // the view's first mip: S_0
 };
 
-// The caller's output cube for Filter::record: a 2D image with 6 array layers (cube compatible or
-// not) and at least M mips, mip m of face size S_0 >> m, of FilterSettings::outputFormat.
+// The caller's output cube for Filter::record, described as the engine made it: a 2D image with 6
+// array layers (cube compatible or not) and at least M mips, mip m of face size S_0 >> m, of
+// FilterSettings::outputFormat, with usage STORAGE (TRANSFER_DST where outputNeedsTransfer()).
 struct OutputCube {
     VkImage image = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
+    uint32_t faceSize = 0;       // mip 0's width and height: S_0
+    uint32_t mipLevels = 0;      // at least M
+    uint32_t arrayLayers = 0;    // 6
+    VkImageUsageFlags usage = 0; // as created
 };
 
 // The resources and pipelines of one filter setting, reusable for many probes.
