@@ -56,7 +56,7 @@ struct FilterOptions {
 };
 
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
-    return fmt::format("probefit fit --size {} --levels {} --taps 8 --form quad {} --pyramid {} --weighting {} --out tables/<name>",
+    return fmt::format("probefit fit --size {} --levels {} --taps 8 --form quad {} --pyramid {} --pyramid-weighting {} --out tables/<name>",
                        s.faceSize, s.levelCount, probe::mappingOptions(s.mapping), probe::pyramidKindName(pyramid.kind),
                        probe::pyramidWeightingName(pyramid.weighting));
 }

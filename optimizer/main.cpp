@@ -113,7 +113,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     settings.measure = parseOption("--measure", measure, parseMeasure);
     if (fitLevels) settings.fitLevels = parseOption("--fit-levels", *fitLevels, parseLevelList);
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
-    settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind), parseOption("--weighting", weighting, parsePyramidWeighting)};
+    settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind),
+                        parseOption("--pyramid-weighting", weighting, parsePyramidWeighting)};
     if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
         throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
     // The level count: --levels, else one per --roughness value, else the size's default (core's rule).
@@ -351,7 +352,12 @@ int main(int argc, char** argv) {
                     "roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1]")
         ->excludes(mappingOption);
     fit->add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
-    fit->add_option("--weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle")->capture_default_str();
+    fit->add_option("--pyramid-weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle (probefilter's name)")
+        ->capture_default_str();
+    // The flag's earlier name, refused with the one it has now.
+    fit->add_option_function<std::string>(
+           "--weighting", [](const std::string&) { throw ProbeError("--weighting is now --pyramid-weighting, as in probefilter"); })
+        ->group("");
     fit->add_option("--init", init,
                     "table file to start from (same size and levels, N or N/2 taps; repeat for several); the fit "
                     "keeps its filter where it cannot beat it")

@@ -169,6 +169,8 @@ expect_refused size-one        "--size"                 $(fit --size 1)
 expect_refused too-many-levels "--levels"               $(fit --size 16 --levels 6)
 expect_refused negative-levels "--levels"               $(fit --size 16 --levels -1)
 expect_refused zero-levels     "--levels"               $(fit --size 16 --levels 0)
+expect_refused weighting-renamed "--weighting is now --pyramid-weighting" \
+    fit --taps 4 --form quad --out "$work/out" --size 16 --weighting solid-angle
 expect_refused empty-levels    "--levels: empty value" fit --taps 4 --form quad --out "$work/out" --size 16 --levels ''
 expect_refused many-iterations "--iterations"           $(fit --size 16 --iterations 1000000000)
 expect_refused many-starts     "--starts"               $(fit --size 16 --starts 100000)
