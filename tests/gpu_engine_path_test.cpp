@@ -142,7 +142,7 @@ glm::vec3 loadTexel(const unsigned char* at, VkFormat format) {
 // RGBA16F or RGBA32F) in GENERAL for the filter's writes, the passes recorded into its command
 // buffer between them, the output copied back. Returns the output levels.
 CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSettings& settings, const CubeImage& source,
-                      VkFormat sourceFormat) {
+                      VkFormat sourceFormat, gpu::Timestamps timestamps = gpu::Timestamps::passes) {
     const int size = settings.faceSize, levels = settings.levelCount;
     const VkFormat outputFormat = settings.outputFormat;
     const CubeTexture in = cubeTexture(c, sourceFormat, size, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
@@ -182,7 +182,8 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
 
     engine.record(
         cmd, {inView, sourceFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size)},
-        {out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT});
+        {out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT},
+        timestamps);
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
@@ -239,6 +240,24 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
 }
 
 } // namespace
+
+// An engine's shipping path writes no timestamp queries: the same levels, and no timings.
+TEST_F(GpuTest, RecordWithoutTimestamps) {
+    const gpu::Device& owner = probetest::testDevice();
+    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    gpu::FilterSettings settings;
+    settings.method.kind = MethodKind::fis;
+    settings.faceSize = 32;
+    settings.levelCount = 5;
+    settings.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    const CubeImage source = probetest::randomProbe(settings.faceSize, 3);
+    gpu::Filter engine(owner, settings);
+    const CubeLevels timed = recordOnce(c, engine, settings, source, VK_FORMAT_R32G32B32A32_SFLOAT);
+    EXPECT_FALSE(engine.timings().empty());
+    const CubeLevels untimed = recordOnce(c, engine, settings, source, VK_FORMAT_R32G32B32A32_SFLOAT, gpu::Timestamps::none);
+    EXPECT_TRUE(engine.timings().empty());
+    for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(untimed[m].rgb, timed[m].rgb) << "level " << m;
+}
 
 TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
     const gpu::Device& owner = probetest::testDevice();

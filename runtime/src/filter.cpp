@@ -409,15 +409,19 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
     dispatches.clear();
     const bool perLevel = timestamps == Timestamps::levels;
+    timed = timestamps != Timestamps::none;
     timer = perLevel ? levelTimer.get() : passTimer.get();
-    timer->reset(commandBuffer);
-    computeBarrier(commandBuffer); // the Filter's resources, against a previous recording's use
     uint32_t boundary = 0;
-    timer->boundary(commandBuffer, boundary++);
+    const auto mark = [&] {
+        if (timed) timer->boundary(commandBuffer, boundary++);
+    };
+    if (timed) timer->reset(commandBuffer);
+    computeBarrier(commandBuffer); // the Filter's resources, against a previous recording's use
+    mark();
     if (pass1) {
         recordPyramidPass(*this, commandBuffer);
         computeBarrier(commandBuffer);
-        timer->boundary(commandBuffer, boundary++);
+        mark();
     }
     for (int m : levels) {
         descriptors->bind(commandBuffer, levelSets[m]);
@@ -425,12 +429,12 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
         else if (settings.method.kind == MethodKind::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
         else recordReferenceLevel(*this, commandBuffer, m);
-        if (perLevel) timer->boundary(commandBuffer, boundary++);
+        if (perLevel) mark();
     }
-    if (!perLevel) timer->boundary(commandBuffer, boundary++);
+    if (!perLevel) mark();
     if (convertOutput) {
         recordConversion(*this, commandBuffer, boundOutput);
-        timer->boundary(commandBuffer, boundary++);
+        mark();
     }
 }
 
@@ -492,7 +496,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     f.timer->clear();
     for (int k = 0; k < repeat; ++k) {
         f.submission->submitAndWait(passes, false);
-        f.timer->collect();
+        if (f.timed) f.timer->collect();
     }
     f.submission->release(passes);
 
@@ -528,7 +532,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     return result;
 }
 
-void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output) {
+void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, Timestamps timestamps) {
     Impl& f = *impl_;
     const auto refuse = [](const std::string& field, const std::string& problem) {
         return ProbeError(fmt::format("Filter::record: {} {}", field, problem));
@@ -558,7 +562,7 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
         throw refuse("output.usage", f.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
                                                      : "lacks STORAGE, which the passes write the output with");
     f.bindImages(source.view, output.image);
-    f.recordPasses(commandBuffer, Timestamps::passes);
+    f.recordPasses(commandBuffer, timestamps);
     f.timer->clear();
 }
 
@@ -570,12 +574,13 @@ bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
 
 std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.
+    if (!impl_->timed) return {};
     if (impl_->timer->timings().empty()) impl_->timer->collect();
     return impl_->timer->timings();
 }
 
 std::vector<PassTime> Filter::levelTimings() const {
-    if (impl_->timer != impl_->levelTimer.get()) return {};
+    if (!impl_->timed || impl_->timer != impl_->levelTimer.get()) return {};
     std::vector<std::string> names;
     if (impl_->pass1) names.push_back("pass 1");
     for (int m : impl_->levels) names.push_back(fmt::format("level {}", m));

@@ -75,6 +75,7 @@ struct Filter::Impl {
     std::unique_ptr<GpuTimer> passTimer;            // a segment per pass
     std::unique_ptr<GpuTimer> levelTimer;           // pass 2 in a segment per output level
     GpuTimer* timer = nullptr;                      // the one the last recording wrote
+    bool timed = true;                              // the last recording wrote timestamp queries
     std::vector<Dispatch> dispatches;
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total

@@ -135,12 +135,13 @@ struct FilterSettings {
     int pyramidDepth = -1;
 };
 
-// Where Filter::run writes its timestamp queries. `passes`: at the boundaries of the passes, all that
-// record() writes. `levels`: after each output level's pass-2 dispatch too (levelTimings()), which
-// makes a GPU finish a level before it starts the next: each level is then timed alone, and pass 2
-// takes longer than it does with `passes` wherever a GPU would have overlapped the small levels (2.8x
-// at 128^2 on an NVIDIA H200, docs/benchmarks.md).
-enum class Timestamps { passes, levels };
+// Where Filter::run and Filter::record write timestamp queries. `passes`: at the boundaries of the
+// passes (record()'s default). `levels`: after each output level's pass-2 dispatch too
+// (levelTimings()), which makes a GPU finish a level before it starts the next: each level is then
+// timed alone, and pass 2 takes longer than it does with `passes` wherever a GPU would have
+// overlapped the small levels (2.8x at 128^2 on an NVIDIA H200, docs/benchmarks.md). `none`: no
+// queries are reset or written (an engine's shipping path); timings() is then empty.
+enum class Timestamps { passes, levels, none };
 
 // GPU time of one pass: the median over the repeats, from timestamp queries.
 struct PassTime {
@@ -226,7 +227,8 @@ public:
     // so the command buffer of the previous record() must have completed. An engine that filters
     // several probes at once keeps a Filter for each. Throws ProbeError naming the format and usage
     // the device lacks.
-    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output);
+    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output,
+                Timestamps timestamps = Timestamps::passes);
 
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
     // and whether a B10G11R11 output is converted through a copy.
