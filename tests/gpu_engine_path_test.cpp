@@ -392,3 +392,30 @@ TEST_F(GpuTest, RecordRefusesCubesThatDoNotMatch) {
         EXPECT_NE(std::string(e.what()).find("commandBuffer"), std::string::npos) << e.what();
     }
 }
+
+// A Filter built through the engine's pipeline cache gives the levels of one built without it, and
+// the cache stays usable. (Whether the driver stores the pipelines there is its choice: lavapipe
+// keeps its cache empty, so the test device cannot show that it was read.)
+TEST_F(GpuTest, FilterBuildsItsPipelinesThroughTheEnginesCache) {
+    const gpu::Device& device = probetest::testDevice();
+    VkPipelineCacheCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+    VkPipelineCache cache = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreatePipelineCache(device.device(), &info, nullptr, &cache), VK_SUCCESS);
+    const auto cacheBytes = [&] {
+        std::size_t bytes = 0;
+        EXPECT_EQ(vkGetPipelineCacheData(device.device(), cache, &bytes, nullptr), VK_SUCCESS);
+        return bytes;
+    };
+    const std::size_t empty = cacheBytes();
+    gpu::FilterSettings settings;
+    settings.method.kind = MethodKind::fis;
+    settings.faceSize = 16;
+    settings.levelCount = 4;
+    const CubeImage source = probetest::randomProbe(16, 9);
+    const CubeLevels plain = gpu::Filter(device, settings).run(source);
+    settings.pipelineCache = cache;
+    const CubeLevels cached = gpu::Filter(device, settings).run(source);
+    EXPECT_GE(cacheBytes(), empty);
+    for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(cached[m].rgb, plain[m].rgb) << "level " << m;
+    vkDestroyPipelineCache(device.device(), cache, nullptr);
+}

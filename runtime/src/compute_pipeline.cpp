@@ -102,7 +102,7 @@ void PipelineLayout::bind(VkCommandBuffer commandBuffer) const {
 }
 
 ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
-                                 std::span<const int32_t> specialization, VkPipelineCreateFlags flags)
+                                 std::span<const int32_t> specialization, VkPipelineCreateFlags flags, VkPipelineCache cache)
     : device_(device), layout_(layout) {
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     moduleInfo.codeSize = spirv.size_bytes();
@@ -121,7 +121,7 @@ ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::
                                                   specialization.data()};
     if (!specialization.empty()) info.stage.pSpecializationInfo = &specializationInfo;
     info.layout = layout_;
-    const VkResult result = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    const VkResult result = vkCreateComputePipelines(device_, cache, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device_, module, nullptr);
     vkCheck(result, "vkCreateComputePipelines");
 }

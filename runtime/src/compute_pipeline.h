@@ -45,12 +45,13 @@ private:
 };
 
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
-// choices fixed per pipeline, whose untaken paths the driver then compiles out. `flags` go to
-// vkCreateComputePipelines (tools/shader_stats asks for the driver's statistics).
+// choices fixed per pipeline, whose untaken paths the driver then compiles out. `flags` and `cache`
+// (the engine's, or none) go to vkCreateComputePipelines (tools/shader_stats asks for the driver's
+// statistics).
 class ComputePipeline {
 public:
     ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {},
-                    VkPipelineCreateFlags flags = 0);
+                    VkPipelineCreateFlags flags = 0, VkPipelineCache cache = VK_NULL_HANDLE);
     ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
                     std::span<const int32_t> specialization = {})
         : ComputePipeline(device, layout.handle(), spirv, specialization) {}

@@ -17,9 +17,7 @@ struct ConvertConstants {
 
 } // namespace
 
-std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) {
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), kConvertB10g11r11Spv);
-}
+std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) { return impl.pipeline(kConvertB10g11r11Spv); }
 
 void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output) {
     computeBarrier(commandBuffer);

@@ -31,8 +31,7 @@ std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std
 }
 
 std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl) {
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(),
-                                             outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}));
+    return impl.pipeline(outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}));
 }
 
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {

@@ -342,6 +342,11 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     submission->release(layouts);
 }
 
+std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
+    return std::make_unique<ComputePipeline>(device.device(), descriptors->pipelineLayout(), spirv, specialization, 0,
+                                             settings.pipelineCache);
+}
+
 // Every time, not only when the handles change: an image destroyed and another created may reuse a
 // handle, and the views of the first would remain.
 void Filter::Impl::bindImages(VkImageView source, VkImage output) {

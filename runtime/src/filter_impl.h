@@ -87,6 +87,8 @@ struct Filter::Impl {
     // Makes the output views and every descriptor set for this source and output, unless they are
     // the ones bound already.
     void bindImages(VkImageView source, VkImage output);
+    // A pipeline of the Filter's layout, through the settings' pipeline cache.
+    std::unique_ptr<ComputePipeline> pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {}) const;
     // Timer reset, a barrier against earlier use of the Filter's resources, boundary 0, pass 1 and a
     // barrier, a boundary; then the output levels with no barrier between them (they write disjoint
     // mips and read only the pyramid) and a boundary after the last, or after each with

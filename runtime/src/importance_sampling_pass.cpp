@@ -41,7 +41,7 @@ std::unique_ptr<ComputePipeline> makeImportanceSamplingPipeline(const Filter::Im
                                    kImportanceSamplingHardwareB10g11r11Spv})
             : outputVariant(impl,
                             {kImportanceSamplingExactRgba32fSpv, kImportanceSamplingExactRgba16fSpv, kImportanceSamplingExactB10g11r11Spv});
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv);
+    return impl.pipeline(spirv);
 }
 
 std::vector<float> importanceSamplingBufferData(const FilterSettings& s, std::vector<uint32_t>& sampleOffsets) {

@@ -45,25 +45,22 @@ void makePyramidPipelines(Filter::Impl& impl) {
     // The shaders' kBoxKind and kInverseSolidAngle.
     const std::array<int32_t, 2> specialization{pyramid.kind == PyramidKind::box ? 1 : 0,
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
-    const VkDevice device = impl.device.device();
-    const VkPipelineLayout layout = impl.descriptors->pipelineLayout();
     if (impl.sampling == Sampling::hardware) {
         const bool half = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-        impl.pass1 = std::make_unique<ComputePipeline>(
-            device, layout, half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
+        impl.pass1 = impl.pipeline(half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
         if (impl.pyramidDepth >= impl.pyramidTailLevel) {
             // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
             const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
             const auto lanes = int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
             const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], lanes};
-            impl.pass1Tail = std::make_unique<ComputePipeline>(
-                device, layout, half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, tailSpecialization);
+            impl.pass1Tail =
+                impl.pipeline(half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, tailSpecialization);
         }
         return;
     }
-    impl.pass1 = std::make_unique<ComputePipeline>(device, layout, kPyramidSpv, specialization);
-    if (impl.buildsPyramid) impl.pass1Corners = std::make_unique<ComputePipeline>(device, layout, kPyramidCornersSpv);
-    if (impl.paraboloid) impl.paraboloidMap = std::make_unique<ComputePipeline>(device, layout, kParaboloidMapSpv);
+    impl.pass1 = impl.pipeline(kPyramidSpv, specialization);
+    if (impl.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
+    if (impl.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
 }
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {

@@ -30,8 +30,7 @@ struct ReferenceConstants {
 } // namespace
 
 std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl) {
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(),
-                                             outputVariant(impl, {kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
+    return impl.pipeline(outputVariant(impl, {kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
 }
 
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {

@@ -35,7 +35,7 @@ std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
     // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
     const TapTable& table = *impl.settings.method.table;
     const std::array<int32_t, 3> specialization{coefficientCount(table.form), 0, table.taps};
-    return std::make_unique<ComputePipeline>(impl.device.device(), impl.descriptors->pipelineLayout(), spirv, specialization);
+    return impl.pipeline(spirv, specialization);
 }
 
 std::vector<float> tableBufferData(const TapTable& table) {

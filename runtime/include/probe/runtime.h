@@ -124,6 +124,9 @@ struct FilterSettings {
     // brighter source texels are clamped there. Exact sampling's pyramid is a float32 buffer: a format
     // is refused there.
     VkFormat pyramidFormat = VK_FORMAT_UNDEFINED;
+    // The engine's pipeline cache for the Filter's pipelines (VK_NULL_HANDLE: none); the engine keeps
+    // it alive while Filters are built with it and saves its data where it likes.
+    VkPipelineCache pipelineCache = VK_NULL_HANDLE;
     // Only these output levels (ascending, each in [0, M)); empty: every level. Levels left out are
     // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
