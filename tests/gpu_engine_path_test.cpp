@@ -419,3 +419,45 @@ TEST_F(GpuTest, FilterBuildsItsPipelinesThroughTheEnginesCache) {
     for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(cached[m].rgb, plain[m].rgb) << "level " << m;
     vkDestroyPipelineCache(device.device(), cache, nullptr);
 }
+
+// A Filter built without a submission of its own: its initialization recorded into the engine's
+// command buffer, which the engine submits before the first record(). Its levels are run()'s, at the
+// first record and at the second (when it frees the initialization's staging memory).
+TEST_F(GpuTest, FilterInitializedInTheEnginesCommandBuffer) {
+    const gpu::Device& owner = probetest::testDevice();
+    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
+    gpu::FilterSettings settings;
+    settings.method.kind = MethodKind::fis;
+    settings.faceSize = 32;
+    settings.levelCount = 5;
+    settings.sampling = gpu::Sampling::hardware;
+    settings.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+    const CubeImage source = probetest::randomProbe(settings.faceSize, 13);
+    const CubeLevels expected = gpu::Filter(owner, settings).run(source);
+
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.queueFamilyIndex = c.queueFamily;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    ASSERT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool), VK_SUCCESS);
+    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool, VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
+    VkCommandBuffer init = VK_NULL_HANDLE;
+    ASSERT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &init), VK_SUCCESS);
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    vkBeginCommandBuffer(init, &begin);
+    gpu::Filter engine(wrapped, settings, init);
+    vkEndCommandBuffer(init);
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &init;
+    ASSERT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+    ASSERT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
+    vkDestroyCommandPool(c.device, pool, nullptr);
+
+    for (int recording = 0; recording < 2; ++recording) {
+        const CubeLevels recorded = recordOnce(c, engine, settings, source, VK_FORMAT_R32G32B32A32_SFLOAT);
+        for (int m = 0; m < settings.levelCount; ++m)
+            EXPECT_EQ(recorded[m].rgb, expected[m].rgb) << "recording " << recording << ", level " << m;
+    }
+    EXPECT_THROW(gpu::Filter(wrapped, settings, VK_NULL_HANDLE), ProbeError);
+}

@@ -2,6 +2,7 @@
 // and read-back, the engine path.
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 #include <fmt/format.h>
 
@@ -242,7 +243,7 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
 
 void Filter::checkLimits(const Device& device, const FilterSettings& settings) { shapeOf(device, settings); }
 
-Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settings(s) {
+Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization) : device(d), settings(s) {
     FilterShape shape = shapeOf(d, s);
     pyramidLevels = shape.pyramidLevels;
     pyramidDepth = shape.pyramidDepth;
@@ -329,17 +330,25 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s) : device(d), settin
     timer = passTimer.get();
 
     submission = std::make_unique<Submission>(d);
-    submission->upload(geometry, geometryData.data(), geometry.bytes());
-    submission->upload(table, tableData.data(), table.bytes());
-    // The Filter's own images stay in VK_IMAGE_LAYOUT_GENERAL.
-    VkCommandBuffer layouts = submission->begin();
+    // The one-time initialization: the tables' uploads through staging buffers, kept until it has
+    // run, and the Filter's own images into VK_IMAGE_LAYOUT_GENERAL, where they stay.
+    VkCommandBuffer commandBuffer = initialization != VK_NULL_HANDLE ? initialization : submission->begin();
+    for (const auto& [to, data] : {std::pair<const Buffer*, const float*>{&geometry, geometryData.data()}, {&table, tableData.data()}}) {
+        Buffer& staging = initStaging.emplace_back(d, to->bytes(), Buffer::Kind::staging);
+        std::memcpy(staging.mapped(), data, to->bytes());
+        const VkBufferCopy region{0, 0, to->bytes()};
+        vkCmdCopyBuffer(commandBuffer, staging.handle(), to->handle(), 1, &region);
+    }
     for (const CubeImageResource* image : {&pyramidImage, &intermediate, &packed, &placeholder})
         if (image->handle())
-            imageBarrier(layouts, image->handle(), 0, uint32_t(image->mips()), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+            imageBarrier(commandBuffer, image->handle(), 0, uint32_t(image->mips()), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                          VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    submission->submitAndWait(layouts);
-    submission->release(layouts);
+    computeBarrier(commandBuffer); // the uploads, before the passes read them
+    if (initialization != VK_NULL_HANDLE) return;
+    submission->submitAndWait(commandBuffer);
+    submission->release(commandBuffer);
+    initStaging.clear();
 }
 
 std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
@@ -443,7 +452,11 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
     }
 }
 
-Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings)) {}
+Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings, VK_NULL_HANDLE)) {}
+Filter::Filter(const Device& device, const FilterSettings& settings, VkCommandBuffer initialization) {
+    if (initialization == VK_NULL_HANDLE) throw ProbeError("Filter: the initialization command buffer is VK_NULL_HANDLE");
+    impl_ = std::make_unique<Impl>(device, settings, initialization);
+}
 Filter::~Filter() = default;
 
 CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
@@ -566,6 +579,8 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
     if ((output.usage & written) == 0)
         throw refuse("output.usage", f.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
                                                      : "lacks STORAGE, which the passes write the output with");
+    // One recording at a time: by the second, the first has run, and the initialization before it.
+    if (++f.recordings == 2) f.initStaging.clear();
     f.bindImages(source.view, output.image);
     f.recordPasses(commandBuffer, timestamps);
     f.timer->clear();

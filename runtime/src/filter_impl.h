@@ -76,13 +76,17 @@ struct Filter::Impl {
     std::unique_ptr<GpuTimer> levelTimer;           // pass 2 in a segment per output level
     GpuTimer* timer = nullptr;                      // the one the last recording wrote
     bool timed = true;                              // the last recording wrote timestamp queries
+    std::vector<Buffer> initStaging;                // the initialization's uploads, until it has run
+    int recordings = 0;                             // record() calls
     std::vector<Dispatch> dispatches;
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
     std::unique_ptr<Submission> submission;
 
-    Impl(const Device& d, const FilterSettings& s);
+    // `initialization`: the engine's command buffer to record the one-time initialization into, or
+    // VK_NULL_HANDLE to submit it here and wait.
+    Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization);
 
     // Makes the output views and every descriptor set for this source and output, unless they are
     // the ones bound already.

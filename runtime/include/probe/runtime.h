@@ -192,6 +192,12 @@ public:
     // Checks the settings (method, size, levels, formats, device limits) and builds the pipelines,
     // the pyramid and the tables.
     Filter(const Device& device, const FilterSettings& settings);
+    // The same without a submission of its own: the one-time initialization (the tables' uploads, the
+    // Filter's images' layouts) is recorded into `initialization`, the engine's command buffer in the
+    // recording state for a queue of the device's family (a loading thread may build the Filter). The
+    // engine submits it before, or in the same command buffer ahead of, the first record(); the
+    // Filter keeps the uploads' staging memory until its second record().
+    Filter(const Device& device, const FilterSettings& settings, VkCommandBuffer initialization);
     ~Filter();
     // The constructor's checks alone, allocating nothing: a tool calls it before it reads a probe,
     // so that settings the device cannot run are refused before the work.
