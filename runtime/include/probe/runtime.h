@@ -66,9 +66,10 @@ public:
     // be Vulkan 1.2+, and so must the instance's apiVersion (the runtime's SPIR-V is 1.5); `queue`
     // belongs to `queueFamily`, which must support compute. The runtime needs no device feature or
     // extension beyond Vulkan 1.2 core (the exact sampling mode's table shader uses subgroup vote, a
-    // core operation that every desktop driver has). The Filter's constructor, run() and
-    // downloadPyramid(), the SH projector and the sphere renderer submit to `queue` and wait: Vulkan
-    // has the caller keep other threads from submitting to it meanwhile.
+    // core operation that every desktop driver has). The Filter's constructor (unless given an
+    // initialization command buffer), run() and downloadPyramid(), the SH projector and the sphere
+    // renderer submit to `queue` and wait: Vulkan has the caller keep other threads from submitting
+    // to it meanwhile.
     Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice device, uint32_t queueFamily, VkQueue queue);
     ~Device();
     Device(const Device&) = delete;
