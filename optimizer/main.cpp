@@ -153,10 +153,11 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     const std::filesystem::path checkpointPath = out + ".resume.json";
     if (!estimateOnly) {
         probefit::checkWritable(out);
-        parseOption("--out", checkpointPath.string(), [](const std::string& path) {
-            const StagedFile checked(path); // checks, creating nothing
-            return true;
-        });
+        try {
+            const StagedFile checkpoint(checkpointPath); // checks, creating nothing
+        } catch (const ProbeError& e) {
+            throw ProbeError(fmt::format("--out {}: {}", out, e.what()));
+        }
     }
     std::optional<TapTable> checkpoint;
     std::error_code error;

@@ -30,7 +30,9 @@ constexpr std::array<const char*, 3> kExtensions{".json", ".h", ".glsl"};
 
 void checkWritable(const std::filesystem::path& prefix) {
     try {
-        for (const char* extension : kExtensions) probe::StagedFile(prefix.string() + extension);
+        for (const char* extension : kExtensions) {
+            const probe::StagedFile file(prefix.string() + extension); // checks, creating nothing
+        }
     } catch (const probe::ProbeError& e) {
         throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
     }

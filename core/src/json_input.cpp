@@ -18,9 +18,9 @@ using nlohmann::json;
 namespace {
 
 // What the library's parser leaves to its caller: the nesting depth, the number of values and keys
-// that appear twice in one object, checked in a SAX pass (the DOM parser's callback form rescans an array each time an
-// object in it ends, which is quadratic in the objects of one array). Throws ProbeError through
-// `fail`; a syntax error is kept for the caller.
+// that appear twice in one object, checked in a SAX pass (the DOM parser's callback form rescans an
+// array each time an object in it ends, which is quadratic in the objects of one array). Throws
+// ProbeError through `fail`; a syntax error is kept for the caller.
 class JsonChecks final : public json::json_sax_t {
 public:
     explicit JsonChecks(const std::function<ProbeError(const std::string&)>& fail) : fail_(fail) {}

@@ -99,8 +99,7 @@ void checkExrHeader(const fs::path& path) {
     if (header.hasTileDescription() != tiledFlag)
         fail(path, tiledFlag ? "EXR version field says tiled, but the header has no tile description"
                              : "EXR header has a tile description, but the version field lacks the tiled flag");
-    if (header.channels().begin() == header.channels().end()) fail(path, "EXR has no channels");
-    int channelCount = 0;
+    int channelCount = 0; // ChannelList's iterator is not a standard one
     for (auto channel = header.channels().begin(); channel != header.channels().end(); ++channel) ++channelCount;
     if (channelCount > kMaxExrChannels)
         fail(path, fmt::format("EXR has {} channels, over the limit of {} (a probe needs R, G and B)", channelCount, kMaxExrChannels));

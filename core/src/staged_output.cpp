@@ -376,7 +376,12 @@ fs::path StagedFile::path() {
             if (errno == EEXIST) continue;
             fail(shown_, fmt::format("cannot create its staging file ({})", std::strerror(errno)));
         }
-        ::flock(fd, LOCK_EX | LOCK_NB);
+        // Locked, and still there: another run's cleanup may have taken it in the instant between.
+        struct stat opened = {};
+        if (::flock(fd, LOCK_EX | LOCK_NB) != 0 || ::fstat(fd, &opened) != 0 || opened.st_nlink == 0) {
+            ::close(fd);
+            continue;
+        }
         stagingLock_ = fd;
         staging_ = candidate;
     }
