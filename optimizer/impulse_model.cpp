@@ -65,6 +65,7 @@ OutputTexel makeCellTexel(const WeightedTexel& texel, int baseSize, int level, d
     const glm::dvec3 R = glm::normalize(t.cubeVector);
     LobeCells cells = lobeCells(R, baseSize, ggxLobe(R, alpha), tail ? tailRadius(size) : 0.0);
     t.cells = std::move(cells.cells);
+    t.cellTree = std::move(cells.tree);
     t.kernelTail = cells.kernelTail;
     for (const LobeCell& c : t.cells) t.kernelSum += static_cast<double>(c.kernel);
     return t;
@@ -114,9 +115,7 @@ ImpulseModel::Workspace ImpulseModel::workspace() const {
         ws.adjoint.emplace_back(texelCount(baseSize_ >> k), 0.0);
         ws.stamp.emplace_back(texelCount(baseSize_ >> k), 0u);
         ws.touched.emplace_back();
-        ws.cellOf.emplace_back(texelCount(baseSize_ >> k));
-        ws.route.emplace_back(texelCount(baseSize_ >> k), -1);
-        ws.resolved.emplace_back(texelCount(baseSize_ >> k));
+        ws.nodeTouched.emplace_back();
     }
     return ws;
 }
@@ -310,13 +309,42 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         return result;
     }
 
-    // w = pushed-back normalized weights on pyramid texels: where the taps reach little of the cube,
-    // on the touched texels only (listed per level), the L1 visiting the touched base texels;
-    // else dense passes over every texel.
+    // The normalized weights on the footprints' pyramid texels, measured over the cells or the base
+    // texels; with a gradient, the slope d e / d w pulled up to each of them.
+    const double inverseSum = 1.0 / result.weightSum;
+    ws.footprint.clear();
+    for (const TapRecord& r : records)
+        for (int k = 0; k < r.footprint.count; ++k) {
+            const auto& p = r.footprint.taps[k];
+            ws.footprint.push_back({p.level, static_cast<std::uint32_t>(p.index), r.weight.a * inverseSum * p.weight.a});
+        }
+    result.error = texel.cells.empty() ? measureBase(texel, ws, top, gradient != nullptr, &result.tail)
+                                       : measureCells(texel, ws, gradient != nullptr, &result.tail);
+    if (gradient) {
+        // d e / d c_p = G_p (the pulled-up slope); c_p = sum_i W_i b_ip / S, so d e / d theta_i =
+        // (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip and Ebar = sum_i W_i A_i / S.
+        std::vector<J> adjointOfTap(records.size());
+        double eBar = 0.0;
+        for (std::size_t n = 0, e = 0; n < records.size(); ++n) {
+            J sum(0.0);
+            for (int k = 0; k < records[n].footprint.count; ++k) sum += ws.footprintAdjoint[e++] * records[n].footprint.taps[k].weight;
+            adjointOfTap[n] = sum;
+            eBar += records[n].weight.a * sum.a;
+        }
+        eBar *= inverseSum;
+        for (std::size_t n = 0; n < records.size(); ++n) {
+            const J g = (records[n].weight * adjointOfTap[n] - records[n].weight * eBar) * inverseSum;
+            for (int q = 0; q < B; ++q) gradient[records[n].block * B + q] += g.v[q];
+        }
+    }
+    return result;
+}
+
+double ImpulseModel::measureBase(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tailError) const {
+    // Where the taps reach little of the cube, on the touched texels only (listed per level), the L1
+    // visiting the touched base texels; else dense passes over every texel.
     if (++ws.generation == 0) { // wrapped: clear the stamps once
         for (auto& s : ws.stamp) std::fill(s.begin(), s.end(), 0u);
-        for (auto& s : ws.cellOf) std::fill(s.begin(), s.end(), Workspace::StampedCell{});
-        for (auto& s : ws.resolved) std::fill(s.begin(), s.end(), Workspace::StampedCell{});
         ws.generation = 1;
     }
     const std::uint32_t generation = ws.generation;
@@ -327,26 +355,21 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         }
     };
     for (int k = 0; k <= top; ++k) ws.touched[k].clear();
-    const double inverseSum = 1.0 / result.weightSum;
+    for (const Workspace::FootprintWeight& f : ws.footprint) {
+        touch(f.level, f.index);
+        ws.weights[f.level][f.index] += f.weight;
+    }
     // The distinct texels of level k that the taps read reach about 2 * 4^k base texels each (their
     // pushed-back supports overlap); where that is a large part of the cube, walking lists costs
     // more than the dense passes over every texel.
-    for (const TapRecord& r : records)
-        for (int k = 0; k < r.footprint.count; ++k) {
-            const auto& p = r.footprint.taps[k];
-            touch(p.level, p.index);
-            ws.weights[p.level][p.index] += r.weight.a * inverseSum * p.weight.a;
-        }
     double reach = 0.0;
     for (int k = 0; k <= top; ++k) reach += 2.0 * std::ldexp(static_cast<double>(ws.touched[k].size()), 2 * k);
-    const bool cells = !texel.cells.empty();
-    const bool dense = !cells && reach > kSparseReach * static_cast<double>(ws.weights[0].size());
+    const bool dense = reach > kSparseReach * static_cast<double>(ws.weights[0].size());
 
-    const TailTerm tail{texel.tail.empty() ? nullptr : texel.tail.data(), texel.kernelTail, gradient ? tailWeight_ : 0.0};
-    if (cells) result.error = measureCells(texel, ws, top, gradient != nullptr, &result.tail);
-    else if (dense && texel.lobe) result.error = dense_.measure(operators_, ws.weights, top, *texel.lobe);
-    else if (dense)
-        result.error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, gradient ? &ws.adjoint : nullptr, &result.tail);
+    const TailTerm tail{texel.tail.empty() ? nullptr : texel.tail.data(), texel.kernelTail, adjoint ? tailWeight_ : 0.0};
+    double error = 0.0;
+    if (dense && texel.lobe) error = dense_.measure(operators_, ws.weights, top, *texel.lobe);
+    else if (dense) error = dense_.measure(operators_, ws.weights, top, texel.kernel, tail, adjoint ? &ws.adjoint : nullptr, tailError);
     else {
         const std::vector<double>& w = ws.weights[0];
         std::vector<double>& slope = ws.adjoint[0];
@@ -368,19 +391,14 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
             slope[t] = measure.visit(t, w[t]);
             if (tail.contains(t)) tailMass += w[t];
         }
-        result.error = measure.value();
-        result.tail = std::abs(tailMass - tail.kernelMass);
+        error = measure.value();
+        *tailError = std::abs(tailMass - tail.kernelMass);
         if (tail.weight > 0.0) {
             const double step = tail.slope(tailMass);
             for (const std::uint32_t t : ws.touched[0])
                 if (tail.contains(t)) slope[t] += step;
         }
-    }
-    if (gradient) {
-        // d e / d c_p = G_p (the pulled-up slope, which the dense passes leave in ws.adjoint); c_p =
-        // sum_i W_i b_ip / S, so d e / d theta_i = (d(W_i A_i) - Ebar dW_i) / S with A_i = sum_p G_p b_ip
-        // and Ebar = sum_i W_i A_i / S.
-        if (!dense && !cells) // every row of a touched texel lies in the touched texels of the level below
+        if (adjoint) // every row of a touched texel lies in the touched texels of the level below
             for (int k = 1; k <= top; ++k) {
                 const DownsampleOperator& op = operators_[k - 1];
                 const std::vector<double>& fine = ws.adjoint[k - 1];
@@ -391,102 +409,117 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
                     ws.adjoint[k][p] = sum;
                 }
             }
-        std::vector<J> adjointOfTap(records.size());
-        double eBar = 0.0;
-        for (std::size_t n = 0; n < records.size(); ++n) {
-            J sum(0.0);
-            for (int k = 0; k < records[n].footprint.count; ++k) {
-                const auto& p = records[n].footprint.taps[k];
-                sum += ws.adjoint[p.level][p.index] * p.weight;
-            }
-            adjointOfTap[n] = sum;
-            eBar += records[n].weight.a * sum.a;
-        }
-        eBar *= inverseSum;
-        for (std::size_t n = 0; n < records.size(); ++n) {
-            const J g = (records[n].weight * adjointOfTap[n] - records[n].weight * eBar) * inverseSum;
-            for (int q = 0; q < B; ++q) gradient[records[n].block * B + q] += g.v[q];
-        }
-    }
-    // Leave the weights zero for the next call (the dense passes do; the adjoint is only read where it was written).
-    if (!dense || cells)
+        // Leave the weights zero for the next call (the dense passes do; the adjoint is only read where it was written).
         for (int k = 0; k <= top; ++k)
             for (const std::uint32_t p : ws.touched[k]) ws.weights[k][p] = 0.0;
-    return result;
+    }
+    if (adjoint) {
+        ws.footprintAdjoint.clear();
+        for (const Workspace::FootprintWeight& f : ws.footprint) ws.footprintAdjoint.push_back(ws.adjoint[f.level][f.index]);
+    }
+    return error;
 }
 
-double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const {
-    const std::uint32_t generation = ws.generation;
-    const std::vector<LobeCell>& cells = texel.cells;
-    for (std::size_t c = 0; c < cells.size(); ++c) ws.cellOf[cells[c].level][cells[c].index] = {generation, static_cast<std::int32_t>(c)};
-    // The cell that holds texel (face, i, j) of level k: the texel itself or its nearest ancestor
-    // that is a cell; -1 where the cells there are finer than the texel. Remembered for the call in
-    // resolved (a texel is the neighbour of eight others).
-    auto cellAt = [&](int k, int face, int i, int j) {
-        Workspace::StampedCell& at = ws.resolved[k][texelIndex({face, i, j}, baseSize_ >> k)];
-        if (at.stamp == generation) return at.cell;
-        std::int32_t cell = -1;
-        for (int a = k, size = baseSize_ >> k; a < pyramidLevels_; ++a, i >>= 1, j >>= 1, size >>= 1) {
-            const Workspace::StampedCell& c = ws.cellOf[a][texelIndex({face, i, j}, size)];
-            if (c.stamp == generation) {
-                cell = c.cell;
+std::int32_t ImpulseModel::routeOf(const OutputTexel& texel, int k, std::uint32_t p) const {
+    CellRoutes& routes = texel.routes;
+    const std::uint32_t key = CellRoutes::key(k, p);
+    if (const std::int32_t id = routes.find(key); id >= 0) return id;
+    // A texel's weight spreads over the cells of its 3x3 neighbourhood (across face edges as the
+    // sampler steps) as its response spreads over their base texels (spread_), where all of them lie
+    // in cells of its level or coarser; else (finer cells near it, or a cube corner) it is pushed
+    // down to the level below.
+    const int size = baseSize_ >> k, shift = log2Exact(size);
+    const std::uint32_t mask = static_cast<std::uint32_t>(size) - 1u;
+    // size is a power of two: shifts and masks, not divisions.
+    const int face = static_cast<int>(p >> (2 * shift));
+    const int i = static_cast<int>(p & mask), j = static_cast<int>((p >> shift) & mask);
+    std::array<std::int32_t, 9> cells{};
+    int count = 0;
+    if (k == 0) {
+        cells[0] = texel.cellTree.cellAt(0, face, i, j);
+        count = 1;
+    } else if (size >= 3) {
+        // Inside the face the neighbours are plain steps; at its edge the sampler's steps.
+        const bool inside = i > 0 && j > 0 && i < size - 1 && j < size - 1;
+        for (; count < 9; ++count) {
+            Texel neighbour{face, i + count % 3 - 1, j + count / 3 - 1};
+            const bool exists = inside || texelNeighbour({face, i, j}, count % 3 - 1, count / 3 - 1, size, neighbour);
+            cells[static_cast<std::size_t>(count)] = exists ? texel.cellTree.cellAt(k, neighbour.face, neighbour.i, neighbour.j) : -1;
+            if (cells[static_cast<std::size_t>(count)] < 0) {
+                count = 0;
                 break;
             }
         }
-        at = {generation, cell};
-        return cell;
+    }
+    const std::int32_t id = routes.add(key);
+    if (count > 0) {
+        routes.nodes[static_cast<std::size_t>(id)].begin = static_cast<std::uint32_t>(routes.cells.size());
+        routes.nodes[static_cast<std::size_t>(id)].count = static_cast<std::uint8_t>(count);
+        routes.cells.insert(routes.cells.end(), cells.begin(), cells.begin() + count);
+        return id;
+    }
+    // The children first (each made where new), then their place in the lists.
+    const DownsampleOperator& op = operators_[k - 1];
+    std::vector<std::int32_t> children;
+    for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n) children.push_back(routeOf(texel, k - 1, op.entries[n].index));
+    CellRoutes::Node& node = routes.nodes[static_cast<std::size_t>(id)];
+    node.begin = static_cast<std::uint32_t>(routes.children.size());
+    node.count = static_cast<std::uint8_t>(children.size());
+    node.pushed = true;
+    for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n) {
+        routes.children.push_back(children[n - op.rowStart[p]]);
+        routes.childWeights.push_back(op.entries[n].weight);
+    }
+    return id;
+}
+
+double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, bool adjoint, double* tailError) const {
+    if (++ws.generation == 0) { // wrapped: clear the stamps once
+        std::fill(ws.nodeStamp.begin(), ws.nodeStamp.end(), 0u);
+        ws.generation = 1;
+    }
+    const std::uint32_t generation = ws.generation;
+    const CellRoutes& routes = texel.routes;
+    auto touch = [&](std::int32_t id, double weight) {
+        const std::size_t n = static_cast<std::size_t>(id);
+        if (n >= ws.nodeStamp.size()) {
+            ws.nodeStamp.resize(routes.nodes.size(), 0u);
+            ws.nodeWeight.resize(routes.nodes.size());
+            ws.nodeAdjoint.resize(routes.nodes.size());
+        }
+        if (ws.nodeStamp[n] != generation) {
+            ws.nodeStamp[n] = generation;
+            ws.nodeWeight[n] = 0.0;
+            ws.nodeTouched[routes.nodes[n].key >> 28].push_back(id);
+        }
+        ws.nodeWeight[n] += weight;
     };
-    // Top down: a texel's weight spreads over the cells of its 3x3 neighbourhood (across face edges
-    // as the sampler steps) as its response spreads over their base texels (spread_), where all of
-    // them lie in cells of its level or coarser; else (finer cells near it, or a cube corner) it is
-    // pushed down to the level below.
+    for (auto& touched : ws.nodeTouched) touched.clear();
+    ws.footprintNodes.clear();
+    int top = 0;
+    for (const Workspace::FootprintWeight& f : ws.footprint) {
+        const std::int32_t id = routeOf(texel, f.level, f.index);
+        ws.footprintNodes.push_back(id);
+        touch(id, f.weight);
+        top = std::max(top, f.level);
+    }
+    // Top down: each texel's weight onto its cells, or its children's weights.
+    const std::vector<LobeCell>& cells = texel.cells;
     ws.cellMass.assign(cells.size(), 0.0);
-    ws.spreads.clear();
     for (int k = top; k >= 0; --k) {
-        const int size = baseSize_ >> k, shift = log2Exact(size);
-        const std::uint32_t mask = static_cast<std::uint32_t>(size) - 1u;
-        for (const std::uint32_t p : ws.touched[k]) {
-            const double v = ws.weights[k][p];
-            // size is a power of two: shifts and masks, not divisions.
-            const int face = static_cast<int>(p >> (2 * shift));
-            const int i = static_cast<int>(p & mask), j = static_cast<int>((p >> shift) & mask);
-            Spread spread;
-            if (k == 0) {
-                spread.cells[0] = cellAt(0, face, i, j);
-                spread.weights[0] = 1.0;
-                spread.count = 1;
-            } else if (size >= 3) {
-                const std::array<double, 9>& stencil = spread_[static_cast<std::size_t>(k)];
-                // Inside the face the neighbours are plain steps; at its edge the sampler's steps.
-                const bool inside = i > 0 && j > 0 && i < size - 1 && j < size - 1;
-                for (int n = 0; n < 9; ++n) {
-                    Texel neighbour{face, i + n % 3 - 1, j + n / 3 - 1};
-                    const bool exists = inside || texelNeighbour({face, i, j}, n % 3 - 1, n / 3 - 1, size, neighbour);
-                    const std::int32_t cell = exists ? cellAt(k, neighbour.face, neighbour.i, neighbour.j) : -1;
-                    if (cell < 0) {
-                        spread.count = 0;
-                        break;
-                    }
-                    spread.cells[spread.count] = cell;
-                    spread.weights[spread.count++] = stencil[static_cast<std::size_t>(n)];
-                }
-            }
-            if (spread.count > 0) {
-                for (int n = 0; n < spread.count; ++n) ws.cellMass[static_cast<std::size_t>(spread.cells[n])] += spread.weights[n] * v;
-                ws.route[k][p] = static_cast<std::int32_t>(ws.spreads.size());
-                ws.spreads.push_back(spread);
-                continue;
-            }
-            ws.route[k][p] = -1;
-            const DownsampleOperator& op = operators_[k - 1];
-            for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n) {
-                const TexelWeight& entry = op.entries[n];
-                if (ws.stamp[k - 1][entry.index] != generation) {
-                    ws.stamp[k - 1][entry.index] = generation;
-                    ws.touched[k - 1].push_back(entry.index);
-                }
-                ws.weights[k - 1][entry.index] += entry.weight * v;
-            }
+        const std::array<double, 9>& stencil = spread_[static_cast<std::size_t>(k)];
+        // The list grows while it is walked only below level k, so the indices stay valid.
+        for (std::size_t t = 0; t < ws.nodeTouched[static_cast<std::size_t>(k)].size(); ++t) {
+            const std::int32_t id = ws.nodeTouched[static_cast<std::size_t>(k)][t];
+            const CellRoutes::Node& node = routes.nodes[static_cast<std::size_t>(id)];
+            const double v = ws.nodeWeight[static_cast<std::size_t>(id)];
+            if (node.pushed)
+                for (std::uint32_t n = node.begin; n < node.begin + node.count; ++n) touch(routes.children[n], routes.childWeights[n] * v);
+            else if (node.count == 1) ws.cellMass[static_cast<std::size_t>(routes.cells[node.begin])] += v;
+            else
+                for (int n = 0; n < 9; ++n)
+                    ws.cellMass[static_cast<std::size_t>(routes.cells[node.begin + static_cast<std::uint32_t>(n)])] +=
+                        stencil[static_cast<std::size_t>(n)] * v;
         }
     }
     double error = 0.0, tailMass = 0.0;
@@ -497,28 +530,31 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, int t
         ws.cellSlope[c] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);
         if (cells[c].tail) tailMass += ws.cellMass[c];
     }
-    *tail = std::abs(tailMass - texel.kernelTail);
+    *tailError = std::abs(tailMass - texel.kernelTail);
     if (!adjoint) return error;
     const TailTerm term{nullptr, texel.kernelTail, tailWeight_};
     const double step = term.slope(tailMass);
     for (std::size_t c = 0; c < cells.size(); ++c)
         if (cells[c].tail) ws.cellSlope[c] += step;
-    // Bottom up: a texel's slope is its cells' (the transpose of its spread), or its row's pulled up
-    // from the level below.
-    for (int k = 0; k <= top; ++k)
-        for (const std::uint32_t p : ws.touched[k]) {
-            const std::int32_t route = ws.route[k][p];
+    // Bottom up: a texel's slope is its cells' (the transpose of its spread), or its children's.
+    for (int k = 0; k <= top; ++k) {
+        const std::array<double, 9>& stencil = spread_[static_cast<std::size_t>(k)];
+        for (const std::int32_t id : ws.nodeTouched[static_cast<std::size_t>(k)]) {
+            const CellRoutes::Node& node = routes.nodes[static_cast<std::size_t>(id)];
             double sum = 0.0;
-            if (route >= 0) {
-                const Spread& spread = ws.spreads[static_cast<std::size_t>(route)];
-                for (int n = 0; n < spread.count; ++n) sum += spread.weights[n] * ws.cellSlope[static_cast<std::size_t>(spread.cells[n])];
-            } else {
-                const DownsampleOperator& op = operators_[k - 1];
-                for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n)
-                    sum += op.entries[n].weight * ws.adjoint[k - 1][op.entries[n].index];
-            }
-            ws.adjoint[k][p] = sum;
+            if (node.pushed)
+                for (std::uint32_t n = node.begin; n < node.begin + node.count; ++n)
+                    sum += routes.childWeights[n] * ws.nodeAdjoint[static_cast<std::size_t>(routes.children[n])];
+            else if (node.count == 1) sum = ws.cellSlope[static_cast<std::size_t>(routes.cells[node.begin])];
+            else
+                for (int n = 0; n < 9; ++n)
+                    sum += stencil[static_cast<std::size_t>(n)] *
+                           ws.cellSlope[static_cast<std::size_t>(routes.cells[node.begin + static_cast<std::uint32_t>(n)])];
+            ws.nodeAdjoint[static_cast<std::size_t>(id)] = sum;
         }
+    }
+    ws.footprintAdjoint.clear();
+    for (const std::int32_t id : ws.footprintNodes) ws.footprintAdjoint.push_back(ws.nodeAdjoint[static_cast<std::size_t>(id)]);
     return error;
 }
 

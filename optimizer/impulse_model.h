@@ -33,6 +33,10 @@ struct OutputTexel {
     std::optional<probe::ReferenceLobe> lobe;
     // Or over cells (lobe_cells.h): the fit's fast objective, whose cost does not grow with the base.
     std::vector<LobeCell> cells;
+    CellTree cellTree;
+    // Kept between evaluations of this texel, which one thread at a time makes (a memo: it changes
+    // no result).
+    mutable CellRoutes routes;
     double kernelAt(std::uint32_t t) const { return lobe ? (*lobe)(t) : static_cast<double>(kernel[t]); }
     // The lobe's tail (tail_check.h), for the tail term only (empty without it): bit t set where
     // base texel t lies beyond the tail radius of the level from R, and the reference's mass there.
@@ -88,13 +92,6 @@ private:
 // vary a little over a face); level 0 and levels too small for it keep the texel's own square.
 std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vector<probe::DownsampleOperator>& operators);
 
-// A touched texel's share of its weight in each of up to 9 cells.
-struct Spread {
-    std::array<std::int32_t, 9> cells{};
-    std::array<double, 9> weights{};
-    int count = 0;
-};
-
 class ImpulseModel {
 public:
     // With tailWeight T > 0, the gradients evaluate() gives are those of e + T |W - K| (the tail term:
@@ -114,18 +111,20 @@ public:
         std::vector<std::vector<double>> weights, adjoint; // per pyramid level
         std::vector<std::vector<std::uint32_t>> touched, stamp;
         std::uint32_t generation = 0;
-        // The cells' pass: cellOf names the texels that are cells of this call, resolved holds the
-        // cell a texel lies in (each valid where its stamp is this call's; stamp and value side by
-        // side, one cache line apart at most), route where each touched texel's weight went (its
-        // spread, or -1: pushed down).
-        struct StampedCell {
-            std::uint32_t stamp = 0;
-            std::int32_t cell = -1;
+        // The cells' pass, over the nodes of the texel's CellRoutes: the footprints' weights and
+        // nodes in tap order, and per node its weight, slope and stamp; the nodes touched per level.
+        struct FootprintWeight {
+            int level;
+            std::uint32_t index;
+            double weight;
         };
-        std::vector<std::vector<StampedCell>> cellOf, resolved;
-        std::vector<std::vector<std::int32_t>> route;
+        std::vector<FootprintWeight> footprint;
+        std::vector<std::int32_t> footprintNodes;
+        std::vector<double> footprintAdjoint; // d e / d w at each footprint texel, in tap order
+        std::vector<double> nodeWeight, nodeAdjoint;
+        std::vector<std::uint32_t> nodeStamp;
+        std::vector<std::vector<std::int32_t>> nodeTouched;
         std::vector<double> cellMass, cellSlope;
-        std::vector<Spread> spreads;
     };
     Workspace workspace() const;
 
@@ -152,9 +151,14 @@ private:
     template <int K>
     Result evaluateWith(const double* const* blocks, const OutputTexel& texel, Workspace& ws, double* gradient,
                         double* weightSumGradient) const;
-    // The L1 over the texel's cells of the weights in ws (touched per level up to `top`), its tail
-    // mass error into *tail and, with `adjoint`, the slope pulled up into ws.adjoint.
-    double measureCells(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const;
+    // The L1 of the weights in ws.footprint (the taps reach up to pyramid level `top`) over the base
+    // texels or the texel's cells, its tail mass error into *tail and, with `adjoint`, the slope at
+    // each footprint texel into ws.footprintAdjoint.
+    double measureBase(const OutputTexel& texel, Workspace& ws, int top, bool adjoint, double* tail) const;
+    double measureCells(const OutputTexel& texel, Workspace& ws, bool adjoint, double* tail) const;
+    // The node of pyramid texel (level k, index p) in the texel's routes, made (with the nodes it is
+    // pushed down to) where it is new.
+    std::int32_t routeOf(const OutputTexel& texel, int k, std::uint32_t p) const;
     template <int K>
     void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments, const double* c,
                      double* gradient) const;

@@ -22,8 +22,9 @@ public:
     CellBuilder(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius)
         : R_(R), baseSize_(baseSize), density_(density), tailRadius_(tailRadius) {}
 
-    // The cells under texel (face, i, j) of pyramid level `level`; `mass` > 0 turns the variation test on.
-    void split(int level, int face, int i, int j, double mass, std::vector<LobeCell>& out) const {
+    // The cells under texel (face, i, j) of pyramid level `level`, whose tree node is `node`; `mass` > 0
+    // turns the variation test on.
+    void split(int level, int face, int i, int j, double mass, std::size_t node, LobeCells& out) const {
         const int size = baseSize_ >> level;
         const glm::dvec3 centre = texelDirection({face, i, j}, size);
         const double theta = angleBetween(R_, centre);
@@ -44,11 +45,15 @@ public:
         const bool smooth = mass <= 0.0 || variation <= kCellRelativeVariation * highest ||
                             variation * texelSolidAngle(i, j, size) <= kCellVariation * mass;
         if (level == 0 || (far && !straddlesTail && smooth)) {
-            out.push_back({static_cast<std::uint32_t>(texelIndex({face, i, j}, size)), static_cast<std::uint8_t>(level),
-                           tailRadius_ > 0.0 && theta > tailRadius_, static_cast<float>(cellMass(level, face, i, j))});
+            out.tree.nodes[node] = static_cast<std::int32_t>(out.cells.size());
+            out.cells.push_back({static_cast<std::uint32_t>(texelIndex({face, i, j}, size)), static_cast<std::uint8_t>(level),
+                                 tailRadius_ > 0.0 && theta > tailRadius_, static_cast<float>(cellMass(level, face, i, j))});
             return;
         }
-        for (int c = 0; c < 4; ++c) split(level - 1, face, 2 * i + (c & 1), 2 * j + (c >> 1), mass, out);
+        const std::size_t children = out.tree.nodes.size();
+        out.tree.nodes[node] = ~static_cast<std::int32_t>(children);
+        out.tree.nodes.resize(children + 4);
+        for (int c = 0; c < 4; ++c) split(level - 1, face, 2 * i + (c & 1), 2 * j + (c >> 1), mass, children + static_cast<std::size_t>(c), out);
     }
 
 private:
@@ -80,7 +85,9 @@ LobeCells lobeCells(const glm::dvec3& R, int baseSize, const LobeDensity& densit
         double mass = 0.0;
         for (const LobeCell& c : result.cells) mass += static_cast<double>(c.kernel);
         result.cells.clear();
-        for (int face = 0; face < kFaceCount; ++face) builder.split(top, face, 0, 0, pass == 0 ? 0.0 : mass, result.cells);
+        result.tree = {std::vector<std::int32_t>(kFaceCount), top};
+        for (int face = 0; face < kFaceCount; ++face)
+            builder.split(top, face, 0, 0, pass == 0 ? 0.0 : mass, static_cast<std::size_t>(face), result);
     }
     double total = 0.0;
     for (const LobeCell& c : result.cells) total += static_cast<double>(c.kernel);
@@ -89,6 +96,35 @@ LobeCells lobeCells(const glm::dvec3& R, int baseSize, const LobeDensity& densit
         if (c.tail) result.kernelTail += static_cast<double>(c.kernel);
     }
     return result;
+}
+
+namespace {
+std::size_t slotOf(std::uint32_t key, std::size_t capacity) { return (key * 0x9E3779B1u) & (capacity - 1); }
+} // namespace
+
+std::int32_t CellRoutes::find(std::uint32_t key) const {
+    if (slots_.empty()) return -1;
+    for (std::size_t s = slotOf(key, slots_.size());; s = (s + 1) & (slots_.size() - 1)) {
+        const std::int32_t id = slots_[s] - 1;
+        if (id < 0 || nodes[static_cast<std::size_t>(id)].key == key) return id;
+    }
+}
+
+std::int32_t CellRoutes::add(std::uint32_t key) {
+    // At most half full, so a probe ends soon at a free slot.
+    if (2 * (nodes.size() + 1) > slots_.size()) {
+        slots_.assign(std::max<std::size_t>(1024, 2 * slots_.size()), 0);
+        for (std::size_t id = 0; id < nodes.size(); ++id) {
+            std::size_t s = slotOf(nodes[id].key, slots_.size());
+            while (slots_[s] != 0) s = (s + 1) & (slots_.size() - 1);
+            slots_[s] = static_cast<std::int32_t>(id) + 1;
+        }
+    }
+    std::size_t s = slotOf(key, slots_.size());
+    while (slots_[s] != 0) s = (s + 1) & (slots_.size() - 1);
+    nodes.push_back({key, 0, 0, false});
+    slots_[s] = static_cast<std::int32_t>(nodes.size());
+    return static_cast<std::int32_t>(nodes.size()) - 1;
 }
 
 LobeDensity ggxLobe(const glm::dvec3& R, double alpha) {

@@ -39,9 +39,58 @@ inline constexpr double kCellVariation = 1e-4;
 // The reference's density K(R, l) (unnormalized) of a lobe about the output direction R.
 using LobeDensity = std::function<double(const glm::dvec3& l)>;
 
+// The cells as the quadtree that split them, one node per pyramid texel visited: nodes 0-5 are the
+// faces' top texels; a node >= 0 is the cell it holds, a node < 0 was split and ~node is the first of
+// its four children (i, j order: (2i, 2j), (2i + 1, 2j), (2i, 2j + 1), (2i + 1, 2j + 1)). A few
+// thousand nodes per texel: looking a texel's cell up in them stays in the core's own cache,
+// where a per-level map of the whole cube would not.
+struct CellTree {
+    std::vector<std::int32_t> nodes;
+    int top = 0; // the faces' top pyramid level
+
+    // The cell that holds texel (face, i, j) of pyramid level `level`: the texel itself or its
+    // nearest ancestor that is a cell; -1 where the cells there are finer than the texel.
+    std::int32_t cellAt(int level, int face, int i, int j) const {
+        std::int32_t node = nodes[static_cast<std::size_t>(face)];
+        for (int a = top - 1; a >= level && node < 0; --a) {
+            const int shift = a - level;
+            node = nodes[static_cast<std::size_t>(~node + ((i >> shift) & 1) + 2 * ((j >> shift) & 1))];
+        }
+        return node >= 0 ? node : -1;
+    }
+};
+
+// What the cells' pass has learnt of the pyramid texels one output texel's taps reach: for each,
+// the cells its response spreads over, or the texels of the level below that it is pushed down to.
+// That depends on the cells alone, not on the taps, so it is kept from one evaluation to the next
+// (the taps move little between them) and grows as they reach new texels; and it is small, so the
+// pass runs in the core's own cache whatever the base size.
+struct CellRoutes {
+    struct Node {
+        std::uint32_t key = 0;   // key(level, index)
+        std::uint32_t begin = 0; // its first cell (spread) or child (pushed down)
+        std::uint8_t count = 0;
+        bool pushed = false;
+    };
+    std::vector<Node> nodes;
+    std::vector<std::int32_t> cells;    // a spread's cells: one at the base, nine above (the level's stencil)
+    std::vector<std::int32_t> children; // a pushed-down texel's nodes of its operator row, and their weights
+    std::vector<double> childWeights;
+
+    static std::uint32_t key(int level, std::uint32_t index) { return static_cast<std::uint32_t>(level) << 28 | index; }
+    // The node of `key`, or -1.
+    std::int32_t find(std::uint32_t key) const;
+    // A new node for `key` (not yet present): its id.
+    std::int32_t add(std::uint32_t key);
+
+private:
+    std::vector<std::int32_t> slots_; // open addressing on the key: node id + 1, 0 where free
+};
+
 struct LobeCells {
     std::vector<LobeCell> cells; // a partition of the base texels
-    double kernelTail = 0.0;     // the reference's mass in the tail cells
+    CellTree tree;
+    double kernelTail = 0.0; // the reference's mass in the tail cells
 };
 
 // The cells of output direction R (unit) over a base of `baseSize`; tailRadius in radians (<= 0: no
