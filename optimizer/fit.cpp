@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <optional>
 
@@ -318,8 +319,10 @@ std::string solverDescription(const FitSettings& s) {
     return fmt::format(
         "Ceres {}: {} on the weighted mean impulse L1{}{} over the stratified output texels{}, per level; "
         "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-        "kept >= {} of its mean (penalty {}); start: best of lobe layout, previous level{}{}{}",
-        CERES_VERSION_STRING, method, tail, checker, seam, s.roughIterationFactor, kMinWeightSum, kPenalty, initDescription(s),
+        "kept >= {} of its mean (penalty {}); start: best of lobe layout{}{}{}{}",
+        CERES_VERSION_STRING, method, tail, checker, seam, s.roughIterationFactor, kMinWeightSum, kPenalty,
+        s.fresh || (s.inits.empty() && s.bank.empty()) ? ", previous level" : ", previous level where nothing below offers a start",
+        initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
                                    screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
                      : "",
@@ -412,8 +415,9 @@ public:
         : context_(context), settings_(context.settings), model_(context.model), table_(table), m_(m), alpha_(tableLevelAlpha(table, m)),
           level_(table.levels[m]), texels_(texels), judge_(judge), checker_(checker), blocks_(levelBlocks(table, m)) {}
 
-    // previous: the level fitted before this one (-1: none); kernelSeconds: what preparing the texels took.
-    void run(int previous, double kernelSeconds) {
+    // previous: the level fitted before this one, a start (-1: none); levelStart: when preparing the
+    // texels began, which took kernelSeconds.
+    void run(int previous, Clock::time_point levelStart, double kernelSeconds) {
         const std::vector<Start> starts = startsFrom(bestCandidate(previous));
         pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.baseSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
                                             : std::vector<SeamPair>{};
@@ -446,6 +450,7 @@ public:
         recordLevel(table_, m_, model_, judge_, false);
         if (context_.progress) {
             FitProgress done{m_, report_.iterations, level_.stratified.mean, secondsSince(context_.start), "done"};
+            done.levelSeconds = secondsSince(levelStart);
             done.kernelSeconds = kernelSeconds;
             done.evaluationSeconds = modelSeconds_;
             done.solverSeconds = std::max(0.0, report_.solverSeconds - modelSeconds_);
@@ -641,16 +646,9 @@ bool copiesInitRecords(const FitSettings& settings, int m) {
     return level.stratified.mean >= 0.0 && (!settings.measureAll || level.all.mean >= 0.0);
 }
 
-TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
-                  const std::function<void(const TapTable&)>& levelDone) {
-    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
-    table.stratifiedBudget = settings.stratifiedBudget;
-    table.solver = solverDescription(settings);
-    // A partial refit names the levels it fitted and keeps the provenance of those it copied.
-    if (!settings.fitLevels.empty() && !settings.inits.empty())
-        table.solver = fmt::format("levels {}: {}; the other levels copied from the first --init: [{}]",
-                                   fmt::join(settings.fitLevels, ", "), table.solver, settings.inits.front().solver);
-    table.seamWeight = settings.seamWeight;
+namespace {
+
+void checkFitSettings(const FitSettings& settings, const TapTable& table) {
     for (const TapTable& init : settings.inits) {
         if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)
             throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize, init.levelCount,
@@ -673,6 +671,42 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
               r->mapping != table.mapping || !(r->pyramid == table.pyramid) || r->stratifiedBudget != table.stratifiedBudget ||
               r->solver != table.solver))
         throw ProbeError("--resume: the checkpoint was written by a fit of another shape or solver settings");
+}
+
+// What becomes of a level: nothing (alpha 0), taken from the checkpoint, copied with the first
+// --init's records, copied and measured, or fitted.
+enum class LevelWork { none, resumed, copiedRecords, copied, fitted };
+
+LevelWork levelWork(const FitSettings& settings, const TapTable& table, int m) {
+    if (tableLevelAlpha(table, m) <= 0.0) return LevelWork::none;
+    if (settings.resume && settings.resume->levels[m].stratified.mean >= 0.0) return LevelWork::resumed;
+    if (copiesInitRecords(settings, m)) return LevelWork::copiedRecords;
+    if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) return LevelWork::copied;
+    return LevelWork::fitted;
+}
+
+// Whether a fitted level starts from the level fitted before it: only where neither the bank nor an
+// --init offers a start, so that the levels that have one are fitted at once, in any order.
+bool startsFromPreviousLevel(const FitSettings& settings, const TapTable& table, int m) {
+    if (settings.fresh) return true;
+    if (!settings.inits.empty()) return false;
+    const double alpha = tableLevelAlpha(table, m);
+    return std::ranges::none_of(settings.bank, [&](const FitSettings::BankTable& b) { return nearestLevel(b.table, alpha) >= 0; });
+}
+
+} // namespace
+
+TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
+                  const std::function<void(const TapTable&)>& levelDone) {
+    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    table.stratifiedBudget = settings.stratifiedBudget;
+    table.solver = solverDescription(settings);
+    // A partial refit names the levels it fitted and keeps the provenance of those it copied.
+    if (!settings.fitLevels.empty() && !settings.inits.empty())
+        table.solver = fmt::format("levels {}: {}; the other levels copied from the first --init: [{}]",
+                                   fmt::join(settings.fitLevels, ", "), table.solver, settings.inits.front().solver);
+    table.seamWeight = settings.seamWeight;
+    checkFitSettings(settings, table);
     const auto start = Clock::now();
     const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     // The seam term's basis (half a GiB at 1024^2): only where the term is on.
@@ -684,29 +718,48 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     // The base's geometry, for the exact measure of the stratified texels where the fit measures cells.
     const std::optional<CubeGeometry> geometry =
         settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.baseSize) : std::nullopt;
-    const FitContext context{settings, progress, start, model, basis};
+
+    // Progress, the finished levels (what levelDone sees: a level is there once it is finished) and
+    // the chains' threads are shared by levels fitted at once.
+    std::mutex mutex;
+    const std::function<void(const FitProgress&)> reportLocked = [&](const FitProgress& p) {
+        const std::lock_guard lock(mutex);
+        if (progress) progress(p);
+    };
+    const FitContext context{settings, reportLocked, start, model, basis};
+    TapTable finished = table;
+    auto finish = [&](int m, bool done) {
+        const std::lock_guard lock(mutex);
+        finished.levels[m] = table.levels[m];
+        if (done && levelDone) levelDone(finished);
+    };
+
+    // Chains of levels, each one after the other within a chain: a level joins the chain of the
+    // level before it where it starts from that level's fit. The chains run at once.
+    std::vector<LevelWork> work(static_cast<std::size_t>(settings.levelCount));
+    std::vector<std::vector<int>> chains;
+    std::vector<int> previousOf(work.size(), -1);
     int previous = -1;
     for (int m = 0; m < settings.levelCount; ++m) {
+        work[m] = levelWork(settings, table, m);
+        if (work[m] == LevelWork::none) continue;
+        if (work[m] == LevelWork::fitted && startsFromPreviousLevel(settings, table, m)) previousOf[m] = previous;
+        // (a resumed level or one copied with its records is there from the start)
+        const bool follows = previousOf[m] >= 0 && (work[previous] == LevelWork::copied || work[previous] == LevelWork::fitted);
+        if (work[m] == LevelWork::resumed || work[m] == LevelWork::copiedRecords) {
+            table.levels[m] = work[m] == LevelWork::resumed ? settings.resume->levels[m] : settings.inits.front().levels[m];
+            context.report(m, table.levels[m].stratified.mean, work[m] == LevelWork::resumed ? "resumed" : "copied from --init");
+            finish(m, work[m] == LevelWork::copiedRecords);
+        } else if (follows) {
+            std::ranges::find_if(chains, [&](const std::vector<int>& c) { return c.back() == previous; })->push_back(m);
+        } else {
+            chains.push_back({m});
+        }
+        previous = m;
+    }
+
+    auto runLevel = [&](int m) {
         const double alpha = tableLevelAlpha(table, m);
-        TableLevel& level = table.levels[m];
-        if (alpha <= 0.0) {
-            level.stratified = level.all = {};
-            continue;
-        }
-        if (settings.resume && settings.resume->levels[m].stratified.mean >= 0.0) {
-            level = settings.resume->levels[m];
-            context.report(m, level.stratified.mean, "resumed");
-            previous = m;
-            continue;
-        }
-        const bool copied = !settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end();
-        if (copiesInitRecords(settings, m)) {
-            level = settings.inits.front().levels[m];
-            context.report(m, level.stratified.mean, "copied from --init");
-            if (levelDone) levelDone(table);
-            previous = m;
-            continue;
-        }
         const auto kernelStart = Clock::now();
         const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
         const std::vector<OutputTexel> texels =
@@ -717,16 +770,26 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const std::vector<OutputTexel>& judge = measured.empty() ? texels : measured;
         const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);
-        if (copied) {
+        if (work[m] == LevelWork::copied) {
             startFromTable(table, m, settings.inits.front());
             recordLevel(table, m, model, judge, settings.measureAll);
-            context.report(m, level.stratified.mean, "copied from --init");
+            context.report(m, table.levels[m].stratified.mean, "copied from --init");
         } else {
-            LevelFit(context, table, m, texels, judge, checker).run(previous, kernelSeconds);
+            LevelFit(context, table, m, texels, judge, checker).run(previousOf[m], kernelStart, kernelSeconds);
         }
-        if (levelDone) levelDone(table);
-        previous = m;
+        finish(m, true);
+    };
+    // Every thread on one chain at a time, each chain's share of them on its levels' texels; the
+    // results do not depend on how the threads are shared.
+    const int threads = omp_get_max_threads();
+    const int concurrent = std::max(1, std::min(threads, static_cast<int>(chains.size())));
+    omp_set_max_active_levels(2);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(concurrent)
+    for (std::size_t c = 0; c < chains.size(); ++c) {
+        omp_set_num_threads(std::max(1, threads / concurrent));
+        for (const int m : chains[c]) runLevel(m);
     }
+    omp_set_max_active_levels(1);
     table.fitSeconds = secondsSince(start);
     return table;
 }

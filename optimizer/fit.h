@@ -78,7 +78,8 @@ struct FitProgress {
     double l1 = 0.0; // stratified mean impulse L1 (plus the weight-sum penalty where it is active)
     double seconds = 0.0;
     std::string stage; // "start <candidate>", "iteration", "done", "all texels", "seam term" (l1: the mean s)
-    // With "done": where the level's time went.
+    // With "done": where the level's time went (levels fitted at once each count their own).
+    double levelSeconds = 0.0;      // the level's whole time, its kernels included
     double kernelSeconds = 0.0;     // reference kernels of the stratified texels
     double evaluationSeconds = 0.0; // the model: L1 and its gradient (or Jacobian) inside the solver
     double solverSeconds = 0.0;     // the rest of the solver (BFGS updates, line search, or LM linear algebra)

@@ -53,7 +53,8 @@ public:
         const std::size_t children = out.tree.nodes.size();
         out.tree.nodes[node] = ~static_cast<std::int32_t>(children);
         out.tree.nodes.resize(children + 4);
-        for (int c = 0; c < 4; ++c) split(level - 1, face, 2 * i + (c & 1), 2 * j + (c >> 1), mass, children + static_cast<std::size_t>(c), out);
+        for (int c = 0; c < 4; ++c)
+            split(level - 1, face, 2 * i + (c & 1), 2 * j + (c >> 1), mass, children + static_cast<std::size_t>(c), out);
     }
 
 private:
