@@ -273,7 +273,7 @@ TEST_F(GpuTest, EngineDropInShadersWithAConstantTableEqualCpuModel) {
                             VK_FORMAT_R32G32B32A32_SFLOAT);
 }
 
-// Compiled with no defines, as the README shows them: RGBA16F images.
+// Compiled with no defines, as docs/engine.md shows them: RGBA16F images.
 TEST_F(GpuTest, EngineDropInShadersWithTheirDefaultFormatEqualCpuModel) {
     expectDropInsEqualModel(committedTable("gltf128_const8"), kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv,
                             VK_FORMAT_R16G16B16A16_SFLOAT);

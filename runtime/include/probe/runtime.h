@@ -94,7 +94,7 @@ private:
 
 // How pass 1 and pass 2 read the pyramid (see the top of this file).
 enum class Sampling {
-    automatic, // hardware on GPUs; on CPU devices (lavapipe) the mode measured faster there (README)
+    automatic, // hardware on GPUs; on CPU devices (lavapipe) the mode measured faster there (docs/engine.md)
     hardware,  // a cube image with mips through a seamless trilinear sampler
     exact,     // a bordered storage buffer, the shader's own bilinear arithmetic (probecore's model)
 };
