@@ -1,4 +1,5 @@
-// The probefilter subcommands: each registers its options and runs when chosen.
+// The probefilter subcommands (each registers its options and runs when chosen), and the help that
+// they and probebench's share.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -39,7 +40,5 @@ void addSynthCommand(CLI::App& app);
 void addFilterCommand(CLI::App& app);
 void addPlanCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
-void addCompareCommand(CLI::App& app);
-void addSweepCommand(CLI::App& app);
 
 } // namespace probefilter

@@ -13,7 +13,7 @@ set(PROBE_PACKAGE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/probefilter)
 
 install(TARGETS probecore proberuntime probe_shader_spirv EXPORT probefilterTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(TARGETS probefilter probefit RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS probefilter probebench probefit RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY core/include/probe runtime/include/probe DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES shaders/engine/probe_table_filter.glsl shaders/engine/probe_pyramid.glsl
         DESTINATION ${CMAKE_INSTALL_DATADIR}/probefilter/shaders/engine)

@@ -9,11 +9,13 @@ trap 'rm -rf "$work"' EXIT
 touch "$work/a-file"
 failures=0
 
+# The bench's commands are probebench's, the rest probefilter's.
+tool_for() { case $1 in compare | sweep) echo "$PROBEBENCH" ;; *) echo "$PROBEFILTER" ;; esac; }
 expect_refused() { # name, expected text in the message, args...
     local name=$1 text=$2
     shift 2
     local out="$work/out"
-    "$PROBEFILTER" "$@" 2>"$work/stderr" >/dev/null
+    "$(tool_for "$1")" "$@" 2>"$work/stderr" >/dev/null
     local code=$?
     local lines
     lines=$(wc -l <"$work/stderr")

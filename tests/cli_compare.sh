@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# probefilter compare on lavapipe with the validation layer, at 16^2: the sheet has a row of spheres
+# probebench compare on lavapipe with the validation layer, at 16^2: the sheet has a row of spheres
 # per method (reference, table, FIS) with heat maps; the report has the image L1 per level (0 at the
 # mirror level), the spheres' L1 and the GPU times.
 set -euo pipefail
-: "${PROBEFILTER:?}"
+: "${PROBEFILTER:?}" "${PROBEBENCH:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -11,7 +11,7 @@ cd "$work"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 "$PROBEFILTER" synth sunsky --size 16 --out sky.exr >/dev/null
-"$PROBEFILTER" compare sky.exr --size 16 --table "$fixtures/table_16_quad4_gltf.json" --roughness 0.3,0.6,1 --cell 40 \
+"$PROBEBENCH" compare sky.exr --size 16 --table "$fixtures/table_16_quad4_gltf.json" --roughness 0.3,0.6,1 --cell 40 \
     --repeat 1 --validate --out cmp >/dev/null 2>err.txt || fail "compare: $(cat err.txt)"
 python3 - cmp <<'PY' || fail "report or sheet"
 import json, struct, sys
@@ -27,11 +27,11 @@ assert png[:8] == b"\x89PNG\r\n\x1a\n" and width == 2 * 3 * 40 + 6 and height ==
 PY
 # --table also takes a compiled-in table's name; a table that does not fit is refused (exit 2, one line,
 # nothing written).
-"$PROBEFILTER" compare sky.exr --size 16 --table gltf16_quad8 --roughness 0.5 --cell 16 --repeat 1 --out named >/dev/null 2>err.txt ||
+"$PROBEBENCH" compare sky.exr --size 16 --table gltf16_quad8 --roughness 0.5 --cell 16 --repeat 1 --out named >/dev/null 2>err.txt ||
     fail "compare --table NAME: $(cat err.txt)"
 [[ -f named/sheet.png ]] || fail "compare --table NAME: no sheet"
 set +e
-"$PROBEFILTER" compare sky.exr --size 16 --table gltf128_quad8 --out wrong >/dev/null 2>err.txt
+"$PROBEBENCH" compare sky.exr --size 16 --table gltf128_quad8 --out wrong >/dev/null 2>err.txt
 code=$?
 set -e
 [[ $code -eq 2 && $(wc -l <err.txt) -eq 1 && ! -e wrong ]] && grep -q "base size 128, not 16" err.txt ||

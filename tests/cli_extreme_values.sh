@@ -4,7 +4,7 @@
 # mapping, reference, run (levels, SH irradiance, KTX2 in both formats, spheres) and compare: no NaN
 # or Inf in any EXR or KTX2 written, none in compare's numbers.
 set -euo pipefail
-: "${PROBEFILTER:?}" "${EXTREME_PROBES:?}"
+: "${PROBEFILTER:?}" "${PROBEBENCH:?}" "${EXTREME_PROBES:?}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -34,7 +34,7 @@ for input in in/one_max.exr in/all_max.exr in/rgbe_max.hdr; do
     check "reference-$(basename "$input")" "reference $input"
     # compare: the spheres rendered from those levels, their errors and the sheet (no NaN: JSON null).
     name=compare-$(basename "$input")
-    if ! "$PROBEFILTER" compare "$input" --size 16 --out "$name" >/dev/null 2>&1 || grep -q null "$name/report.json"; then
+    if ! "$PROBEBENCH" compare "$input" --size 16 --out "$name" >/dev/null 2>&1 || grep -q null "$name/report.json"; then
         echo "FAIL: compare $input"
         failures=$((failures + 1))
     fi

@@ -8,7 +8,9 @@
 # folder it did not write (exit 2, nothing changed; a FIFO or a huge report.json there is not its own).
 # A write that fails keeps the previous output and leaves no parent folder the run created.
 set -euo pipefail
-: "${PROBEFILTER:?}"
+: "${PROBEFILTER:?}" "${PROBEBENCH:?}"
+# The bench's commands are probebench's, the rest probefilter's.
+tool_for() { case $1 in compare | sweep) echo "$PROBEBENCH" ;; *) echo "$PROBEFILTER" ;; esac; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -138,7 +140,7 @@ refused() { # expected text, arguments
     local text=$1
     shift
     local code=0
-    "$PROBEFILTER" "$@" >/dev/null 2>stderr || code=$?
+    "$(tool_for "$1")" "$@" >/dev/null 2>stderr || code=$?
     if [[ $code -ne 2 ]] || [[ $(wc -l <stderr) -ne 1 ]] || ! grep -qF -- "$text" stderr; then
         echo "FAIL: $* -> exit $code: $(cat stderr)"
         failures=$((failures + 1))

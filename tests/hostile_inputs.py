@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hostile inputs to probefilter and probefit: every one is refused with exit code 2 and one line on
+"""Hostile inputs to probefilter, probebench and probefit: every one is refused with exit code 2 and one line on
 stderr naming the file (or option) and the problem, within a few seconds and 1 GiB of resident
 memory (the child's own getrusage), and nothing on disk is created or changed.
 
@@ -8,7 +8,7 @@ folder or a file), FIFOs, device nodes, a mount inside an output folder, links p
 names. Device nodes and mounts are made here, privately (a node in the work folder, a tmpfs in a mount
 namespace of the suite's own); where that is not permitted those cases are skipped, and say so.
 
-The hostile files are made here. Usage: hostile_inputs.py PROBEFILTER PROBEFIT
+The hostile files are made here. Usage: hostile_inputs.py PROBEFILTER PROBEFIT PROBEBENCH
 """
 import json
 import os
@@ -22,7 +22,7 @@ import sys
 import tempfile
 import time
 
-PROBEFILTER, PROBEFIT = (os.path.abspath(tool) for tool in sys.argv[1:3])
+PROBEFILTER, PROBEFIT, PROBEBENCH = (os.path.abspath(tool) for tool in sys.argv[1:4])
 MAX_SECONDS = 10.0
 MAX_RSS_MIB = 1024
 work = tempfile.mkdtemp(prefix="hostile-")
@@ -179,7 +179,7 @@ def main():
     with open(os.path.join(tables, "gltf16_quad8.json")) as src:
         table = src.read()
     write("gltf16_quad8.json", table)
-    pf = PROBEFILTER
+    pf, pb = PROBEFILTER, PROBEBENCH
 
     def filter_args(image, *extra):
         return ["filter", image, "--size", "16", *extra, "--out", path("out")]
@@ -284,8 +284,8 @@ def main():
         "filter": [pf, "filter", path("good.exr"), "--size", "16"],
         "reference": [pf, "reference", path("good.exr"), "--size", "8"],
         "run": [pf, "run", scene],
-        "compare": [pf, "compare", path("good.exr"), "--size", "16", "--repeat", "1"],
-        "sweep": [pf, "sweep", "--size", "16", "--synthetic", "sunsky", "--repeat", "1"],
+        "compare": [pb, "compare", path("good.exr"), "--size", "16", "--repeat", "1"],
+        "sweep": [pb, "sweep", "--size", "16", "--synthetic", "sunsky", "--repeat", "1"],
     }
     links = ("dangling", "loop", "folder-link", "file-link")
     for command, args in folder_commands.items():
@@ -346,8 +346,8 @@ def main():
         "filter": [pf, "filter", path("good.exr"), "--size", "16"],
         "reference": [pf, "reference", path("good.exr"), "--size", "8"],
         "run": [pf, "run", scene],
-        "compare": [pf, "compare", path("good.exr"), "--size", "16", "--table", table16, "--repeat", "1", "--cell", "16"],
-        "sweep": [pf, "sweep", "--size", "16", "--synthetic", "sunsky", "--samples", "8", "--fis-bias", "0", "--pyramid", "bspline",
+        "compare": [pb, "compare", path("good.exr"), "--size", "16", "--table", table16, "--repeat", "1", "--cell", "16"],
+        "sweep": [pb, "sweep", "--size", "16", "--synthetic", "sunsky", "--samples", "8", "--fis-bias", "0", "--pyramid", "bspline",
                   "--fis-maps", "cube", "--repeat", "1", "--tables", os.environ["PROBE_TABLES"]],
     }
     for name, (args, outputs) in files.items():
@@ -396,13 +396,13 @@ def main():
     else:
         print("skip the device's buffer range refusals: the test device is not lavapipe")
     expect_refused("reference-size-4096", ["face size 4096", "2048"], pf, "reference", good, "--size", "4096", "--out", path("out"))
-    expect_refused("sweep-repeat", ["--repeat 1000000"], pf, "sweep", "--size", "16", "--repeat", "1000000", "--out", path("out"))
-    expect_refused("sweep-samples", ["--samples 1000000000"], pf, "sweep", "--size", "16", "--samples", "1000000000", "--out",
+    expect_refused("sweep-repeat", ["--repeat 1000000"], pb, "sweep", "--size", "16", "--repeat", "1000000", "--out", path("out"))
+    expect_refused("sweep-samples", ["--samples 1000000000"], pb, "sweep", "--size", "16", "--samples", "1000000000", "--out",
                    path("out"))
-    expect_refused("compare-samples", ["--samples 1000000000"], pf, "compare", good, "--size", "16", "--samples", "1000000000",
+    expect_refused("compare-samples", ["--samples 1000000000"], pb, "compare", good, "--size", "16", "--samples", "1000000000",
                    "--out", path("out"))
     for value in ("0", "-1", "nan", "inf", "1e+300"):
-        expect_refused(f"compare-max-error-{value}", [f"--max-error {value}"], pf, "compare", good, "--size", "16", "--max-error", value,
+        expect_refused(f"compare-max-error-{value}", [f"--max-error {value}"], pb, "compare", good, "--size", "16", "--max-error", value,
                        "--out", path("out"))
     # Values that are empty or not UTF-8 (reports and tables are JSON, UTF-8 only), for any option.
     not_utf8 = os.fsdecode(b"in\xff.exr")
@@ -417,8 +417,8 @@ def main():
         expect_refused(f"probefit-empty{flag}", [flag, "empty value"], PROBEFIT, "fit", "--size", "16", "--taps", "4", "--form", "quad",
                        "--out", path("t"), flag, "")
     os.remove(path(not_utf8))
-    expect_refused("compare-cell", ["--cell 100000"], pf, "compare", good, "--size", "16", "--cell", "100000", "--out", path("out"))
-    expect_refused("compare-spheres", ["--roughness"], pf, "compare", good, "--size", "16", "--roughness", ",".join(["0.5"] * 1000),
+    expect_refused("compare-cell", ["--cell 100000"], pb, "compare", good, "--size", "16", "--cell", "100000", "--out", path("out"))
+    expect_refused("compare-spheres", ["--roughness"], pb, "compare", good, "--size", "16", "--roughness", ",".join(["0.5"] * 1000),
                    "--out", path("out"))
     fit = [PROBEFIT, "fit", "--form", "quad", "--out", path("out")]
     expect_refused("probefit-size-4096", ["--size", "4096", "1024"], *fit, "--size", "4096", "--taps", "8")
@@ -460,11 +460,11 @@ def main():
     write("sweep-again/report.json", empties)
     del empties  # a child's peak resident set starts from this process's, which it is forked from
     write("sweep-again/sweep.csv", "")
-    expect_refused("sweep-summarize-empty-csv", [path("sweep-again/sweep.csv"), "header"], pf, "sweep", "--summarize",
+    expect_refused("sweep-summarize-empty-csv", [path("sweep-again/sweep.csv"), "header"], pb, "sweep", "--summarize",
                    path("sweep-again"), "--out", path("out"))
     os.remove(path("sweep-again/sweep.csv"))
     os.mkfifo(path("sweep-again/sweep.csv"))
-    expect_refused("sweep-summarize-fifo-csv", [path("sweep-again/sweep.csv"), "FIFO"], pf, "sweep", "--summarize",
+    expect_refused("sweep-summarize-fifo-csv", [path("sweep-again/sweep.csv"), "FIFO"], pb, "sweep", "--summarize",
                    path("sweep-again"), "--out", path("out"))
     os.remove(path("sweep-again/sweep.csv"))
     expect_refused("out-with-64MiB-report", [path("sweep-again"), "holds no report.json of probefilter's"], pf,

@@ -6,7 +6,7 @@
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$PROBEFILTER" sweep --size 16 --synthetic impulse-centre impulse-edge impulse-corner sunsky room \
+"$PROBEBENCH" sweep --size 16 --synthetic impulse-centre impulse-edge impulse-corner sunsky room \
     --samples 8 16 32 64 --fis-bias 0 1 --pyramid bspline box --repeat 3 --tables "$TABLES" --out "$work/sweep" 2>/dev/null
 python3 - "$work/sweep/report.json" <<'PY'
 import json, sys

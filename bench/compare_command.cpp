@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_commands.h"
 #include "commands.h"
 #include "comparison_sheet.h"
 #include "preview.h"

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "bench_commands.h"
 #include "commands.h"
 #include "probe/error.h"
 #include "probe/importance_sampling.h"
