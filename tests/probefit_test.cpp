@@ -368,6 +368,42 @@ TEST(LobeCells, PartitionTheBaseAndCarryTheLobe) {
     }
 }
 
+// The cells' quadtree finds, for a texel of any pyramid level, the cell that holds it (itself or an
+// ancestor), and -1 exactly where the cells there are finer: checked against the cells' own list.
+TEST(LobeCells, TreeFindsTheCellOfEveryTexel) {
+    const int size = 32, top = log2Exact(size);
+    const glm::dvec3 R = glm::normalize(glm::dvec3(-0.4, 0.7, 1.0));
+    const LobeCells cells = lobeCells(R, size, ggxLobe(R, 0.05), 0.0);
+    // Per level, the cell each texel is (or -1).
+    std::vector<std::vector<std::int32_t>> cellOf(static_cast<std::size_t>(top) + 1);
+    for (int k = 0; k <= top; ++k) cellOf[k].assign(texelCount(size >> k), -1);
+    for (std::size_t c = 0; c < cells.cells.size(); ++c) cellOf[cells.cells[c].level][cells.cells[c].index] = static_cast<std::int32_t>(c);
+    int finer = 0;
+    for (int k = 0; k <= top; ++k)
+        for (int face = 0; face < kFaceCount; ++face)
+            for (int j = 0; j < (size >> k); ++j)
+                for (int i = 0; i < (size >> k); ++i) {
+                    std::int32_t expected = -1;
+                    for (int a = k; a <= top && expected < 0; ++a)
+                        expected = cellOf[a][texelIndex({face, i >> (a - k), j >> (a - k)}, size >> a)];
+                    finer += expected < 0;
+                    ASSERT_EQ(cells.tree.cellAt(k, face, i, j), expected)
+                        << "level " << k << " face " << face << " (" << i << ", " << j << ")";
+                }
+    EXPECT_GT(finer, 0); // the lobe's centre is finer than the top levels
+}
+
+// The routes' table finds every key it was given and none it was not, across its growth.
+TEST(LobeCells, RoutesFindWhatWasAdded) {
+    CellRoutes routes;
+    for (std::uint32_t n = 0; n < 5000; ++n)
+        EXPECT_EQ(routes.add(CellRoutes::key(static_cast<int>(n % 11), n * 7919u)), static_cast<std::int32_t>(n));
+    for (std::uint32_t n = 0; n < 5000; ++n)
+        EXPECT_EQ(routes.find(CellRoutes::key(static_cast<int>(n % 11), n * 7919u)), static_cast<std::int32_t>(n));
+    EXPECT_EQ(routes.find(CellRoutes::key(3, 1)), -1);
+    EXPECT_EQ(routes.find(CellRoutes::key(12, 0)), -1);
+}
+
 // The fast objective against the exact L1 (every base texel), on committed tables: the mean over a
 // level's texels within 1.5% (the cells see no sign change of w - k inside them, so they measure a
 // little less), every texel within 0.003 (of an L1 in [0, 2]).
