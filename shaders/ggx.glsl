@@ -3,12 +3,12 @@
 #ifndef PROBE_GGX_GLSL
 #define PROBE_GGX_GLSL
 
-const float kPi = 3.14159265358979323846;
+#include "probe/shared_constants.h"
 
 float ggxD(float cosRL, float distanceSquared, float alpha2) {
     float cosHalf2 = (1.0 + cosRL) * 0.5;
     float q = distanceSquared * 0.25 + cosHalf2 * alpha2;
-    return alpha2 / (kPi * q * q);
+    return alpha2 / (float(PROBE_PI) * q * q);
 }
 
 // K(R, l) = D(R.h) max(R.l, 0), not normalized.

@@ -46,7 +46,7 @@ void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y) {
     y = glm::cross(R, x);
 }
 
-void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std::vector<Tap>& taps) {
+void importanceSampleTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps) {
     glm::dvec3 x, y;
     importanceSampleFrame(R, x, y);
     taps.clear();

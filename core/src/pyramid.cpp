@@ -29,7 +29,7 @@ std::string_view pyramidWeightingName(PyramidWeighting weighting) {
     return weighting == PyramidWeighting::solidAngle ? "solid-angle" : "inverse-solid-angle";
 }
 
-void DownsampleOperator::apply(std::span<const double> fine, std::span<double> coarse) const {
+void DownsampleOperator::apply(const std::vector<double>& fine, std::vector<double>& coarse) const {
     for (std::size_t r = 0; r + 1 < rowStart.size(); ++r) {
         double sum = 0.0;
         for (std::uint32_t e = rowStart[r]; e < rowStart[r + 1]; ++e) sum += entries[e].weight * fine[entries[e].index];
@@ -37,7 +37,7 @@ void DownsampleOperator::apply(std::span<const double> fine, std::span<double> c
     }
 }
 
-void DownsampleOperator::applyTranspose(std::span<const double> coarse, std::span<double> fine) const {
+void DownsampleOperator::applyTranspose(const std::vector<double>& coarse, std::vector<double>& fine) const {
     for (std::size_t r = 0; r + 1 < rowStart.size(); ++r) {
         const double c = coarse[r];
         if (c == 0.0) continue;

@@ -236,7 +236,7 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
     return out;
 }
 
-void setPublishedLayout(TapTable& table, std::span<const double> values) {
+void setPublishedLayout(TapTable& table, const std::vector<double>& values) {
     const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
     if (values.size() != perLevel * table.levels.size())
         throw ProbeError(

@@ -6,7 +6,7 @@
 
 namespace probe {
 
-glm::vec3 sumTaps(const CubeLevels& pyramid, std::span<const Tap> taps) {
+glm::vec3 sumTaps(const CubeLevels& pyramid, const std::vector<Tap>& taps) {
     glm::dvec3 sum(0.0);
     double weightSum = 0.0;
     for (const Tap& tap : taps) {
@@ -17,7 +17,7 @@ glm::vec3 sumTaps(const CubeLevels& pyramid, std::span<const Tap> taps) {
     return glm::vec3(glm::max(sum / weightSum, glm::dvec3(0.0)));
 }
 
-std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, std::span<const Tap> taps) {
+std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, const std::vector<Tap>& taps) {
     const int levels = pyramidLevelCount(baseSize);
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
     for (int k = 0; k < levels; ++k) weights[k].assign(texelCount(baseSize >> k), 0.0);

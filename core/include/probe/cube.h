@@ -17,7 +17,9 @@ struct Texel {
     int face = 0;
     int i = 0;
     int j = 0;
-    bool operator==(const Texel&) const = default;
+    // (written out: the public headers compile as C++17)
+    bool operator==(const Texel& o) const { return face == o.face && i == o.i && j == o.j; }
+    bool operator!=(const Texel& o) const { return !(*this == o); }
 };
 
 // Face coordinates (u, v) in [-1, 1] (u = 2s - 1, v = 2t - 1) to the unnormalized direction on

@@ -3,9 +3,10 @@
 
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 #include <glm/vec3.hpp>
+
+#include "probe/shared_constants.h"
 
 namespace probe {
 
@@ -16,7 +17,7 @@ template <typename T>
 inline T ggxD(T cosRL, T distanceSquared, T alpha2) {
     const T cosHalf2 = (T(1) + cosRL) * T(0.5);
     const T q = distanceSquared * T(0.25) + cosHalf2 * alpha2;
-    return alpha2 / (std::numbers::pi_v<T> * q * q);
+    return alpha2 / (T(PROBE_PI) * q * q);
 }
 
 // The filter kernel K(R, l) = D(R.h) max(R.l, 0) (not normalized), for unit R and l.
@@ -49,7 +50,7 @@ inline double radicalInverse2(std::uint32_t bits) {
 inline glm::dvec3 ggxHalfVector(double e1, double e2, double alpha2) {
     const double cosTheta = std::sqrt((1.0 - e1) / (1.0 + (alpha2 - 1.0) * e1));
     const double sinTheta = std::sqrt(1.0 - cosTheta * cosTheta);
-    const double phi = 2.0 * std::numbers::pi * e2;
+    const double phi = 2.0 * PROBE_PI * e2;
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
 

@@ -3,7 +3,6 @@
 // texels cover the sample's solid angle, weighted by n.l.
 #pragma once
 
-#include <span>
 #include <string_view>
 #include <vector>
 
@@ -56,7 +55,7 @@ std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelC
 void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y);
 
 // The taps for direction R: `samples` (from importanceSamples) rotated into the frame of R.
-void importanceSampleTaps(const glm::dvec3& R, std::span<const Tap> samples, std::vector<Tap>& taps);
+void importanceSampleTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps);
 
 // As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
 // settings.samplesAt(level) samples at each level.

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,7 +25,8 @@ enum class PyramidWeighting { solidAngle, inverseSolidAngle };
 struct PyramidSettings {
     PyramidKind kind = PyramidKind::bspline;
     PyramidWeighting weighting = PyramidWeighting::solidAngle;
-    bool operator==(const PyramidSettings&) const = default;
+    bool operator==(const PyramidSettings& o) const { return kind == o.kind && weighting == o.weighting; }
+    bool operator!=(const PyramidSettings& o) const { return !(*this == o); }
 };
 
 // "bspline" / "box" and "solid-angle" / "inverse-solid-angle"; parsing throws ProbeError naming the value.
@@ -43,9 +43,9 @@ struct DownsampleOperator {
     std::vector<TexelWeight> entries;
 
     // coarse = D fine (one scalar per texel).
-    void apply(std::span<const double> fine, std::span<double> coarse) const;
+    void apply(const std::vector<double>& fine, std::vector<double>& coarse) const;
     // fine += D^T coarse.
-    void applyTranspose(std::span<const double> coarse, std::span<double> fine) const;
+    void applyTranspose(const std::vector<double>& coarse, std::vector<double>& fine) const;
 };
 
 DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings);

@@ -31,7 +31,8 @@ public:
 
     Curve curve() const { return curve_; }
     const std::vector<double>& list() const { return list_; } // empty unless custom
-    bool operator==(const RoughnessMapping& other) const = default;
+    bool operator==(const RoughnessMapping& other) const { return curve_ == other.curve_ && list_ == other.list_; }
+    bool operator!=(const RoughnessMapping& other) const { return !(*this == other); }
 
 private:
     explicit RoughnessMapping(Curve curve) : curve_(curve) {}

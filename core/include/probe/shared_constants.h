@@ -3,6 +3,8 @@
 #ifndef PROBE_SHARED_CONSTANTS_H
 #define PROBE_SHARED_CONSTANTS_H
 
+#define PROBE_PI 3.14159265358979323846
+
 // Frames: a frame's weight is (max(|d_b|, |d_c|) - START) / WIDTH, d scaled to major component 1.
 #define PROBE_FRAME_BAND_START 0.75
 #define PROBE_FRAME_BAND_WIDTH 0.25

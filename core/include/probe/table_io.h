@@ -3,7 +3,6 @@
 #pragma once
 
 #include <filesystem>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,7 +26,7 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level);
 // must match exactly. Errors are left unmeasured.
 // Sets every level's coefficients from the published layout, level after level (ProbeError unless the
 // count matches the table's shape).
-void setPublishedLayout(TapTable& table, std::span<const double> values);
+void setPublishedLayout(TapTable& table, const std::vector<double>& values);
 
 TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
                               const RoughnessMapping& mapping, PyramidSettings pyramid);

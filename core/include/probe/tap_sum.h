@@ -4,7 +4,6 @@
 #pragma once
 
 #include <functional>
-#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -23,11 +22,11 @@ struct Tap {
 };
 
 // sum_i w_i trilinear(pyramid, d_i, level_i) / sum_i w_i, clamped to >= 0; black when the weights sum to 0.
-glm::vec3 sumTaps(const CubeLevels& pyramid, std::span<const Tap> taps);
+glm::vec3 sumTaps(const CubeLevels& pyramid, const std::vector<Tap>& taps);
 
 // The same sum as a linear map: weights over base texels (texelIndex at baseSize), normalized by
 // sum_i w_i, pushed back through the transposed downsampling operators. No clamp.
-std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, std::span<const Tap> taps);
+std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, const std::vector<Tap>& taps);
 
 // The taps of one output texel of output level m (face size S_0 >> m); returns false where that
 // level is a copy of the source (alpha = 0).
