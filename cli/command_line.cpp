@@ -1,7 +1,6 @@
 #include "command_line.h"
 
 #include <string>
-#include <string_view>
 
 #include <fmt/format.h>
 
@@ -10,14 +9,6 @@
 namespace probefilter {
 
 namespace {
-
-// A library parameter's message with the command line's flag for it: "--repeat 0: must be ...".
-std::string withFlag(const probe::ParameterError& e) {
-    for (std::string_view flag :
-         {"method", "table", "samples", "fis-bias", "fis-map", "repeat", "device", "sampling", "format", "pyramid-format", "roughness"})
-        if (e.parameter == flag) return fmt::format("--{}", e.what());
-    return e.what();
-}
 
 // Every value an option or argument takes is given and UTF-8 (probe::commandLineValueProblem).
 void refuseBadValues(CLI::App& app) {
@@ -45,7 +36,7 @@ int runCommandLine(CLI::App& app, const char* tool, int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return refuse(e.what());
     } catch (const probe::ParameterError& e) {
-        return refuse(withFlag(e));
+        return refuse(probe::messageWithFlag(e));
     } catch (const probe::ProbeError& e) {
         return refuse(e.what());
     } catch (const std::exception& e) {

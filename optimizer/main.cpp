@@ -37,8 +37,8 @@ auto parseOption(std::string_view option, const std::string& value, Parse parse)
     try {
         return parse(value);
     } catch (const ParameterError& e) {
-        // "<parameter> <value>: <problem>" names the option already.
-        if ("--" + e.parameter == option) throw ProbeError(fmt::format("--{}", e.what()));
+        // "<flag> <value>: <problem>" names the option already.
+        if (parameterFlag(e.parameter) == option) throw ProbeError(messageWithFlag(e));
         throw ProbeError(fmt::format("{}: {}", option, e.what()));
     } catch (const ProbeError& e) {
         throw ProbeError(fmt::format("{}: {}", option, e.what()));
@@ -121,7 +121,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     try {
         settings.levelCount = chooseLevelCount(settings.baseSize, levels, settings.mapping);
     } catch (const ParameterError& e) {
-        throw ProbeError(fmt::format("--{}", e.what()));
+        throw ProbeError(messageWithFlag(e));
     } catch (const ProbeError& e) {
         throw ProbeError(fmt::format("--levels: {}", e.what()));
     }

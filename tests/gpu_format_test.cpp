@@ -168,7 +168,7 @@ TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
             gpu::Filter filter(shared, bad);
             ADD_FAILURE() << "pyramid format " << int(bad.pyramidFormat) << " accepted with " << gpu::samplingName(bad.sampling);
         } catch (const ParameterError& e) {
-            EXPECT_EQ(e.parameter, "pyramid-format");
+            EXPECT_EQ(e.parameter, "pyramidFormat");
         }
     }
     EXPECT_EQ(gpu::parsePyramidFormat("auto"), VK_FORMAT_UNDEFINED);
@@ -183,7 +183,7 @@ TEST_F(GpuTest, UnusableFormatsAreRefusedByName) {
         gpu::Filter filter(probetest::testDevice(), s);
         ADD_FAILURE() << "an RGBA8 output was accepted";
     } catch (const ParameterError& e) {
-        EXPECT_EQ(e.parameter, "format");
+        EXPECT_EQ(e.parameter, "outputFormat");
     }
     const gpu::Device& shared = probetest::testDevice();
     const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());

@@ -41,6 +41,16 @@ TEST(Roughness, CustomListHoldsItsValues) {
     EXPECT_NE(parseRoughnessList("0,0.5,1"), RoughnessMapping::gltf);
 }
 
+// The library names its own settings in its errors; the tools name them by their flags, through
+// the one table (parameter_flags checks that every name the library throws is placed in it).
+TEST(Roughness, ParameterErrorsAreNamedByTheirFlagOnTheCommandLine) {
+    EXPECT_EQ(messageWithFlag(ParameterError("roughness", "'a,b': expected numbers")), "--roughness 'a,b': expected numbers");
+    EXPECT_EQ(messageWithFlag(ParameterError("method.fis.bias", "9: must be a number")), "--fis-bias 9: must be a number");
+    EXPECT_EQ(messageWithFlag(ParameterError("outputFormat", "rgb8: expected")), "--format rgb8: expected");
+    EXPECT_EQ(messageWithFlag(ParameterError("pyramidDepth", "9: a 16^2 pyramid")), "pyramidDepth 9: a 16^2 pyramid");
+    EXPECT_EQ(parameterFlag("levels"), "");
+}
+
 TEST(Roughness, BadListsAreRefused) {
     for (const char* text : {"", ",", "0,,1", "0,0.5,", "a,b", "0;0.5", "0,0.5x", "nan", "0,inf", "1.5", "-0.1,0.5", "0,0.5,0.5", "0.6,0.5",
                              "0,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.85,0.9,0.95,1"}) {

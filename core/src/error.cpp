@@ -1,6 +1,7 @@
 #include "probe/error.h"
 
 #include <cstdio>
+#include <utility>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -19,6 +20,32 @@ std::string oneLine(std::string_view message) {
         else line += c;
     }
     return line;
+}
+
+std::string_view parameterFlag(std::string_view parameter) {
+    static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+        {"method.kind", "--method"},
+        {"method.table", "--table"},
+        {"method.fis.samples", "--samples"},
+        {"method.fis.bias", "--fis-bias"},
+        {"method.fis.map", "--fis-map"},
+        {"roughness", "--roughness"},
+        {"sampling", "--sampling"},
+        {"outputFormat", "--format"},
+        {"pyramidFormat", "--pyramid-format"},
+        {"repeat", "--repeat"},
+        {"device", "--device"},
+    };
+    for (const auto& [name, flag] : kFlags)
+        if (name == parameter) return flag;
+    return {};
+}
+
+std::string messageWithFlag(const ParameterError& e) {
+    const std::string_view flag = parameterFlag(e.parameter);
+    const std::string message = e.what();
+    if (flag.empty() || !message.starts_with(e.parameter)) return message;
+    return std::string(flag) + message.substr(e.parameter.size());
 }
 
 void printToStderr(std::string_view text) { std::fwrite(text.data(), 1, text.size(), stderr); }

@@ -22,14 +22,14 @@ std::string_view methodKindName(MethodKind kind) {
 MethodKind parseMethodKind(std::string_view name) {
     for (MethodKind kind : {MethodKind::table, MethodKind::fis, MethodKind::reference})
         if (methodKindName(kind) == name) return kind;
-    throw ParameterError("method", fmt::format("{}: expected table, fis or reference", name));
+    throw ParameterError("method.kind", fmt::format("{}: expected table, fis or reference", name));
 }
 
 void validateMethod(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping) {
     validateMappingLevels(mapping, levelCount);
     switch (method.kind) {
     case MethodKind::table: {
-        if (!method.table) throw ParameterError("table", "missing: the table method needs a tap table");
+        if (!method.table) throw ParameterError("method.table", "missing: the table method needs a tap table");
         const TapTable& table = *method.table;
         validateTable(table, "tap table");
         std::string reasons;
@@ -39,7 +39,7 @@ void validateMethod(const FilterMethod& method, int baseSize, int levelCount, co
         if (table.mapping != mapping)
             add(fmt::format("it is for the {} roughness mapping, not {}", describeRoughnessMapping(table.mapping),
                             describeRoughnessMapping(mapping)));
-        if (!reasons.empty()) throw ParameterError("table", fmt::format("does not fit: {}", reasons));
+        if (!reasons.empty()) throw ParameterError("method.table", fmt::format("does not fit: {}", reasons));
         break;
     }
     case MethodKind::fis: validateSampleCounts(method.fis, levelCount); break;

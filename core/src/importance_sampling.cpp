@@ -18,7 +18,7 @@ std::string_view fisMapName(FisMap map) { return map == FisMap::paraboloid ? "pa
 FisMap parseFisMap(std::string_view name) {
     for (FisMap map : {FisMap::cube, FisMap::paraboloid})
         if (fisMapName(map) == name) return map;
-    throw ParameterError("fis-map", fmt::format("{}: expected cube or paraboloid", name));
+    throw ParameterError("method.fis.map", fmt::format("{}: expected cube or paraboloid", name));
 }
 
 std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias) {
@@ -55,13 +55,15 @@ void importanceSampleTaps(const glm::dvec3& R, const std::vector<Tap>& samples, 
 
 void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount) {
     if (!settings.levelSamples.empty() && static_cast<int>(settings.levelSamples.size()) != levelCount)
-        throw ParameterError("samples",
+        throw ParameterError("method.fis.samples",
                              fmt::format("({} counts): one count, or one per output level ({})", settings.levelSamples.size(), levelCount));
     for (int m = 0; m < levelCount; ++m)
         if (settings.samplesAt(m) < 1 || settings.samplesAt(m) > kMaxSamples)
-            throw ParameterError("samples", fmt::format("{} at level {}: must be 1 to {}", settings.samplesAt(m), m, kMaxSamples));
+            throw ParameterError("method.fis.samples",
+                                 fmt::format("{} at level {}: must be 1 to {}", settings.samplesAt(m), m, kMaxSamples));
     if (!(std::abs(settings.bias) <= kMaxFisBias))
-        throw ParameterError("fis-bias", fmt::format("{}: must be a number from -{} to {}", settings.bias, kMaxFisBias, kMaxFisBias));
+        throw ParameterError("method.fis.bias",
+                             fmt::format("{}: must be a number from -{} to {}", settings.bias, kMaxFisBias, kMaxFisBias));
 }
 
 std::vector<int> mixedLevelSamples(int samples, int levelCount) {

@@ -109,9 +109,9 @@ VkFormat choosePyramidFormat(const Device& device, VkFormat requested) {
 // cannot write.
 bool checkOutputFormat(const Device& device, VkFormat format) {
     if (format != VK_FORMAT_R32G32B32A32_SFLOAT && format != VK_FORMAT_R16G16B16A16_SFLOAT && format != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
-        throw ParameterError("format", fmt::format("{}: the output cube is R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT or "
-                                                   "B10G11R11_UFLOAT_PACK32",
-                                                   int(format)));
+        throw ParameterError("outputFormat", fmt::format("{}: the output cube is R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT or "
+                                                         "B10G11R11_UFLOAT_PACK32",
+                                                         int(format)));
     if (has(device, format, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) return false;
     if (format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 && has(device, format, VK_FORMAT_FEATURE_TRANSFER_DST_BIT) &&
         has(device, VK_FORMAT_R32_UINT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT))
@@ -150,13 +150,13 @@ VkFormat parsePyramidFormat(std::string_view name) {
     if (name == "auto") return VK_FORMAT_UNDEFINED;
     for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT})
         if (formatName(f) == name) return f;
-    throw ParameterError("pyramid-format", fmt::format("{}: expected auto, rgba32f or rgba16f", name));
+    throw ParameterError("pyramidFormat", fmt::format("{}: expected auto, rgba32f or rgba16f", name));
 }
 
 VkFormat parseFormat(std::string_view name) {
     for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32})
         if (formatName(f) == name) return f;
-    throw ParameterError("format", fmt::format("{}: expected rgba16f, rgba32f or b10g11r11", name));
+    throw ParameterError("outputFormat", fmt::format("{}: expected rgba16f, rgba32f or b10g11r11", name));
 }
 
 namespace {
@@ -182,8 +182,8 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     shape.pyramidLevels = pyramidLevelCount(s.faceSize);
     shape.pyramidDepth = s.pyramidDepth < 0 ? shape.pyramidLevels - 1 : s.pyramidDepth;
     if (shape.pyramidDepth > shape.pyramidLevels - 1)
-        throw ParameterError("pyramid-depth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth,
-                                                          s.faceSize, shape.pyramidLevels - 1));
+        throw ParameterError("pyramidDepth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth, s.faceSize,
+                                                         shape.pyramidLevels - 1));
     for (int m = 0; m < s.levelCount; ++m) shape.levels.push_back(m);
     if (!s.levels.empty()) {
         for (std::size_t k = 0; k < s.levels.size(); ++k)
@@ -203,10 +203,10 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     shape.sampling = resolveSampling(d, s);
     if (s.pyramidFormat != VK_FORMAT_UNDEFINED) {
         if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT)
-            throw ParameterError("pyramid-format",
+            throw ParameterError("pyramidFormat",
                                  fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT", int(s.pyramidFormat)));
         if (shape.sampling == Sampling::exact)
-            throw ParameterError("pyramid-format",
+            throw ParameterError("pyramidFormat",
                                  fmt::format("{}: only hardware sampling's pyramid is an image; exact sampling's is a float32 "
                                              "buffer (choose hardware sampling)",
                                              formatName(s.pyramidFormat)));

@@ -19,6 +19,13 @@ struct ParameterError : ProbeError {
     std::string parameter;
 };
 
+// The command-line flag that sets a library parameter (ParameterError::parameter: the name of the
+// field in the library's settings, such as "method.fis.bias"), or empty where no flag does: the one
+// table between the library's names and the tools' flags.
+std::string_view parameterFlag(std::string_view parameter);
+// The error's message with its parameter named by that flag where it has one ("--fis-bias 9: ...").
+std::string messageWithFlag(const ParameterError& e);
+
 // `message` as one line: control characters (a newline in a file name or in a JSON key a message
 // quotes) written as escapes, so that a refusal stays the one line it promises.
 std::string oneLine(std::string_view message);

@@ -12,7 +12,7 @@
 namespace probe {
 
 enum class MethodKind { table, fis, reference };
-// "table", "fis" or "reference"; parsing throws ParameterError("method", ...) for anything else.
+// "table", "fis" or "reference"; parsing throws ParameterError("method.kind", ...) for anything else.
 std::string_view methodKindName(MethodKind kind);
 MethodKind parseMethodKind(std::string_view name);
 

@@ -15,7 +15,7 @@ namespace probe {
 // (Krivanek & Colbert as published; probe/paraboloid.h).
 enum class FisMap { cube, paraboloid };
 std::string_view fisMapName(FisMap map);   // "cube" or "paraboloid"
-FisMap parseFisMap(std::string_view name); // ParameterError("fis-map") for anything else
+FisMap parseFisMap(std::string_view name); // ParameterError("method.fis.map") for anything else
 
 struct ImportanceSamplingSettings {
     int samples = 32;

@@ -104,9 +104,9 @@ Sampling parseSampling(std::string_view name);    // ParameterError("sampling") 
 // The output cube's texel formats: RGBA16F (what engines use), RGBA32F, B10G11R11 (unsigned, 5-bit
 // exponents). Values are clamped to the format's largest finite value, so no texel is Inf.
 std::string_view formatName(VkFormat format); // "rgba16f", "rgba32f", "b10g11r11"
-VkFormat parseFormat(std::string_view name);  // ParameterError("format") for any other name
+VkFormat parseFormat(std::string_view name);  // ParameterError("outputFormat") for any other name
 // FilterSettings::pyramidFormat by name: "auto" (VK_FORMAT_UNDEFINED), "rgba32f" or "rgba16f";
-// ParameterError("pyramid-format") for any other name.
+// ParameterError("pyramidFormat") for any other name.
 VkFormat parsePyramidFormat(std::string_view name);
 
 struct FilterSettings {
