@@ -176,7 +176,7 @@ void runCompare(const CompareOptions& o) {
             fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
     json report = describeLevels(o.size, levelCount, mapping);
-    report["command"] = "compare";
+    report.update(reportHeader("compare"));
     report["input"] = o.input;
     report["input_pixels"] = pixels;
     report["device"] = describeDevice(device.info(), o.validate);

@@ -246,6 +246,7 @@ void summarizeAgain(const SweepOptions& o) {
     writeSweepMarkdown(output.file("sweep.md"), summary, rows,
                        fmt::format("{} ({}), {}", name, driver, samplingDescription(sampling, pyramidFormat)), size, levelCount);
     nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
+    report.update(reportHeader("sweep"));
     report["sampling"] = sampling;
     if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
     writeJson(output.file("report.json"), report);
@@ -353,6 +354,7 @@ void runSweep(const SweepOptions& o) {
                        fmt::format("{} ({}), {}", device.info().name, device.info().driver, samplingDescription(sampling, pyramidFormat)),
                        o.size, levelCount);
     nlohmann::json report = sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount);
+    report.update(reportHeader("sweep"));
     report["sampling"] = sampling;
     if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
     writeJson(output.file("report.json"), report);

@@ -10,6 +10,19 @@ namespace probefilter {
 
 namespace {
 
+std::string gInvocation;
+
+// `argument` as a POSIX shell reads it back: as it is where it holds only safe characters, else in
+// single quotes.
+std::string shellQuoted(std::string_view argument) {
+    const bool safe = !argument.empty() && argument.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                                      "0123456789_-+=./:,@%^") == std::string_view::npos;
+    if (safe) return std::string(argument);
+    std::string quoted = "'";
+    for (const char c : argument) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return quoted + "'";
+}
+
 // Every value an option or argument takes is given and UTF-8 (probe::commandLineValueProblem).
 void refuseBadValues(CLI::App& app) {
     const CLI::Validator check([](const std::string& value) { return probe::commandLineValueProblem(value); }, "", "VALUE");
@@ -20,7 +33,11 @@ void refuseBadValues(CLI::App& app) {
 
 } // namespace
 
+const std::string& invocation() { return gInvocation; }
+
 int runCommandLine(CLI::App& app, const char* tool, int argc, char** argv) {
+    gInvocation = tool;
+    for (int a = 1; a < argc; ++a) gInvocation += " " + shellQuoted(argv[a]);
     // The one line of a refusal; stderr that cannot be written is ignored (the exit code tells).
     auto refuse = [tool](const std::string& message) {
         probe::printToStderr(fmt::format("{}: error: {}\n", tool, probe::oneLine(message)));

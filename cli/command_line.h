@@ -10,4 +10,8 @@ namespace probefilter {
 // line "TOOL: error: ..." on stderr (a library parameter named by its flag) and 2.
 int runCommandLine(CLI::App& app, const char* tool, int argc, char** argv);
 
+// The command line runCommandLine was given, as a shell takes it back (arguments quoted where they
+// need it): what a report says wrote it.
+const std::string& invocation();
+
 } // namespace probefilter

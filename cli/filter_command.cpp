@@ -131,7 +131,7 @@ void runFilter(const FilterOptions& o) {
             fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
     nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
-    report["command"] = "filter";
+    report.update(reportHeader("filter"));
     report["input"] = o.input;
     report["input_pixels"] = pixels;
     report["method"] = std::string(probe::methodKindName(s.method.kind));

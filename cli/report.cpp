@@ -3,14 +3,26 @@
 #include <algorithm>
 #include <chrono>
 
+#include <ctime>
+
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 #include <unistd.h>
+
+#include "command_line.h"
 
 #include "probe/error.h"
 #include "probe/output_file.h"
 #include "probe/reference.h"
 
 namespace probefilter {
+
+nlohmann::json reportHeader(std::string_view command) {
+    return {{"command", command},
+            {"report_version", kReportVersion},
+            {"date", fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(std::time(nullptr)))},
+            {"command_line", invocation()}};
+}
 
 nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping) {
     nlohmann::json levels = nlohmann::json::array();

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,13 @@
 #include "probe/runtime.h"
 
 namespace probefilter {
+
+// The report format's version: a reader that meets a higher one was written for an older tool.
+inline constexpr int kReportVersion = 1;
+
+// What every report.json carries: the command, the format's version, when it was written (UTC, ISO
+// 8601) and the command line that wrote it.
+nlohmann::json reportHeader(std::string_view command);
 
 // The settings block every report starts with: input, face size, levels and their roughness.
 nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping);

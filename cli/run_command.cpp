@@ -129,7 +129,7 @@ public:
     }
 
     void finish() {
-        report_["command"] = "run";
+        report_.update(reportHeader("run"));
         report_["scene"] = options_.scene;
         report_["device"] = describeDevice(device_.info(), options_.validate);
         report_["probes"] = probes_;

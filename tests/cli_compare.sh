@@ -16,6 +16,8 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 python3 - cmp <<'PY' || fail "report or sheet"
 import json, struct, sys
 r = json.load(open(sys.argv[1] + "/report.json"))
+assert r["command"] == "compare" and r["report_version"] == 1 and r["date"], r["command"]
+assert r["command_line"].startswith("probebench compare sky.exr --size 16 --table "), r["command_line"]
 for method in ("table", "fis"):
     e = r[method]["image_l1_per_level"]
     assert len(e) == 4 and e[0] == 0 and all(0 < x < 1 for x in e[1:]), (method, e)

@@ -20,8 +20,11 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
     --against-reference --validate --out table >/dev/null 2>&1 || fail "table method"
 for m in 0 1 2 3; do [[ -f table/level_$m.exr ]] || fail "table: level_$m.exr missing"; done
 python3 - table/report.json <<'PY' || fail "table: report.json"
-import json, sys
+import json, re, sys
 r = json.load(open(sys.argv[1]))
+assert r["command"] == "filter" and r["report_version"] == 1, r["command"]
+assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", r["date"]), r["date"]
+assert r["command_line"].startswith("probefilter filter sky.exr --method table --table ") and "--level-times" in r["command_line"], r
 assert r["method"] == "table" and r["device"]["name"] and r["device"]["driver"], r["device"]
 assert [p["name"] for p in r["passes"]] == ["pyramid", "table", "total"], r["passes"]
 assert all(len(p["gpu_ms_runs"]) == 3 and p["gpu_ms_median"] > 0 for p in r["passes"]), r["passes"]
