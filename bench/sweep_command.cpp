@@ -216,13 +216,26 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
     return methods;
 }
 
-// Summarizes a finished sweep again (DIR/sweep.csv, and DIR/report.json for the device) into --out,
-// another folder: sweep.csv, sweep.md and report.json.
-// "hardware sampling, rgba32f pyramid" or "exact sampling", for the Markdown's device line.
-std::string samplingDescription(const std::string& sampling, const std::string& pyramidFormat) {
-    return pyramidFormat.empty() ? fmt::format("{} sampling", sampling) : fmt::format("{} sampling, {} pyramid", sampling, pyramidFormat);
+// The sweep's summary of `rows` into `output` (sweep.md, report.json), committed, and printed.
+// pyramidFormat: empty unless hardware sampling.
+void writeSummary(probe::StagedOutput& output, const std::vector<SweepRow>& rows, const std::string& name, const std::string& driver,
+                  const std::string& sampling, const std::string& pyramidFormat, int size, int levelCount) {
+    const SweepSummary summary = summarizeSweep(rows);
+    // "hardware sampling, rgba32f pyramid" or "exact sampling", for the Markdown's device line.
+    const std::string samplingText =
+        pyramidFormat.empty() ? fmt::format("{} sampling", sampling) : fmt::format("{} sampling, {} pyramid", sampling, pyramidFormat);
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {}", name, driver, samplingText), size, levelCount);
+    nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
+    report.update(reportHeader("sweep"));
+    report["sampling"] = sampling;
+    if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
+    writeJson(output.file("report.json"), report);
+    output.commit();
+    fmt::print("{}", formatSummary(summary));
 }
 
+// Summarizes a finished sweep again (DIR/sweep.csv, and DIR/report.json for the device) into --out,
+// another folder: sweep.csv, sweep.md and report.json.
 void summarizeAgain(const SweepOptions& o) {
     const std::filesystem::path dir = o.summarize;
     const std::vector<SweepRow> rows = readSweepCsv(dir / "sweep.csv");
@@ -242,16 +255,7 @@ void summarizeAgain(const SweepOptions& o) {
     }
     probe::StagedOutput output(o.out, {dir}, o.force);
     writeSweepCsv(output.file("sweep.csv"), rows);
-    const SweepSummary summary = summarizeSweep(rows);
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows,
-                       fmt::format("{} ({}), {}", name, driver, samplingDescription(sampling, pyramidFormat)), size, levelCount);
-    nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
-    report.update(reportHeader("sweep"));
-    report["sampling"] = sampling;
-    if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
-    writeJson(output.file("report.json"), report);
-    output.commit();
-    fmt::print("{}", formatSummary(summary));
+    writeSummary(output, rows, name, driver, sampling, pyramidFormat, size, levelCount);
 }
 
 void runSweep(const SweepOptions& o) {
@@ -345,21 +349,11 @@ void runSweep(const SweepOptions& o) {
             }
 
     writeSweepCsv(output.file("sweep.csv"), rows);
-    const SweepSummary summary = summarizeSweep(rows);
     const probe::gpu::Filter& first = *filters.front();
     const std::string sampling(probe::gpu::samplingName(first.sampling()));
     const std::string pyramidFormat(first.sampling() == probe::gpu::Sampling::hardware ? probe::gpu::formatName(first.pyramidFormat())
                                                                                        : "");
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows,
-                       fmt::format("{} ({}), {}", device.info().name, device.info().driver, samplingDescription(sampling, pyramidFormat)),
-                       o.size, levelCount);
-    nlohmann::json report = sweepSummaryJson(summary, device.info().name, device.info().driver, o.size, levelCount);
-    report.update(reportHeader("sweep"));
-    report["sampling"] = sampling;
-    if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
-    writeJson(output.file("report.json"), report);
-    output.commit();
-    fmt::print("{}", formatSummary(summary));
+    writeSummary(output, rows, device.info().name, device.info().driver, sampling, pyramidFormat, o.size, levelCount);
 }
 
 } // namespace
