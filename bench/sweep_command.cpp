@@ -19,7 +19,7 @@
 #include "bench_commands.h"
 #include "commands.h"
 #include "probe/error.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/impulse_error.h"
 #include "probe/input_file.h"
 #include "probe/json_input.h"
@@ -112,7 +112,7 @@ std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
     std::vector<NamedTable> tables;
     for (const auto& file : files) {
         probe::TapTable table = probe::readTable(file);
-        if (table.baseSize == o.size && table.levelCount == levelCount && table.mapping == probe::RoughnessMapping::gltf)
+        if (table.faceSize == o.size && table.levelCount == levelCount && table.mapping == probe::RoughnessMapping::gltf)
             tables.push_back({file.stem().string(), std::move(table)});
     }
     return tables;
@@ -178,7 +178,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
             for (double bias : o.biases)
                 for (int samples : mix ? o.fisMix : o.samples) {
                     Method m;
-                    probe::ImportanceSamplingSettings fis;
+                    probe::FisSettings fis;
                     fis.samples = samples;
                     fis.bias = bias;
                     fis.pyramid.kind = probe::parsePyramidKind(pyramid);
@@ -192,7 +192,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                     m.settings.method = {probe::MethodKind::fis, nullptr, fis};
                     m.settings.sampling = sampling;
                     m.settings.pyramidFormat = pyramidFormat;
-                    m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                    m.taps = probe::fisTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
                     setReads(m, o.size, levelCount, nullptr);
                     methods.push_back(std::move(m));
                 }
@@ -202,13 +202,13 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
         for (double bias : o.biases)
             for (int samples : o.samples) {
                 Method m;
-                probe::ImportanceSamplingSettings& fis = m.settings.method.fis;
+                probe::FisSettings& fis = m.settings.method.fis;
                 fis.samples = samples;
                 fis.bias = bias;
                 fis.map = probe::FisMap::paraboloid;
                 m.description = {fmt::format("fisparaboloid{}-bias{}", samples, bias), "fis-paraboloid", samples, bias, "paraboloid", ""};
                 m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling and --pyramid-format say
-                m.taps = probe::importanceSampleTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+                m.taps = probe::fisTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
                 setReads(m, o.size, levelCount, nullptr);
                 methods.push_back(std::move(m));
             }
@@ -302,7 +302,7 @@ void runSweep(const SweepOptions& o) {
         auto& ops = operators[pyramid.kind];
         if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
         std::vector<probe::ImpulseError> impulse;
-        const probe::ImportanceSamplingSettings& fis = method.settings.method.fis;
+        const probe::FisSettings& fis = method.settings.method.fis;
         std::optional<probe::ParaboloidImpulse> paraboloid;
         if (method.settings.method.kind == probe::MethodKind::fis && fis.map == probe::FisMap::paraboloid)
             paraboloid.emplace(o.size, levelCount, probe::RoughnessMapping::gltf, fis);

@@ -76,7 +76,7 @@ probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSett
 }
 
 nlohmann::json describeTable(const probe::TapTable& t) {
-    return {{"taps_per_frame", t.taps},    {"form", std::string(probe::tableFormName(t.form))},     {"base_size", t.baseSize},
+    return {{"taps_per_frame", t.taps},    {"form", std::string(probe::tableFormName(t.form))},     {"face_size", t.faceSize},
             {"level_count", t.levelCount}, {"mapping", probe::describeRoughnessMapping(t.mapping)}, {"solver", t.solver}};
 }
 
@@ -142,7 +142,7 @@ void runFilter(const FilterOptions& o) {
                              {"weighting", std::string(probe::pyramidWeightingName(pyramid.weighting))},
                              {"format", std::string(probe::gpu::formatName(filter.pyramidFormat()))}};
     if (s.method.kind == probe::MethodKind::fis) {
-        const probe::ImportanceSamplingSettings& fis = s.method.fis;
+        const probe::FisSettings& fis = s.method.fis;
         const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
         report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
     }

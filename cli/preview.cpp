@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 #include "probe/error.h"
 #include "probe/output_file.h"
 

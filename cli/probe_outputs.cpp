@@ -17,16 +17,16 @@ std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name) {
 nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
                               probe::RoughnessMapping mapping, probe::Ktx2PixelFormat format) {
     const int levelCount = static_cast<int>(levels.size());
-    int baseSize = 0;
+    int faceSize = 0;
     for (int m = levelCount; m-- > 0;)
-        if (levels[m].size) baseSize = levels[m].size << m;
+        if (levels[m].size) faceSize = levels[m].size << m;
     std::string roughness, computed;
     probe::CubeLevels filled = levels;
     bool partial = false;
     for (int m = 0; m < levelCount; ++m) {
         roughness += fmt::format("{}{:.6f}", m ? " " : "", probe::levelRoughness(mapping, m, levelCount));
         if (levels[m].size == 0) {
-            filled[m] = probe::CubeImage(baseSize >> m); // black: no material reads it
+            filled[m] = probe::CubeImage(faceSize >> m); // black: no material reads it
             partial = true;
         } else {
             computed += fmt::format("{}{}", computed.empty() ? "" : " ", m);

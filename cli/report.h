@@ -15,7 +15,7 @@
 namespace probefilter {
 
 // The report format's version: a reader that meets a higher one was written for an older tool.
-inline constexpr int kReportVersion = 1;
+inline constexpr int kReportVersion = 2;
 
 // What every report.json carries: the command, the format's version, when it was written (UTC, ISO
 // 8601) and the command line that wrote it.

@@ -65,7 +65,7 @@ public:
     // Every probe's filter settings checked against the device before any probe is read.
     void checkLimits(const probe::Plan& plan) const {
         for (std::size_t k = 0; k < scene_.probes.size(); ++k)
-            if (!plan.probes[k].levels.empty()) {
+            if (!plan.probes[k].computedLevels.empty()) {
                 probe::TapTable table;
                 probe::gpu::Filter::checkLimits(device_, filterSettings(scene_.probes[k], plan.probes[k], table));
             }
@@ -84,9 +84,9 @@ public:
                       {"mapping", probe::describeRoughnessMapping(p.mapping)},
                       {"method", std::string(probe::methodKindName(p.method.kind))},
                       {"input_pixels", reportPixelRepairs(p.image, repairs)}};
-        if (!plan.levels.empty()) filterLevels(p, plan, result, entry);
+        if (!plan.computedLevels.empty()) filterLevels(p, plan, result, entry);
         if (plan.irradiance) projectIrradiance(p, result, entry);
-        if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.levels.empty())
+        if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.computedLevels.empty())
             entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping,
                                            scene_.outputs.ktx2 == probe::Ktx2Format::rgba16f ? probe::Ktx2PixelFormat::rgba16f
                                                                                              : probe::Ktx2PixelFormat::rgba32f);
@@ -152,7 +152,7 @@ private:
         s.levelCount = p.levelCount;
         s.mapping = p.mapping;
         s.sampling = probe::gpu::parseSampling(options_.sampling);
-        s.levels = plan.levels;
+        s.computedLevels = plan.computedLevels;
         s.pyramidDepth = plan.pyramidLevels;
         if (p.method.kind == probe::MethodKind::table) {
             table = sceneProbeTable(scene_, p);
@@ -174,9 +174,9 @@ private:
             recordPass(probe::levelPass(p.name, d.level, p.method.kind), "gpu", describeDispatches({d}));
 
         json written = json::array();
-        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.levels' order
-        for (std::size_t k = 0; k < plan.levels.size(); ++k) {
-            const int m = plan.levels[k];
+        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.computedLevels' order
+        for (std::size_t k = 0; k < plan.computedLevels.size(); ++k) {
+            const int m = plan.computedLevels[k];
             json level = {{"level", m},
                           {"face_size", p.faceSize >> m},
                           {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
@@ -240,7 +240,7 @@ void runScene(const RunOptions& o) {
     SceneRun run(o, scene, output, device);
     run.checkLimits(plan);
     for (std::size_t k = 0; k < scene.probes.size(); ++k)
-        if (!plan.probes[k].levels.empty() || plan.probes[k].irradiance) run.runProbe(scene.probes[k], plan.probes[k]);
+        if (!plan.probes[k].computedLevels.empty() || plan.probes[k].irradiance) run.runProbe(scene.probes[k], plan.probes[k]);
     if (plan.dfgTable) run.makeDfgTable();
     if (scene.outputs.spheres) run.renderSpheres();
     const std::vector<std::string> messages = device.validationMessages();

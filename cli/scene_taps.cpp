@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/runtime.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
@@ -23,10 +23,10 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
                                             probe::mappingOptions(p.mapping)));
     }
     probe::TapTable table = probe::readTable(*p.table);
-    if (table.baseSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
+    if (table.faceSize != p.faceSize || table.levelCount != p.levelCount || table.mapping != p.mapping)
         throw probe::ProbeError(
             fmt::format("{}: table is for {}^2, {} levels, mapping {}, but probe '{}' of {} is {}^2, {} levels, mapping {}",
-                        p.table->string(), table.baseSize, table.levelCount, probe::describeRoughnessMapping(table.mapping), p.name,
+                        p.table->string(), table.faceSize, table.levelCount, probe::describeRoughnessMapping(table.mapping), p.name,
                         scene.path.string(), p.faceSize, p.levelCount, probe::describeRoughnessMapping(p.mapping)));
     return table;
 }
@@ -40,7 +40,7 @@ probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::Scene
             return generator(level, texel, taps);
         };
     }
-    case probe::MethodKind::fis: return probe::importanceSampleTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis);
+    case probe::MethodKind::fis: return probe::fisTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis);
     case probe::MethodKind::reference: break;
     }
     return {};

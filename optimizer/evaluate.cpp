@@ -14,7 +14,7 @@ namespace probefit {
 using namespace probe;
 
 std::vector<WeightedTexel> levelTexels(const TapTable& table, int level, TexelSet set) {
-    const int size = table.baseSize >> level;
+    const int size = table.faceSize >> level;
     return set == TexelSet::all ? allTexels(size) : stratifiedTexels(size, table.stratifiedBudget);
 }
 
@@ -78,8 +78,8 @@ std::vector<OutputTexel> measuredTexels(const CubeGeometry& geometry, int level,
 LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
     const double alpha = tableLevelAlpha(table, level);
     if (alpha <= 0.0) return {};
-    const ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
-    const CubeGeometry geometry(table.baseSize);
+    const ImpulseModel model(table.faceSize, table.pyramid, table.taps, table.form);
+    const CubeGeometry geometry(table.faceSize);
     return evaluatePrepared(model, levelBlocks(table, level).data(),
                             measuredTexels(geometry, level, alpha, levelTexels(table, level, set)));
 }

@@ -419,7 +419,7 @@ public:
     // texels began, which took kernelSeconds.
     void run(int previous, Clock::time_point levelStart, double kernelSeconds) {
         const std::vector<Start> starts = startsFrom(bestCandidate(previous));
-        pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.baseSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
+        pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.faceSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
                                             : std::vector<SeamPair>{};
         // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
         // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
@@ -639,7 +639,7 @@ bool copiesInitRecords(const FitSettings& settings, int m) {
         return false;
     // The exact measure of a level costs seconds at 512^2: a per-level job pays for its own level alone.
     const TapTable& init = settings.inits.front();
-    if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount || init.taps != settings.taps ||
+    if (init.faceSize != settings.faceSize || init.levelCount != settings.levelCount || init.taps != settings.taps ||
         init.form != settings.form || init.stratifiedBudget != settings.stratifiedBudget)
         return false;
     const TableLevel& level = init.levels[static_cast<std::size_t>(m)];
@@ -650,9 +650,9 @@ namespace {
 
 void checkFitSettings(const FitSettings& settings, const TapTable& table) {
     for (const TapTable& init : settings.inits) {
-        if (init.baseSize != settings.baseSize || init.levelCount != settings.levelCount)
-            throw ProbeError(fmt::format("--init: table is for base size {} with {} levels, not {} with {}", init.baseSize, init.levelCount,
-                                         settings.baseSize, settings.levelCount));
+        if (init.faceSize != settings.faceSize || init.levelCount != settings.levelCount)
+            throw ProbeError(fmt::format("--init: table is for face size {} with {} levels, not {} with {}", init.faceSize, init.levelCount,
+                                         settings.faceSize, settings.levelCount));
         if (init.taps != settings.taps && init.taps * 2 != settings.taps)
             throw ProbeError(
                 fmt::format("--init: table has {} taps per frame, expected {} or {}", init.taps, settings.taps, settings.taps / 2));
@@ -667,7 +667,7 @@ void checkFitSettings(const FitSettings& settings, const TapTable& table) {
     if (settings.fresh && settings.fitLevels.empty())
         throw ProbeError("--fresh: needs --fit-levels (the --init supplies the other levels)");
     if (const TapTable* r = settings.resume;
-        r && (r->baseSize != table.baseSize || r->levelCount != table.levelCount || r->taps != table.taps || r->form != table.form ||
+        r && (r->faceSize != table.faceSize || r->levelCount != table.levelCount || r->taps != table.taps || r->form != table.form ||
               r->mapping != table.mapping || !(r->pyramid == table.pyramid) || r->stratifiedBudget != table.stratifiedBudget ||
               r->solver != table.solver))
         throw ProbeError("--resume: the checkpoint was written by a fit of another shape or solver settings");
@@ -698,7 +698,7 @@ bool startsFromPreviousLevel(const FitSettings& settings, const TapTable& table,
 
 TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
                   const std::function<void(const TapTable&)>& levelDone) {
-    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    TapTable table = emptyTable(settings.faceSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
     // A partial refit names the levels it fitted and keeps the provenance of those it copied.
@@ -708,16 +708,16 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     table.seamWeight = settings.seamWeight;
     checkFitSettings(settings, table);
     const auto start = Clock::now();
-    const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
+    const ImpulseModel model(settings.faceSize, settings.pyramid, settings.taps, settings.form, settings.tailWeight);
     // The seam term's basis (half a GiB at 1024^2): only where the term is on.
-    const MomentBasis basis = settings.seamWeight > 0.0 ? MomentBasis(settings.baseSize, settings.pyramid) : MomentBasis();
+    const MomentBasis basis = settings.seamWeight > 0.0 ? MomentBasis(settings.faceSize, settings.pyramid) : MomentBasis();
     const std::optional<MomentBasis> checkers =
         settings.checkerWeight > 0.0
-            ? std::optional<MomentBasis>(std::in_place, settings.baseSize, settings.pyramid, MomentFunctions::checkers)
+            ? std::optional<MomentBasis>(std::in_place, settings.faceSize, settings.pyramid, MomentFunctions::checkers)
             : std::nullopt;
     // The base's geometry, for the exact measure of the stratified texels where the fit measures cells.
     const std::optional<CubeGeometry> geometry =
-        settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.baseSize) : std::nullopt;
+        settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.faceSize) : std::nullopt;
 
     // Progress, the finished levels (what levelDone sees: a level is there once it is finished) and
     // the chains' threads are shared by levels fitted at once.
@@ -761,9 +761,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     auto runLevel = [&](int m) {
         const double alpha = tableLevelAlpha(table, m);
         const auto kernelStart = Clock::now();
-        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
+        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.faceSize >> m, settings.stratifiedBudget);
         const std::vector<OutputTexel> texels =
-            prepareTexels(stratified, settings.baseSize, m, alpha, settings.tailWeight > 0.0, settings.measure);
+            prepareTexels(stratified, settings.faceSize, m, alpha, settings.tailWeight > 0.0, settings.measure);
         // What judges the level (its records, the kept --init): the exact L1, whatever the fit measures.
         const std::vector<OutputTexel> measured =
             settings.measure == Measure::cells ? measuredTexels(*geometry, m, alpha, stratified) : std::vector<OutputTexel>{};

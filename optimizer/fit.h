@@ -17,14 +17,14 @@ namespace probefit {
 enum class FitSolver { lmBfgs, bfgs, lm };
 
 struct FitSettings {
-    int baseSize = 0;
+    int faceSize = 0;
     int levelCount = 0;
     int taps = 0;
     probe::TableForm form = probe::TableForm::quadratic;
     probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
     probe::PyramidSettings pyramid;
     int stratifiedBudget = 512; // texels per level
-    // The fit's L1: over cells (lobe_cells.h: its cost does not grow with the base size) or over
+    // The fit's L1: over cells (lobe_cells.h: its cost does not grow with the face size) or over
     // every base texel. The table's records are exact either way.
     Measure measure = Measure::cells;
     FitSolver solver = FitSolver::lmBfgs;

@@ -29,8 +29,8 @@ constexpr std::size_t kTimedTexels = 12;
 
 FitEstimate estimateFit(const FitSettings& settings) {
     FitEstimate estimate;
-    TapTable table = emptyTable(settings.baseSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
-    const ImpulseModel model(settings.baseSize, settings.pyramid, settings.taps, settings.form);
+    TapTable table = emptyTable(settings.faceSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    const ImpulseModel model(settings.faceSize, settings.pyramid, settings.taps, settings.form);
     ImpulseModel::Workspace ws = model.workspace();
     const std::size_t parameters = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(parameters), weightGradient(parameters);
@@ -48,7 +48,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
     // The checker term's moments (and the reference's, once per texel) cost beside the L1.
     const std::optional<MomentBasis> checkers =
         settings.checkerWeight > 0.0
-            ? std::optional<MomentBasis>(std::in_place, settings.baseSize, settings.pyramid, MomentFunctions::checkers)
+            ? std::optional<MomentBasis>(std::in_place, settings.faceSize, settings.pyramid, MomentFunctions::checkers)
             : std::nullopt;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
@@ -57,15 +57,15 @@ FitEstimate estimateFit(const FitSettings& settings) {
             continue;
         }
         importanceLayout(table, m, alpha, 0.0); // reaches about as far as fitted taps
-        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.baseSize >> m, settings.stratifiedBudget);
+        const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.faceSize >> m, settings.stratifiedBudget);
         std::vector<WeightedTexel> timed;
         const std::size_t step = std::max<std::size_t>(1, stratified.size() / kTimedTexels);
         for (std::size_t n = 0; n < stratified.size(); n += step) timed.push_back(stratified[n]);
-        const CubeGeometry geometry(settings.baseSize);
+        const CubeGeometry geometry(settings.faceSize);
         const auto kernelStart = Clock::now();
         std::vector<OutputTexel> texels;
         for (const WeightedTexel& t : timed)
-            texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.baseSize, m, alpha)
+            texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.faceSize, m, alpha)
                                                                 : makeOutputTexel(t, geometry, m, alpha));
         // The reference's checker moments are computed once per texel, like its kernel.
         std::vector<std::array<double, kMomentCount>> checkerReference;
@@ -101,8 +101,8 @@ FitEstimate estimateFit(const FitSettings& settings) {
         if (settings.measure == Measure::cells) // the exact record of the stratified texels
             seconds += (normalization + perMeasured) * fitTexels;
         if (settings.measureAll) // a normalization per class of symmetric texels (evaluate.h), the model per texel
-            seconds += normalization * static_cast<double>(symmetryClassCount(settings.baseSize >> m)) +
-                       perMeasured * static_cast<double>(texelCount(settings.baseSize >> m));
+            seconds += normalization * static_cast<double>(symmetryClassCount(settings.faceSize >> m)) +
+                       perMeasured * static_cast<double>(texelCount(settings.faceSize >> m));
         estimate.levelSeconds.push_back(seconds / threads);
         estimate.seconds += seconds / threads;
     }

@@ -6,7 +6,7 @@
 
 #include <ceres/jet.h>
 
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 #include "probe/reference.h"
 #include "probe/sh.h"
 #include "probe/synthetic.h"
@@ -59,11 +59,11 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     return t;
 }
 
-OutputTexel makeCellTexel(const WeightedTexel& texel, int baseSize, int level, double alpha, bool tail) {
-    const int size = baseSize >> level;
+OutputTexel makeCellTexel(const WeightedTexel& texel, int faceSize, int level, double alpha, bool tail) {
+    const int size = faceSize >> level;
     OutputTexel t = placedTexel(texel, size);
     const glm::dvec3 R = glm::normalize(t.cubeVector);
-    LobeCells cells = lobeCells(R, baseSize, ggxLobe(R, alpha), tail ? tailRadius(size) : 0.0);
+    LobeCells cells = lobeCells(R, faceSize, ggxLobe(R, alpha), tail ? tailRadius(size) : 0.0);
     t.cells = std::move(cells.cells);
     t.cellTree = std::move(cells.tree);
     t.kernelTail = cells.kernelTail;
@@ -71,31 +71,31 @@ OutputTexel makeCellTexel(const WeightedTexel& texel, int baseSize, int level, d
     return t;
 }
 
-std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int baseSize, int level, double alpha, bool tail,
+std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int faceSize, int level, double alpha, bool tail,
                                        Measure measure) {
     std::vector<OutputTexel> out(texels.size());
     if (measure == Measure::cells) {
 #pragma omp parallel for schedule(dynamic, 4)
-        for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeCellTexel(texels[n], baseSize, level, alpha, tail);
+        for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeCellTexel(texels[n], faceSize, level, alpha, tail);
         return out;
     }
-    const CubeGeometry geometry(baseSize);
+    const CubeGeometry geometry(faceSize);
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, alpha, tail);
     return out;
 }
 
-ImpulseModel::ImpulseModel(int baseSize, PyramidSettings pyramid, int taps, TableForm form, double tailWeight)
-    : baseSize_(baseSize), pyramidLevels_(pyramidLevelCount(baseSize)), taps_(taps), form_(form), tailWeight_(tailWeight),
-      operators_(pyramidOperators(baseSize, pyramid)), dense_(operators_), spread_(responseSpread(baseSize, operators_)) {}
+ImpulseModel::ImpulseModel(int faceSize, PyramidSettings pyramid, int taps, TableForm form, double tailWeight)
+    : faceSize_(faceSize), pyramidLevels_(pyramidLevelCount(faceSize)), taps_(taps), form_(form), tailWeight_(tailWeight),
+      operators_(pyramidOperators(faceSize, pyramid)), dense_(operators_), spread_(responseSpread(faceSize, operators_)) {}
 
-std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vector<DownsampleOperator>& operators) {
-    const int levels = pyramidLevelCount(baseSize);
+std::vector<std::array<double, 9>> responseSpread(int faceSize, const std::vector<DownsampleOperator>& operators) {
+    const int levels = pyramidLevelCount(faceSize);
     std::vector<std::array<double, 9>> spread(static_cast<std::size_t>(levels), std::array<double, 9>{0, 0, 0, 0, 1, 0, 0, 0, 0});
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
-    for (int k = 1; k < levels && (baseSize >> k) >= 3; ++k) {
-        const int size = baseSize >> k, centre = size / 2, span = 1 << k;
-        for (int a = 0; a <= k; ++a) weights[static_cast<std::size_t>(a)].assign(texelCount(baseSize >> a), 0.0);
+    for (int k = 1; k < levels && (faceSize >> k) >= 3; ++k) {
+        const int size = faceSize >> k, centre = size / 2, span = 1 << k;
+        for (int a = 0; a <= k; ++a) weights[static_cast<std::size_t>(a)].assign(texelCount(faceSize >> a), 0.0);
         weights[static_cast<std::size_t>(k)][texelIndex({0, centre, centre}, size)] = 1.0;
         pushBackToBase(operators, weights, k);
         std::array<double, 9>& s = spread[static_cast<std::size_t>(k)];
@@ -103,7 +103,7 @@ std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vecto
         for (int y = (centre - 1) * span; y < (centre + 2) * span; ++y)
             for (int x = (centre - 1) * span; x < (centre + 2) * span; ++x)
                 s[static_cast<std::size_t>((y / span - centre + 1) * 3 + (x / span - centre + 1))] +=
-                    weights[0][texelIndex({0, x, y}, baseSize)];
+                    weights[0][texelIndex({0, x, y}, faceSize)];
     }
     return spread;
 }
@@ -111,9 +111,9 @@ std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vecto
 ImpulseModel::Workspace ImpulseModel::workspace() const {
     Workspace ws;
     for (int k = 0; k < pyramidLevels_; ++k) {
-        ws.weights.emplace_back(texelCount(baseSize_ >> k), 0.0);
-        ws.adjoint.emplace_back(texelCount(baseSize_ >> k), 0.0);
-        ws.stamp.emplace_back(texelCount(baseSize_ >> k), 0u);
+        ws.weights.emplace_back(texelCount(faceSize_ >> k), 0.0);
+        ws.adjoint.emplace_back(texelCount(faceSize_ >> k), 0.0);
+        ws.stamp.emplace_back(texelCount(faceSize_ >> k), 0u);
         ws.touched.emplace_back();
         ws.nodeTouched.emplace_back();
     }
@@ -140,7 +140,7 @@ struct L1Measure {
 // Every tap of the output texel (frames with weight > 0), with derivatives in its block's coefficients:
 // visit(block, weight, footprint).
 template <int K, typename Visit>
-void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps, int baseSize, int pyramidLevels, Visit&& visit) {
+void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps, int faceSize, int pyramidLevels, Visit&& visit) {
     constexpr int B = kTapParameterCount * K;
     using J = ceres::Jet<double, B>;
     for (int f = 0; f < kFrameCount; ++f) {
@@ -151,7 +151,7 @@ void forEachTap(const OutputTexel& texel, const double* const* blocks, int taps,
             std::array<J, B> coefficients;
             for (int q = 0; q < B; ++q) coefficients[q] = J(blocks[block][q], q);
             const TapSample<J> s = evaluateTap(frame, coefficients.data(), K);
-            visit(block, s.weight, trilinearFootprint(baseSize, pyramidLevels, s.direction, s.level));
+            visit(block, s.weight, trilinearFootprint(faceSize, pyramidLevels, s.direction, s.level));
         }
     }
 }
@@ -168,22 +168,22 @@ std::array<double, kMomentCount> checkerValues(const Texel& t, int size) {
 
 } // namespace
 
-MomentBasis::MomentBasis(int baseSize, PyramidSettings pyramid, MomentFunctions functions) {
-    const CubeGeometry geometry(baseSize);
-    const std::vector<DownsampleOperator> operators = pyramidOperators(baseSize, pyramid);
-    const int top = pyramidLevelCount(baseSize) - 1;
+MomentBasis::MomentBasis(int faceSize, PyramidSettings pyramid, MomentFunctions functions) {
+    const CubeGeometry geometry(faceSize);
+    const std::vector<DownsampleOperator> operators = pyramidOperators(faceSize, pyramid);
+    const int top = pyramidLevelCount(faceSize) - 1;
     std::vector<std::vector<double>> component(static_cast<std::size_t>(top) + 1);
     for (int k = 0; k <= top; ++k) {
-        component[k].assign(texelCount(baseSize >> k), 0.0);
+        component[k].assign(texelCount(faceSize >> k), 0.0);
         levels_.emplace_back(component[k].size() * kMomentCount);
     }
     for (int f = 0; f < kFaceCount; ++f)
-        for (int j = 0; j < baseSize; ++j)
-            for (int i = 0; i < baseSize; ++i) {
-                const std::size_t t = texelIndex({f, i, j}, baseSize);
+        for (int j = 0; j < faceSize; ++j)
+            for (int i = 0; i < faceSize; ++i) {
+                const std::size_t t = texelIndex({f, i, j}, faceSize);
                 const auto at = levels_[0].begin() + static_cast<std::ptrdiff_t>(t * kMomentCount);
                 if (functions == MomentFunctions::checkers) {
-                    const std::array<double, kMomentCount> y = checkerValues({f, i, j}, baseSize);
+                    const std::array<double, kMomentCount> y = checkerValues({f, i, j}, faceSize);
                     std::copy(y.begin(), y.end(), at);
                 } else {
                     const std::array<double, kShCount> y = shBasis(geometry.directions[t]);
@@ -257,7 +257,7 @@ void ImpulseModel::momentsWith(const double* const* blocks, const OutputTexel& t
         weightSum += weight.a;
         records.push_back(r);
     };
-    forEachTap<K>(texel, blocks, taps_, baseSize_, pyramidLevels_, visit);
+    forEachTap<K>(texel, blocks, taps_, faceSize_, pyramidLevels_, visit);
     if (moments) std::fill(moments, moments + kMomentCount, 0.0);
     if (gradient) std::fill(gradient, gradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
     if (weightSum == 0.0) return;
@@ -297,7 +297,7 @@ ImpulseModel::Result ImpulseModel::evaluateWith(const double* const* blocks, con
         records.push_back({block, weight, footprint});
     };
     if (texel.lobe && gradient) throw std::logic_error("ImpulseModel::evaluate: a measured texel has no gradient");
-    forEachTap<K>(texel, blocks, taps_, baseSize_, pyramidLevels_, visit);
+    forEachTap<K>(texel, blocks, taps_, faceSize_, pyramidLevels_, visit);
     if (gradient) std::fill(gradient, gradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
     if (weightSumGradient) {
         std::fill(weightSumGradient, weightSumGradient + static_cast<std::ptrdiff_t>(blockCount()) * B, 0.0);
@@ -428,7 +428,7 @@ std::int32_t ImpulseModel::routeOf(const OutputTexel& texel, int k, std::uint32_
     // sampler steps) as its response spreads over their base texels (spread_), where all of them lie
     // in cells of its level or coarser; else (finer cells near it, or a cube corner) it is pushed
     // down to the level below.
-    const int size = baseSize_ >> k, shift = log2Exact(size);
+    const int size = faceSize_ >> k, shift = log2Exact(size);
     const std::uint32_t mask = static_cast<std::uint32_t>(size) - 1u;
     // size is a power of two: shifts and masks, not divisions.
     const int face = static_cast<int>(p >> (2 * shift));

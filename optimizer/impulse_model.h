@@ -53,14 +53,14 @@ OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::Cube
                             bool tail = false);
 
 // The same texel with its reference over cells.
-OutputTexel makeCellTexel(const probe::WeightedTexel& texel, int baseSize, int level, double alpha, bool tail = false);
+OutputTexel makeCellTexel(const probe::WeightedTexel& texel, int faceSize, int level, double alpha, bool tail = false);
 
 // The same texel with the kernel as a lobe of known normalization (probe::ReferenceLobe), for measuring.
 OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
                               double normalization);
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
-std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int baseSize, int level, double alpha,
+std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int faceSize, int level, double alpha,
                                        bool tail = false, Measure measure = Measure::exact);
 
 // Functions of the base texels whose moments the fit's terms compare, pulled up the pyramid: since a
@@ -75,7 +75,7 @@ inline constexpr int kMomentCount = 8;
 enum class MomentFunctions { sh, checkers };
 class MomentBasis {
 public:
-    MomentBasis(int baseSize, probe::PyramidSettings pyramid, MomentFunctions functions = MomentFunctions::sh);
+    MomentBasis(int faceSize, probe::PyramidSettings pyramid, MomentFunctions functions = MomentFunctions::sh);
     MomentBasis() = default; // none: for a fit without the term that reads it
     const double* at(std::uint32_t texel) const { return at(0, texel); }
     const double* at(int level, std::uint32_t texel) const {
@@ -90,14 +90,14 @@ private:
 // it and its eight neighbours (row-major, the texel in the middle): its B-spline reaches past its
 // own square. Per level, measured at face 0's centre (the pyramid's weighting by solid angle makes it
 // vary a little over a face); level 0 and levels too small for it keep the texel's own square.
-std::vector<std::array<double, 9>> responseSpread(int baseSize, const std::vector<probe::DownsampleOperator>& operators);
+std::vector<std::array<double, 9>> responseSpread(int faceSize, const std::vector<probe::DownsampleOperator>& operators);
 
 class ImpulseModel {
 public:
     // With tailWeight T > 0, the gradients evaluate() gives are those of e + T |W - K| (the tail term:
     // the response's mass in the lobe's tail against the reference's), which keeps a fit from trading
     // the far tail away for the lobe's centre; the error it reports stays the L1.
-    ImpulseModel(int baseSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form, double tailWeight = 0.0);
+    ImpulseModel(int faceSize, probe::PyramidSettings pyramid, int taps, probe::TableForm form, double tailWeight = 0.0);
 
     int taps() const { return taps_; }
     int blockSize() const { return probe::kTapParameterCount * probe::coefficientCount(form_); }
@@ -163,7 +163,7 @@ private:
     void momentsWith(const double* const* blocks, const OutputTexel& texel, const MomentBasis& basis, double* moments, const double* c,
                      double* gradient) const;
 
-    int baseSize_;
+    int faceSize_;
     int pyramidLevels_;
     int taps_;
     probe::TableForm form_;

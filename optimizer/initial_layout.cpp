@@ -5,7 +5,7 @@
 #include <numbers>
 #include <random>
 
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 
 namespace probefit {
 
@@ -25,7 +25,7 @@ void setConstant(TapTable& table, int level, int frame, int tap, int parameter, 
 
 void lobeLayout(TapTable& table, int level, double alpha) {
     const double angle = lobeAngle(alpha);
-    const double texelAngle = 2.0 / table.baseSize; // at a face centre; the model adds the cube's distortion
+    const double texelAngle = 2.0 / table.faceSize; // at a face centre; the model adds the cube's distortion
     const int ring = table.taps - 1;
     const int inner = table.taps < 8 ? 0 : ring / 2, outer = ring - inner;
     for (int frame = 0; frame < kFrameCount; ++frame)
@@ -50,7 +50,7 @@ void lobeLayout(TapTable& table, int level, double alpha) {
 }
 
 void importanceLayout(TapTable& table, int level, double alpha, double rotation) {
-    const std::vector<Tap> samples = importanceSamples(alpha, table.baseSize, table.taps, 0.0);
+    const std::vector<Tap> samples = fisSamples(alpha, table.faceSize, table.taps, 0.0);
     const double c = std::cos(rotation), s = std::sin(rotation);
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int t = 0; t < table.taps; ++t) {
@@ -85,7 +85,7 @@ void warmStartFromLevel(TapTable& table, int level, int from) { startFromBank(ta
 void startFromBank(TapTable& table, int level, const TapTable& bank, int from) {
     const double a = lobeAngle(tableLevelAlpha(table, level)), b = lobeAngle(tableLevelAlpha(bank, from));
     const double widen = std::tan(a) / std::tan(b);
-    const double levelShift = std::log2(a / b) + std::log2(static_cast<double>(table.baseSize) / bank.baseSize);
+    const double levelShift = std::log2(a / b) + std::log2(static_cast<double>(table.faceSize) / bank.faceSize);
     const int k = coefficientCount(table.form), kBank = coefficientCount(bank.form);
     const std::vector<double> source = bank.levels[from].coefficients; // bank may be table itself
     for (int frame = 0; frame < kFrameCount; ++frame)
@@ -123,7 +123,7 @@ void startFromTable(TapTable& table, int level, const TapTable& init, double spr
             // the frame's x or y (alternating), relative to the length of the tap's direction vector.
             for (int q = 0; q < k; ++q) to[tapWeight * k + q] *= 0.5;
             const double length = std::hypot(to[tapDirX * k], to[tapDirY * k], to[tapDirZ * k]);
-            const double texelAngle = 2.0 / table.baseSize * std::exp2(std::clamp(to[tapLevel * k], 0.0, 12.0));
+            const double texelAngle = 2.0 / table.faceSize * std::exp2(std::clamp(to[tapLevel * k], 0.0, 12.0));
             to[(source % 2 == 0 ? tapDirX : tapDirY) * k] += (second ? -1.0 : 1.0) * spread * texelAngle * length;
         }
 }

@@ -13,7 +13,7 @@ double lobeAngle(double alpha);
 // levels whose texels match the spacing of the taps; quadratic terms 0.
 void lobeLayout(probe::TapTable& table, int level, double alpha);
 
-// The taps of filtered importance sampling (probe/importance_sampling.h) as a start that reaches
+// The taps of filtered importance sampling (probe/fis.h) as a start that reaches
 // the lobe's tail: tap i at the GGX quantile of Hammersley point i, at the pyramid level of its pdf
 // and weighted by n.l, so the first iterate is an importance sampler. The samples are turned about
 // the lobe axis by `rotation` radians; every frame gets the same taps; quadratic terms 0. Samples
@@ -30,12 +30,12 @@ void hopLayout(probe::TapTable& table, int level, double alpha, unsigned seed);
 // ratio of the two lobes.
 void warmStartFromLevel(probe::TapTable& table, int level, int from);
 
-// Level `level` from level `from` of another table (any base size, level count or mapping; the same
+// Level `level` from level `from` of another table (any face size, level count or mapping; the same
 // taps, either form): directions widened and levels moved by the ratio of the two lobes, and levels
-// moved by the ratio of the base sizes, so that the taps cover the same angles.
+// moved by the ratio of the face sizes, so that the taps cover the same angles.
 void startFromBank(probe::TapTable& table, int level, const probe::TapTable& bank, int from);
 
-// Level `level` from the same level of `init` (same base size; N or N/2 taps; either form). With
+// Level `level` from the same level of `init` (same face size; N or N/2 taps; either form). With
 // N/2 taps each tap is split into two. spread 0: at the same place with weights 0.6 and 0.4 of its
 // own, so the start filters exactly as `init` does. spread > 0: half the weight each, moved apart by
 // +-spread texels of the tap's pyramid level, so that a converged init does not hold the fit at its

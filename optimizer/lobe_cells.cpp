@@ -19,13 +19,13 @@ double angleBetween(const glm::dvec3& a, const glm::dvec3& b) { return std::atan
 
 class CellBuilder {
 public:
-    CellBuilder(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius)
-        : R_(R), baseSize_(baseSize), density_(density), tailRadius_(tailRadius) {}
+    CellBuilder(const glm::dvec3& R, int faceSize, const LobeDensity& density, double tailRadius)
+        : R_(R), faceSize_(faceSize), density_(density), tailRadius_(tailRadius) {}
 
     // The cells under texel (face, i, j) of pyramid level `level`, whose tree node is `node`; `mass` > 0
     // turns the variation test on.
     void split(int level, int face, int i, int j, double mass, std::size_t node, LobeCells& out) const {
-        const int size = baseSize_ >> level;
+        const int size = faceSize_ >> level;
         const glm::dvec3 centre = texelDirection({face, i, j}, size);
         const double theta = angleBetween(R_, centre);
         double radius = 0.0, lowest = density_(centre), highest = lowest;
@@ -61,7 +61,7 @@ private:
     // The density times the exact solid angle, summed over the cell's base texels or, for larger
     // cells, over its 4x4 sub-texels.
     double cellMass(int level, int face, int i, int j) const {
-        const int sub = std::max(0, level - 2), size = baseSize_ >> sub, span = 1 << (level - sub);
+        const int sub = std::max(0, level - 2), size = faceSize_ >> sub, span = 1 << (level - sub);
         double sum = 0.0;
         for (int y = j * span; y < (j + 1) * span; ++y)
             for (int x = i * span; x < (i + 1) * span; ++x)
@@ -70,16 +70,16 @@ private:
     }
 
     glm::dvec3 R_;
-    int baseSize_;
+    int faceSize_;
     const LobeDensity& density_;
     double tailRadius_;
 };
 
 } // namespace
 
-LobeCells lobeCells(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius) {
-    const CellBuilder builder(R, baseSize, density, tailRadius);
-    const int top = pyramidLevelCount(baseSize) - 1;
+LobeCells lobeCells(const glm::dvec3& R, int faceSize, const LobeDensity& density, double tailRadius) {
+    const CellBuilder builder(R, faceSize, density, tailRadius);
+    const int top = pyramidLevelCount(faceSize) - 1;
     // First by distance alone, for the lobe's whole mass; then again with the variation test.
     LobeCells result;
     for (int pass = 0; pass < 2; ++pass) {

@@ -3,8 +3,8 @@
 // read fine pyramid levels, and ever larger squares of them (texels of coarser pyramid levels)
 // further away, where the lobe and the response are smooth. The response's mass in a cell is the
 // weight its taps put there, pushed down the pyramid only as far as the cell's level; so the cost
-// of a texel grows with the number of cells (about the logarithm of the base size), not with the
-// base size. `probefit eval` (every base texel) stays the judge; the test
+// of a texel grows with the number of cells (about the logarithm of the face size), not with the
+// face size. `probefit eval` (every base texel) stays the judge; the test
 // `LobeCells.FastObjectiveIsCloseToTheExactL1` bounds the difference.
 #pragma once
 
@@ -16,7 +16,7 @@
 
 namespace probefit {
 
-// A cell is one texel of pyramid level `level` (face size baseSize >> level): the base texels it
+// A cell is one texel of pyramid level `level` (face size faceSize >> level): the base texels it
 // covers. kernel: the reference's normalized mass there; tail: whether it lies beyond the tail
 // radius (tail_check.h).
 struct LobeCell {
@@ -64,7 +64,7 @@ struct CellTree {
 // the cells its response spreads over, or the texels of the level below that it is pushed down to.
 // That depends on the cells alone, not on the taps, so it is kept from one evaluation to the next
 // (the taps move little between them) and grows as they reach new texels; and it is small, so the
-// pass runs in the core's own cache whatever the base size.
+// pass runs in the core's own cache whatever the face size.
 struct CellRoutes {
     struct Node {
         std::uint32_t key = 0;   // key(level, index)
@@ -93,11 +93,11 @@ struct LobeCells {
     double kernelTail = 0.0; // the reference's mass in the tail cells
 };
 
-// The cells of output direction R (unit) over a base of `baseSize`; tailRadius in radians (<= 0: no
+// The cells of output direction R (unit) over a base of `faceSize`; tailRadius in radians (<= 0: no
 // tail). The kernel of a cell is the density summed over its base texels (cells of up to 4x4 base
 // texels) or over its 4x4 sub-texels (larger cells, where the lobe is smooth), times their exact
 // solid angles, normalized to sum 1 over all cells.
-LobeCells lobeCells(const glm::dvec3& R, int baseSize, const LobeDensity& density, double tailRadius);
+LobeCells lobeCells(const glm::dvec3& R, int faceSize, const LobeDensity& density, double tailRadius);
 
 // The GGX reference lobe of probe/reference.h at roughness alpha.
 LobeDensity ggxLobe(const glm::dvec3& R, double alpha);

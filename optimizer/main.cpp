@@ -115,11 +115,11 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     settings.solver = parseOption("--solver", solver, probefit::parseFitSolver);
     settings.pyramid = {parseOption("--pyramid", pyramid, parsePyramidKind),
                         parseOption("--pyramid-weighting", weighting, parsePyramidWeighting)};
-    if (log2Exact(settings.baseSize) < 1 || settings.baseSize > kMaxFitFaceSize)
-        throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.baseSize, kMaxFitFaceSize));
+    if (log2Exact(settings.faceSize) < 1 || settings.faceSize > kMaxFitFaceSize)
+        throw ProbeError(fmt::format("--size: face size {} is not a power of two from 2 to {}", settings.faceSize, kMaxFitFaceSize));
     // The level count: --levels, else one per --roughness value, else the size's default (core's rule).
     try {
-        settings.levelCount = chooseLevelCount(settings.baseSize, levels, settings.mapping);
+        settings.levelCount = chooseLevelCount(settings.faceSize, levels, settings.mapping);
     } catch (const ParameterError& e) {
         throw ProbeError(messageWithFlag(e));
     } catch (const ProbeError& e) {
@@ -142,11 +142,11 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     checkCount("--texels", settings.stratifiedBudget, 24, kMaxTexelBudget);
     for (const std::string& path : init) {
         const TapTable& t = settings.inits.emplace_back(readTable(path));
-        if (t.baseSize != settings.baseSize || t.levelCount != settings.levelCount ||
+        if (t.faceSize != settings.faceSize || t.levelCount != settings.levelCount ||
             (t.taps != settings.taps && 2 * t.taps != settings.taps))
             throw ProbeError(fmt::format("--init {}: table is for size {}, {} levels, {} taps; this fit is size {}, {} "
                                          "levels, {} taps (the init needs the same size and levels, and N or N/2 taps)",
-                                         path, t.baseSize, t.levelCount, t.taps, settings.baseSize, settings.levelCount, settings.taps));
+                                         path, t.faceSize, t.levelCount, t.taps, settings.faceSize, settings.levelCount, settings.taps));
     }
     settings.bank = readBank(bank, settings);
     // After each level the table so far goes to PREFIX.resume.json, which --resume continues from.
@@ -166,7 +166,7 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 
     fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
-               settings.baseSize, settings.levelCount, settings.taps, form, describeRoughnessMapping(settings.mapping), pyramid, weighting,
+               settings.faceSize, settings.levelCount, settings.taps, form, describeRoughnessMapping(settings.mapping), pyramid, weighting,
                settings.stratifiedBudget, solver);
     const probefit::FitEstimate estimate = probefit::estimateFit(settings);
     std::string perLevel;
@@ -255,9 +255,9 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
             if (tolerance >= 0.0 && difference > tolerance) mismatch = true;
         }
         if (cells) {
-            const probefit::ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
+            const probefit::ImpulseModel model(table.faceSize, table.pyramid, table.taps, table.form);
             const std::vector<probefit::OutputTexel> prepared = probefit::prepareTexels(
-                probefit::levelTexels(table, m, set), table.baseSize, m, tableLevelAlpha(table, m), false, probefit::Measure::cells);
+                probefit::levelTexels(table, m, set), table.faceSize, m, tableLevelAlpha(table, m), false, probefit::Measure::cells);
             const double fast = probefit::evaluatePrepared(model, probefit::levelBlocks(table, m).data(), prepared).error.mean;
             std::size_t cellCount = 0;
             for (const probefit::OutputTexel& texel : prepared) cellCount += texel.cells.size();
@@ -344,7 +344,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> init;
     CLI::App* fit = app.add_subcommand("fit", "fit a tap table: per level, the coefficients whose impulse response is nearest "
                                               "the GGX lobe (writes PREFIX.json, PREFIX.h, PREFIX.glsl)");
-    fit->add_option("--size", settings.baseSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
+    fit->add_option("--size", settings.faceSize, fmt::format("base face size S_0 (a power of two from 2 to {})", kMaxFitFaceSize));
     CLI::Option* levelsOption =
         fit->add_option("--levels", levels, "output levels M (default: one per --roughness value, else max(1, log2 S_0))");
     fit->add_option("--taps", settings.taps, fmt::format("taps per frame N (a multiple of 4 from 4 to {})", kMaxTaps));
@@ -474,7 +474,7 @@ int main(int argc, char** argv) {
             probefit::writeTableOutputs(exportOut, t);
             return 0;
         }
-        for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.baseSize == 0},
+        for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.faceSize == 0},
                                             {"--taps", settings.taps == 0},
                                             {"--form", form.empty()},
                                             {"--out", out.empty() && !estimateOnly}})

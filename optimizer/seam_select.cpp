@@ -21,7 +21,7 @@ void checkSameShape(const std::vector<SeamCandidate>& candidates) {
     const TapTable& first = candidates.front().table;
     for (const SeamCandidate& c : candidates) {
         const TapTable& t = c.table;
-        if (t.baseSize != first.baseSize || t.levelCount != first.levelCount || t.taps != first.taps || t.form != first.form ||
+        if (t.faceSize != first.faceSize || t.levelCount != first.levelCount || t.taps != first.taps || t.form != first.form ||
             t.mapping != first.mapping || t.pyramid.kind != first.pyramid.kind || t.pyramid.weighting != first.pyramid.weighting)
             throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping and pyramid must agree)", c.name,
                                          candidates.front().name));
@@ -45,8 +45,8 @@ std::vector<bool> tailReached(const TapTable& table) {
 SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates, SelectOrder order) {
     checkSameShape(candidates);
     const TapTable& shape = candidates.front().table;
-    const CubeImage sky = skyProbe(shape.baseSize);
-    const std::vector<double> bounds = seamBounds(skyReference(shape.baseSize, shape.levelCount, shape.mapping), seamBoundCap());
+    const CubeImage sky = skyProbe(shape.faceSize);
+    const std::vector<double> bounds = seamBounds(skyReference(shape.faceSize, shape.levelCount, shape.mapping), seamBoundCap());
     std::vector<CubeLevels> filtered;
     std::vector<std::vector<bool>> tails;
     for (const SeamCandidate& c : candidates) {

@@ -10,8 +10,8 @@ namespace probefit {
 
 using namespace probe;
 
-std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, int budget, const MomentBasis& basis) {
-    const int size = baseSize >> level;
+std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, double alpha, int budget, const MomentBasis& basis) {
+    const int size = faceSize >> level;
     // Every unordered pair of edge neighbours once: from the texel with the lower index.
     std::vector<std::pair<Texel, Texel>> edgePairs;
     for (int f = 0; f < kFaceCount; ++f)
@@ -25,7 +25,7 @@ std::vector<SeamPair> prepareSeamPairs(int baseSize, int level, double alpha, in
                 }
     const std::size_t count = std::min(edgePairs.size(), static_cast<std::size_t>(std::max(budget, 0)));
     std::vector<SeamPair> pairs(count);
-    const CubeGeometry geometry(baseSize);
+    const CubeGeometry geometry(faceSize);
 #pragma omp parallel for schedule(dynamic, 2)
     for (std::size_t n = 0; n < count; ++n) {
         const auto& [a, b] = edgePairs[n * edgePairs.size() / count];

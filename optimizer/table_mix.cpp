@@ -23,7 +23,7 @@ void checkMixable(const std::vector<MixSource>& perLevel) {
                                      first.table.levelCount, first.name, first.table.levelCount));
     for (const MixSource& s : perLevel) {
         const TapTable& t = s.table;
-        if (t.baseSize != first.table.baseSize || t.levelCount != first.table.levelCount || t.form != first.table.form ||
+        if (t.faceSize != first.table.faceSize || t.levelCount != first.table.levelCount || t.form != first.table.form ||
             t.mapping != first.table.mapping || !(t.pyramid == first.table.pyramid))
             throw ProbeError(
                 fmt::format("{}: not the shape of {} (size, levels, form, mapping and pyramid must agree)", s.name, first.name));
@@ -56,7 +56,7 @@ TapTable mixTables(const std::vector<MixSource>& perLevel) {
     int taps = 0;
     for (const MixSource& s : perLevel) taps = std::max(taps, s.table.taps);
     const TapTable& first = perLevel.front().table;
-    TapTable mixed = emptyTable(first.baseSize, first.levelCount, taps, first.form, first.mapping, first.pyramid);
+    TapTable mixed = emptyTable(first.faceSize, first.levelCount, taps, first.form, first.mapping, first.pyramid);
     mixed.stratifiedBudget = first.stratifiedBudget;
     mixed.seamWeight = first.seamWeight;
     std::set<std::string> counted;

@@ -13,13 +13,13 @@ namespace probefit {
 using namespace probe;
 
 std::vector<TailLevel> checkTail(const TapTable& table) {
-    const CubeGeometry geometry(table.baseSize);
-    const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
+    const CubeGeometry geometry(table.faceSize);
+    const std::vector<DownsampleOperator> operators = pyramidOperators(table.faceSize, table.pyramid);
     std::vector<TailLevel> levels;
     for (int m = 0; m < table.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         if (alpha <= 0.0) continue;
-        const int size = table.baseSize >> m;
+        const int size = table.faceSize >> m;
         TailLevel level{m, tailRadius(size), {}};
         const double cosRadius = std::cos(level.radius);
         for (const auto& [where, i, j] : {std::tuple{"face centre", size / 2, size / 2}, {"edge", 0, size / 2}, {"corner", 0, 0}}) {

@@ -273,7 +273,7 @@ def main():
                     control_levels[name] = tool_levels
                 if tool == table_tool:
                     table = json.loads((dest / "report.json").read_text())["table"]
-                    if (table["mapping"], table["base_size"], table["level_count"]) != ("filament", size, levels):
+                    if (table["mapping"], table["face_size"], table["level_count"]) != ("filament", size, levels):
                         sys.exit(f"bench-cmgen: {a.table} is not a filament table of {size}^2 with {levels} levels: {table}")
             errors[tool].append([image_l1(tool_levels[m], references[name][m]) for m in range(1, levels)])
         print(f"bench-cmgen: {name}: " + ", ".join(f"{t} {np.mean(e[-1]):.4f}" for t, e in errors.items()), file=sys.stderr)

@@ -36,17 +36,17 @@ vec4 tableEntry(uint index) { return texelFetch(tableTexels, int(index)); }
 #endif
 vec3 pyramidTexel(uint index) { return texelFetch(pyramidTexels, int(index)).rgb; }
 
-// Index of the first texel of `level` in a packed cube whose level 0 has face size `baseSize` (a
+// Index of the first texel of `level` in a packed cube whose level 0 has face size `faceSize` (a
 // power of two): 6 sum_{k < level} (S >> k)^2 = 8 (S^2 - (S >> level)^2).
-uint levelOffset(int baseSize, int level) {
-    uint s0 = uint(baseSize), s = uint(baseSize >> level);
+uint levelOffset(int faceSize, int level) {
+    uint s0 = uint(faceSize), s = uint(faceSize >> level);
     return 8u * (s0 * s0 - s * s);
 }
 
 // Index of the first texel of pyramid `level`, each face (S + 2)^2 with its border:
 // 6 sum_{k < level} (S_k + 2)^2 = 8 (S_0^2 - S^2) + 48 (S_0 - S) + 24 level.
-uint pyramidLevelOffset(int baseSize, int level) {
-    uint s0 = uint(baseSize), s = uint(baseSize >> level);
+uint pyramidLevelOffset(int faceSize, int level) {
+    uint s0 = uint(faceSize), s = uint(faceSize >> level);
     return 8u * (s0 * s0 - s * s) + 48u * (s0 - s) + 24u * uint(level);
 }
 

@@ -8,7 +8,7 @@
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
-    int baseSize;    // S_0
+    int faceSize;    // S_0
     int level;       // the output level of this dispatch
     uint firstTexel; // the packed output texels [firstTexel, endTexel) of the level
     uint endTexel;
@@ -17,5 +17,5 @@ layout(push_constant) uniform Params {
 void main() {
     uint index = params.firstTexel + invocationIndex();
     if (index >= params.endTexel) return;
-    storeOutput(texelCoordinates(index - params.firstTexel, params.baseSize >> params.level), sourceTexel(geometry[index].xyz));
+    storeOutput(texelCoordinates(index - params.firstTexel, params.faceSize >> params.level), sourceTexel(geometry[index].xyz));
 }

@@ -4,17 +4,17 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "paraboloid.glsl"
-#include "sampling.glsl"
+#include "footprint.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
-    int baseSize; // S_0
+    int faceSize; // S_0
     int level;    // the map level written
 } params;
 
 void main() {
-    int size = paraboloidSize(params.baseSize) >> params.level;
+    int size = paraboloidSize(params.faceSize) >> params.level;
     uint index = invocationIndex();
     if (index >= uint(2 * size * size)) return;
     int image = int(index) / (size * size), j = int(index) / size % size, i = int(index) % size;
@@ -23,13 +23,13 @@ void main() {
         int face;
         vec2 uv;
         directionToFaceUv(paraboloidDirection(image, float(i) + 0.5, float(j) + 0.5, size), face, uv);
-        float half0 = 0.5 * float(params.baseSize);
-        value = sampleBilinear(params.baseSize, 0, face, (uv.x + 1.0) * half0, (uv.y + 1.0) * half0);
+        float half0 = 0.5 * float(params.faceSize);
+        value = sampleBilinear(params.faceSize, 0, face, (uv.x + 1.0) * half0, (uv.y + 1.0) * half0);
     } else {
         int fine = 2 * size;
-        uint f = paraboloidLevelOffset(params.baseSize, params.level - 1) + uint(image * fine * fine + 2 * j * fine + 2 * i);
+        uint f = paraboloidLevelOffset(params.faceSize, params.level - 1) + uint(image * fine * fine + 2 * j * fine + 2 * i);
         value = 0.25 * (outputTexels[f].rgb + outputTexels[f + 1u].rgb + outputTexels[f + uint(fine)].rgb +
                         outputTexels[f + uint(fine) + 1u].rgb);
     }
-    outputTexels[paraboloidLevelOffset(params.baseSize, params.level) + index] = vec4(value, 1.0);
+    outputTexels[paraboloidLevelOffset(params.faceSize, params.level) + index] = vec4(value, 1.0);
 }

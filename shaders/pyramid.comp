@@ -10,7 +10,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "probe/shared_constants.h"
 #include "images.glsl"
-#include "sampling.glsl"
+#include "footprint.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
@@ -19,14 +19,14 @@ layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
 
 layout(push_constant) uniform Params {
-    int baseSize; // S_0
+    int faceSize; // S_0
     int level;    // the level written: 0 (the source) to log2(S_0)
 } params;
 
-vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.baseSize, params.level - 1, face, x, y); }
+vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.faceSize, params.level - 1, face, x, y); }
 #include "pyramid_bspline.glsl"
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
-    return pyramidTexel(pyramidLevelOffset(params.baseSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
+    return pyramidTexel(pyramidLevelOffset(params.faceSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
 }
 #include "pyramid_box.glsl"
 
@@ -34,11 +34,11 @@ vec3 probeFineTexel(int face, int i, int j, int fineSize) {
 vec3 levelTexel(ivec3 t, int size) {
     if (params.level == 0) return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
     if (kBoxKind == 0) return pyramidBspline(t.x, t.y, t.z, 2 * size, kInverseSolidAngle != 0);
-    return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
+    return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.faceSize, params.level - 1), kInverseSolidAngle != 0);
 }
 
 void main() {
-    int size = params.baseSize >> params.level;
+    int size = params.faceSize >> params.level;
     int row = size + 2;
     // Every texel of each face and its border.
     int perFace = row * row;
@@ -53,5 +53,5 @@ void main() {
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     bool edge = insideI != insideJ;
     vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
-    pyramid[pyramidLevelOffset(params.baseSize, params.level) + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
+    pyramid[pyramidLevelOffset(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
 }

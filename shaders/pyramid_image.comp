@@ -17,7 +17,7 @@ layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
 
 layout(push_constant) uniform Params {
-    int baseSize; // S_0
+    int faceSize; // S_0
     int level;    // the mip written: 0 (the source) to log2(S_0)
 } params;
 
@@ -33,13 +33,13 @@ vec3 probeFineTexel(int face, int i, int j, int fineSize) { return fine(face, te
 #include "pyramid_box.glsl"
 
 void main() {
-    int size = params.baseSize >> params.level;
+    int size = params.faceSize >> params.level;
     uint index = invocationIndex();
     if (index >= 6u * uint(size * size)) return;
     ivec3 t = texelCoordinates(index, size); // (i, j, face)
     vec3 value;
     if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
     else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
-    else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.baseSize, params.level - 1), kInverseSolidAngle != 0);
+    else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, params.level - 1), kInverseSolidAngle != 0);
     imageStore(pyramidMips[0], t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
 }

@@ -3,14 +3,14 @@
 // mip would pay a barrier each for a few hundred texels or fewer. The first mip reads the one above
 // through the sampler, as pyramid_image.comp does; each later one reads the mip before from shared
 // memory, which keeps it with a one-texel border per face as the exact path's buffer does
-// (pyramid.comp, pyramid_corners.comp) and reads it with that path's arithmetic (sampling.glsl).
+// (pyramid.comp, pyramid_corners.comp) and reads it with that path's arithmetic (footprint.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 #include "cube.glsl"
 #include "images.glsl"
 #include "probe/shared_constants.h"
-#include "sampling.glsl"
+#include "footprint.glsl"
 
 #if PROBE_PYRAMID_TAIL_SIZE != 8
 #error "pyramidMips (images.glsl) and storeTailMip hold the four mips from 8x8 down"
@@ -23,7 +23,7 @@ layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the sol
 layout(local_size_x_id = 2, local_size_x = 256) in;
 
 layout(push_constant) uniform Params {
-    int baseSize;  // S_0
+    int faceSize;  // S_0
     int level;     // the first mip written (face size PROBE_PYRAMID_TAIL_SIZE or less), from mip level - 1
     int lastLevel; // the last mip written
 } params;
@@ -68,14 +68,14 @@ void storeTailMip(int k, ivec3 texel, vec3 value) {
 void main() {
     uint lane = gl_LocalInvocationIndex, lanes = gl_WorkGroupSize.x;
     for (int level = params.level; level <= params.lastLevel; ++level) {
-        int size = params.baseSize >> level;
+        int size = params.faceSize >> level;
         uint first = ((level - params.level) & 1) == 0 ? 0u : uint(kFirstTexels);
         // The faces: stored to the mip and kept.
         for (uint index = lane; index < 6u * uint(size * size); index += lanes) {
             ivec3 t = texelCoordinates(index, size); // (i, j, face)
             vec3 value;
             if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
-            else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.baseSize, level - 1), kInverseSolidAngle != 0);
+            else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
             value = clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX);
             storeTailMip(level - params.level, t, value);
             tailTexels[first + pyramidTexelIndex(t.z, t.x, t.y, size)] = value;

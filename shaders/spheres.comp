@@ -14,7 +14,7 @@
 // per material.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "sampling.glsl"
+#include "footprint.glsl"
 #include "sh.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
@@ -22,7 +22,7 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(push_constant) uniform Params {
     int cellSize;       // pixels per sphere cell (square)
     int materialCount;  // cells, left to right
-    int baseSize;       // S_0 of the filtered levels
+    int faceSize;       // S_0 of the filtered levels
     int levelCount;     // M
     int backgroundSize; // face size of the background cube
     int dfgSize;        // the DFG table is dfgSize x dfgSize
@@ -57,7 +57,7 @@ vec3 background(vec3 direction) {
     vec2 uv;
     directionToFaceUv(direction, face, uv);
     float half0 = 0.5 * float(params.backgroundSize);
-    return sampleBilinearAt(pyramidLevelOffset(params.baseSize, params.levelCount), params.backgroundSize, face, (uv.x + 1.0) * half0,
+    return sampleBilinearAt(pyramidLevelOffset(params.faceSize, params.levelCount), params.backgroundSize, face, (uv.x + 1.0) * half0,
                             (uv.y + 1.0) * half0);
 }
 
@@ -90,7 +90,7 @@ void main() {
         if (m1.w != 0.0) {
             vec2 ab = dfgLookup(nDotV, roughness);
             vec3 f0 = mix(vec3(0.04 * specularStrength), base, metallic);
-            colour += sampleTrilinear(params.baseSize, params.levelCount, r, level) * (f0 * ab.x + ab.y);
+            colour += sampleTrilinear(params.faceSize, params.levelCount, r, level) * (f0 * ab.x + ab.y);
         }
     }
     outputTexels[pixel] = vec4(colour, 1.0);

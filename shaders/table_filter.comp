@@ -2,7 +2,7 @@
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
 // per constant level), each one trilinear read of the pyramid: with PROBE_HARDWARE_SAMPLING one
-// textureLod through the seamless sampler, else sampling.glsl's arithmetic over the bordered buffer.
+// textureLod through the seamless sampler, else footprint.glsl's arithmetic over the bordered buffer.
 // After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
 // (probe::tapsInUse; the rest are zero-weight padding). With hardware sampling the dispatch is
 // (groups, rows, 6): a workgroup covers texels of one face, gl_WorkGroupID.z, so that the frames'
@@ -17,7 +17,7 @@
 #extension GL_KHR_shader_subgroup_vote : require
 #endif
 #include "images.glsl"
-#include "sampling.glsl"
+#include "footprint.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
@@ -32,7 +32,7 @@ layout(constant_id = 2) const int kTaps = 8;
 layout(constant_id = 1) const int kFixedTapGroups = 0;
 
 layout(push_constant) uniform Params {
-    int baseSize;      // S_0
+    int faceSize;      // S_0
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
     int level;         // the output level of this dispatch
     uint firstTexel;   // the first packed output texel of the level
@@ -48,7 +48,7 @@ vec3 probeSamplePyramid(vec3 direction, float level) {
 #ifdef PROBE_HARDWARE_SAMPLING
     return textureLod(pyramidCube, direction, level).rgb;
 #else
-    return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
+    return sampleTrilinear(params.faceSize, params.pyramidLevels, direction, level);
 #endif
 }
 #include "table_taps.glsl"
@@ -82,7 +82,7 @@ uint texelOfInvocation(uint k, int size) {
 }
 
 void main() {
-    int size = params.baseSize >> params.level;
+    int size = params.faceSize >> params.level;
     uint faceTexels = uint(size * size);
 #ifdef PROBE_HARDWARE_SAMPLING
     uint invocation = invocationIndex(), face = gl_WorkGroupID.z;

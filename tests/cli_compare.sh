@@ -16,7 +16,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 python3 - cmp <<'PY' || fail "report or sheet"
 import json, struct, sys
 r = json.load(open(sys.argv[1] + "/report.json"))
-assert r["command"] == "compare" and r["report_version"] == 1 and r["date"], r["command"]
+assert r["command"] == "compare" and r["report_version"] == 2 and r["date"], r["command"]
 assert r["command_line"].startswith("probebench compare sky.exr --size 16 --table "), r["command_line"]
 for method in ("table", "fis"):
     e = r[method]["image_l1_per_level"]
@@ -36,6 +36,6 @@ set +e
 "$PROBEBENCH" compare sky.exr --size 16 --table gltf128_quad8 --out wrong >/dev/null 2>err.txt
 code=$?
 set -e
-[[ $code -eq 2 && $(wc -l <err.txt) -eq 1 && ! -e wrong ]] && grep -q "base size 128, not 16" err.txt ||
+[[ $code -eq 2 && $(wc -l <err.txt) -eq 1 && ! -e wrong ]] && grep -q "face size 128, not 16" err.txt ||
     fail "compare with a table of another size: exit $code: $(cat err.txt)"
 echo "cli_compare: ok"

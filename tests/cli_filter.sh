@@ -22,7 +22,7 @@ for m in 0 1 2 3; do [[ -f table/level_$m.exr ]] || fail "table: level_$m.exr mi
 python3 - table/report.json <<'PY' || fail "table: report.json"
 import json, re, sys
 r = json.load(open(sys.argv[1]))
-assert r["command"] == "filter" and r["report_version"] == 1, r["command"]
+assert r["command"] == "filter" and r["report_version"] == 2, r["command"]
 assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", r["date"]), r["date"]
 assert r["command_line"].startswith("probefilter filter sky.exr --method table --table ") and "--level-times" in r["command_line"], r
 assert r["method"] == "table" and r["device"]["name"] and r["device"]["driver"], r["device"]
@@ -38,6 +38,13 @@ PY
 "$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.txt" --table-taps 4 --table-form quad \
     --size 16 --validate --out published >/dev/null 2>&1 || fail "published layout"
 for m in 0 1 2 3; do cmp -s table/level_$m.exr published/level_$m.exr || fail "published layout differs at level $m"; done
+# A table file of format version 1 (the face size named "baseSize") filters alike, with one note.
+sed -e 's/"faceSize":/"baseSize":/' -e 's/"version": 2/"version": 1/' "$fixtures/table_16_quad4_gltf.json" > version1.json
+"$PROBEFILTER" filter sky.exr --method table --table version1.json --size 16 --out version1 >/dev/null 2>version1.err \
+    || fail "version 1 table"
+for m in 0 1 2 3; do cmp -s table/level_$m.exr version1/level_$m.exr || fail "version 1 table differs at level $m"; done
+[[ $(grep -c 'version1.json: table format version 1; version 2 names "baseSize" "faceSize"' version1.err) == 1 ]] \
+    || fail "version 1 table: no note naming the new field: $(cat version1.err)"
 # Without --level-times: pass times only.
 python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); assert not any("gpu_ms_median" in l for l in r["levels"]), r["levels"]' \
     published/report.json || fail "levels timed without --level-times"
@@ -56,7 +63,7 @@ for mapping in gltf authors filament unity; do
     "$PROBEFILTER" filter sky128.exr --method table --size 128 --mapping $mapping --out table128_$mapping >/dev/null 2>&1 ||
         fail "compiled-in table for the $mapping mapping at 128^2"
     python3 -c "import json,sys; t=json.load(open('table128_$mapping/report.json'))['table']
-sys.exit(not (t['mapping'] == '$mapping' and t['base_size'] == 128 and t['taps_per_frame'] == 8 and t['form'] == 'quad'))" ||
+sys.exit(not (t['mapping'] == '$mapping' and t['face_size'] == 128 and t['taps_per_frame'] == 8 and t['form'] == 'quad'))" ||
         fail "compiled-in table for the $mapping mapping: not the quad 8 table at 128^2"
     [[ -f table128_$mapping/level_6.exr ]] || fail "$mapping: level_6.exr missing"
 done
@@ -74,7 +81,7 @@ refused() { # expected stderr fragment, then the arguments
     grep -q -- "$expect" err.txt || fail "$*: stderr lacks '$expect': $(cat err.txt)"
     [[ ! -e refused ]] || fail "$*: wrote output"
 }
-refused "it is for base size 16, not 32" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 32
+refused "it is for face size 16, not 32" --method table --table "$fixtures/table_16_quad4_gltf.json" --size 32
 refused "for the gltf roughness mapping, not authors" \
     --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --mapping authors
 refused "fitted over the bspline solid-angle pyramid, not box" \

@@ -38,12 +38,12 @@ TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
         const std::string stem = entry.path().stem().string();
         ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors|filament|unity)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?")));
         EXPECT_EQ(roughnessMappingName(table.mapping), m[1].str());
-        EXPECT_EQ(table.baseSize, std::stoi(m[2].str()));
+        EXPECT_EQ(table.faceSize, std::stoi(m[2].str()));
         EXPECT_EQ(tableFormName(table.form), m[3].str());
         // A mix (probefit mix) is named by the taps of level 1, which sets its time.
         EXPECT_TRUE(m[4].matched || !m[6].matched) << "only a mix is lean";
         EXPECT_EQ(m[4].matched ? tapsInUse(table, 1) : table.taps, std::stoi(m[5].str()));
-        EXPECT_EQ(table.levelCount, table.mapping == RoughnessMapping::authors ? 7 : defaultLevelCount(table.baseSize));
+        EXPECT_EQ(table.levelCount, table.mapping == RoughnessMapping::authors ? 7 : defaultLevelCount(table.faceSize));
         EXPECT_EQ(table.pyramid, (PyramidSettings{PyramidKind::bspline, PyramidWeighting::solidAngle}));
         for (int level = 0; level < table.levelCount; ++level)
             if (tableLevelAlpha(table, level) > 0.0) {
@@ -65,8 +65,8 @@ TEST(CompiledTables, EqualTheirTableFiles) {
         const TapTable file = readTable(std::filesystem::path(PROBE_TABLES_DIR) / (c.name + ".json"));
         const TapTable& t = c.table;
         EXPECT_EQ(
-            std::tie(t.baseSize, t.levelCount, t.taps, t.form, t.mapping, t.pyramid, t.solver, t.stratifiedBudget),
-            std::tie(file.baseSize, file.levelCount, file.taps, file.form, file.mapping, file.pyramid, file.solver, file.stratifiedBudget));
+            std::tie(t.faceSize, t.levelCount, t.taps, t.form, t.mapping, t.pyramid, t.solver, t.stratifiedBudget),
+            std::tie(file.faceSize, file.levelCount, file.taps, file.form, file.mapping, file.pyramid, file.solver, file.stratifiedBudget));
         EXPECT_EQ(t.fitSeconds, file.fitSeconds);
         EXPECT_EQ(t.seamWeight, file.seamWeight);
         for (int m = 0; m < file.levelCount; ++m) {

@@ -279,8 +279,8 @@ TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
     const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
     constexpr float largest = std::numeric_limits<float>::max();
-    const CubeImage allLargest(table.baseSize, glm::vec3(largest));
-    CubeImage mixed(table.baseSize);
+    const CubeImage allLargest(table.faceSize, glm::vec3(largest));
+    CubeImage mixed(table.faceSize);
     for (std::size_t t = 0; t < texelCount(mixed.size); ++t) {
         const float values[4] = {largest, 0.0f, -largest, -0.0f};
         mixed.set(t, {values[t % 4], values[(t + 1) % 4], values[(t + 2) % 4]});
@@ -306,7 +306,7 @@ TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
                 if (sampling == gpu::Sampling::hardware && readsExactly) continue;
                 gpu::FilterSettings settings;
                 settings.method = method;
-                settings.faceSize = table.baseSize;
+                settings.faceSize = table.faceSize;
                 settings.levelCount = table.levelCount;
                 settings.mapping = table.mapping;
                 settings.sampling = sampling;

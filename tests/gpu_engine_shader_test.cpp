@@ -148,7 +148,7 @@ DropInResult runDropIns(const TapTable& table, std::span<const uint32_t> pyramid
                         const CubeImage& source, VkFormat format) {
     const gpu::Device& device = probetest::testDevice();
     const VkDevice vk = device.device();
-    const int size = table.baseSize, levels = table.levelCount, mips = int(std::log2(size)) + 1;
+    const int size = table.faceSize, levels = table.levelCount, mips = int(std::log2(size)) + 1;
     const gpu::CubeImageResource pyramidImage(device, size, mips, format,
                                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                                                   VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
@@ -242,7 +242,7 @@ void expectDropInsEqualModel(const std::filesystem::path& tableFile, std::span<c
                              std::span<const uint32_t> filterSpirv, VkFormat format) {
     const TapTable table = readTable(tableFile);
     const std::string tableName = tableFile.stem().string();
-    CubeImage source = probetest::randomProbe(table.baseSize, 31);
+    CubeImage source = probetest::randomProbe(table.faceSize, 31);
     const bool half = format == VK_FORMAT_R16G16B16A16_SFLOAT;
     if (half)
         for (float& v : source.rgb) v = glm::unpackHalf1x16(glm::packHalf1x16(v));
@@ -301,7 +301,7 @@ TEST_F(GpuTest, EngineDropInShadersStayFiniteAtTheLargestValuesTheyAccept) {
                  {VK_FORMAT_R16G16B16A16_SFLOAT, 65504.0f, kEnginePyramidGltf128Const8HalfSpv, kEngineGltf128Const8HalfSpv}};
     for (const auto& c : cases) {
         const double tolerance = c.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 9 * std::ldexp(1.0, -10) : 1e-6;
-        CubeImage mixed(table.baseSize);
+        CubeImage mixed(table.faceSize);
         for (std::size_t t = 0; t < texelCount(mixed.size); ++t) {
             const float values[4] = {c.largest, 0.0f, -c.largest, -0.0f};
             mixed.set(t, {values[t % 4], values[(t + 1) % 4], values[(t + 2) % 4]});
@@ -310,7 +310,7 @@ TEST_F(GpuTest, EngineDropInShadersStayFiniteAtTheLargestValuesTheyAccept) {
         for (const CubeLevels* images : {&result.pyramid, &result.levels})
             for (const CubeImage& image : *images)
                 for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v) && std::abs(v) <= c.largest) << v << " at size " << image.size;
-        const DropInResult flat = runDropIns(table, c.pyramid, c.filter, CubeImage(table.baseSize, glm::vec3(c.largest)), c.format);
+        const DropInResult flat = runDropIns(table, c.pyramid, c.filter, CubeImage(table.faceSize, glm::vec3(c.largest)), c.format);
         for (std::size_t k = 1; k < flat.pyramid.size(); ++k)
             EXPECT_LT(probetest::maxRelativeError(flat.pyramid[k], CubeImage(flat.pyramid[k].size, glm::vec3(c.largest))), tolerance)
                 << "mip " << k;

@@ -6,7 +6,7 @@
 
 #include "gpu_test_support.h"
 #include "probe/error_measures.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/reference.h"
 #include "probe/table_filter.h"
 #include "probe/table_io.h"
@@ -83,7 +83,7 @@ void expectImpulseL1Matches(gpu::Filter& filter, int levels, const RoughnessMapp
 
 TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
-    ASSERT_EQ(table.baseSize, kSize);
+    ASSERT_EQ(table.faceSize, kSize);
     gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, table.pyramid);
     expectImpulseL1Matches(
@@ -91,7 +91,7 @@ TEST_F(GpuTest, TableImpulseL1EqualsCpuModel) {
         [&](int level, const Texel& texel) { return tableImpulseResponse(table, operators, level, texel); }, "table fixture");
 }
 
-TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
+TEST_F(GpuTest, FisImpulseL1EqualsCpuModel) {
     const int levels = defaultLevelCount(kSize);
     gpu::FilterSettings s;
     s.method.kind = MethodKind::fis;
@@ -100,13 +100,11 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
     s.method.fis.samples = 32;
     s.sampling = gpu::Sampling::exact;
     gpu::Filter filter(probetest::testDevice(), s);
-    const ImportanceSamplingSettings& cpu = s.method.fis;
+    const FisSettings& cpu = s.method.fis;
     const std::vector<DownsampleOperator> operators = pyramidOperators(kSize, s.method.pyramid());
     expectImpulseL1Matches(
         filter, levels, s.mapping,
-        [&](int level, const Texel& texel) {
-            return importanceSampleImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel);
-        },
+        [&](int level, const Texel& texel) { return fisImpulseResponse(operators, kSize, levels, s.mapping, cpu, level, texel); },
         "fis 32");
 }
 
@@ -114,7 +112,7 @@ TEST_F(GpuTest, ImportanceSamplingImpulseL1EqualsCpuModel) {
 // is what the shader does with it: the L1 measured on the GPU on impulse probes.
 TEST_F(GpuTest, CommittedTableImpulseL1EqualsItsRecord) {
     const TapTable table = readTable(PROBE_TEST_TABLES "/gltf16_quad8.json");
-    ASSERT_EQ(table.baseSize, kSize);
+    ASSERT_EQ(table.faceSize, kSize);
     gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table));
     const std::vector<ImpulseError> gpu = gpuImpulseL1(filter, table.levelCount, table.mapping);
     for (int m = 0; m < table.levelCount; ++m) {

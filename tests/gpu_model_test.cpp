@@ -12,7 +12,7 @@
 #include "probe/error.h"
 #include "probe/error_measures.h"
 #include "probe/filter_method.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/pyramid.h"
 #include "probe/reference.h"
 #include "probe/shared_constants.h"
@@ -192,7 +192,7 @@ TEST_F(GpuTest, PaddedTableEqualsCpuModel) {
     }
 }
 
-TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
+TEST_F(GpuTest, FisEqualsCpuModel) {
     struct Case {
         int samples;
         double bias;
@@ -218,7 +218,7 @@ TEST_F(GpuTest, ImportanceSamplingEqualsCpuModel) {
 }
 
 // Per-level sample counts (the sweep's FIS mixes): each level as FIS with that level's count.
-TEST_F(GpuTest, ImportanceSamplingPerLevelEqualsCpuModel) {
+TEST_F(GpuTest, FisPerLevelEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 31);
     gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);
     s.method.fis.samples = 8;
@@ -241,7 +241,7 @@ TEST_F(GpuTest, ImportanceSamplingPerLevelEqualsCpuModel) {
 // FIS on a dual-paraboloid map: the map and the samples' levels on it as the CPU model makes them,
 // uniform and per-level counts, every output format's shader from the same source; a constant stays
 // constant; hardware sampling is refused (the map is read from a buffer).
-TEST_F(GpuTest, ParaboloidImportanceSamplingEqualsCpuModel) {
+TEST_F(GpuTest, ParaboloidFisEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 33);
     for (const double bias : {0.0, 1.0}) {
         gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::automatic);
@@ -283,7 +283,7 @@ TEST_F(GpuTest, WhiteFurnaceEveryMethod) {
 
 // FIS with 1024 samples and bias 0 over the B-spline pyramid is within 3% image L1 of the
 // reference at every filtered level of a smooth sky.
-TEST_F(GpuTest, ImportanceSampling1024NearReferenceOnSky) {
+TEST_F(GpuTest, Fis1024NearReferenceOnSky) {
     const int size = 64, levels = defaultLevelCount(size);
     const CubeImage sky = skyProbe(size);
     gpu::FilterSettings s = settingsFor(MethodKind::fis, size, levels, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);

@@ -8,7 +8,7 @@
 
 #include "gpu_test_support.h"
 #include "probe/error.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/plan.h"
 #include "probe/shared_constants.h"
 #include "probe/table_filter.h"
@@ -38,7 +38,7 @@ void expectPartialEqualsFull(MethodKind method, const std::vector<int>& levels, 
     const CubeLevels all = full.run(source);
 
     gpu::FilterSettings s = settingsFor(method, &table, sampling);
-    s.levels = levels;
+    s.computedLevels = levels;
     if (method != MethodKind::reference)
         s.pyramidDepth = deepestPyramidLevelRead(methodTapGenerator(s.method, kSize, kLevels, s.mapping), kSize, levels);
     depth = s.pyramidDepth;
@@ -137,7 +137,7 @@ TEST_F(PartialRun, ReferenceLevelsEqualTheFullRun) {
 TEST_F(PartialRun, RefusesLevelsOutOfOrderOrRange) {
     for (const std::vector<int>& levels : {std::vector<int>{2, 1}, std::vector<int>{4}, std::vector<int>{-1}}) {
         gpu::FilterSettings s = settingsFor(MethodKind::fis, nullptr);
-        s.levels = levels;
+        s.computedLevels = levels;
         EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ProbeError) << fmt::format("{}", fmt::join(levels, ","));
     }
     gpu::FilterSettings s = settingsFor(MethodKind::fis, nullptr);

@@ -33,7 +33,7 @@ void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed
     settings.faceSize = size;
     settings.levelCount = levelCount;
     settings.mapping = mapping;
-    settings.levels = levels;
+    settings.computedLevels = levels;
     gpu::Filter filter(probetest::testDevice(), settings);
     const CubeLevels gpuLevels = filter.run(source);
     if (levels.empty())

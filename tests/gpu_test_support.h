@@ -45,7 +45,7 @@ private:
 inline probe::gpu::FilterSettings tableSettings(const probe::TapTable& table, probe::gpu::Sampling sampling = probe::gpu::Sampling::exact) {
     probe::gpu::FilterSettings s;
     s.method = {probe::MethodKind::table, &table, {}};
-    s.faceSize = table.baseSize;
+    s.faceSize = table.faceSize;
     s.levelCount = table.levelCount;
     s.mapping = table.mapping;
     s.sampling = sampling;

@@ -101,7 +101,7 @@ std::string describe(const MethodCase& c) {
     return fmt::format("{} ({} sampling)", methodKindName(c.method), gpu::samplingName(c.sampling));
 }
 
-// The committed tables, grouped by the exact reference their seam bounds come from (base size,
+// The committed tables, grouped by the exact reference their seam bounds come from (face size,
 // level count, mapping), so that a group builds it once rather than once per table.
 struct TableGroup {
     std::string name;
@@ -115,8 +115,8 @@ std::vector<TableGroup> committedTableGroups() {
         for (const auto& entry : std::filesystem::directory_iterator(dir)) {
             if (entry.path().extension() != ".json") continue;
             const TapTable table = readTable(entry.path());
-            TableGroup& group = groups[{table.baseSize, table.levelCount, describeRoughnessMapping(table.mapping)}];
-            group.name = fmt::format("{}{}_{}levels", roughnessMappingName(table.mapping), table.baseSize, table.levelCount);
+            TableGroup& group = groups[{table.faceSize, table.levelCount, describeRoughnessMapping(table.mapping)}];
+            group.name = fmt::format("{}{}_{}levels", roughnessMappingName(table.mapping), table.faceSize, table.levelCount);
             group.tables.push_back(entry.path());
         }
     std::vector<TableGroup> sorted;
@@ -191,7 +191,7 @@ TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
         const TapTable table = readTable(path);
         gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::exact));
         gpu::Filter hardware(probetest::testDevice(), probetest::tableSettings(table, gpu::Sampling::hardware));
-        for (const HardProbe& probe : hardProbes(table.baseSize)) {
+        for (const HardProbe& probe : hardProbes(table.faceSize)) {
             expectStable(filter.run(probe.cube), probe, name);
             // An RGBA16F pyramid rounds each mip, where a device rounds toward zero (lavapipe does) by up
             // to 2^-10 each time, and a level reads mips built from one another: its furnace drifts more.
@@ -203,8 +203,8 @@ TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
         // quarter of the way into each face, over the exact reference's, show how much of a ratio is
         // particular to the edges. The exact reference costs minutes at 256^2 and hours at 512^2, so
         // bigger tables are held to the bound's cap k, which needs no reference at their size.
-        const SeamCheck* check = table.baseSize <= 128 ? &seamCheck(table.baseSize, table.levelCount, table.mapping) : nullptr;
-        const CubeLevels out = filter.run(skyProbe(table.baseSize)), outHardware = hardware.run(skyProbe(table.baseSize));
+        const SeamCheck* check = table.faceSize <= 128 ? &seamCheck(table.faceSize, table.levelCount, table.mapping) : nullptr;
+        const CubeLevels out = filter.run(skyProbe(table.faceSize)), outHardware = hardware.run(skyProbe(table.faceSize));
         for (int m = 0; m < table.levelCount; ++m) {
             const double k = check ? check->bounds[m] : out[m].size >= 4 ? seamCheckCap() : 0.0;
             if (k == 0.0) continue;
@@ -222,11 +222,11 @@ TEST_P(EveryCommittedTable, StableWithinItsSeamBoundAndRecordedL1) {
         // The worst stratified texel that the table's file records, measured here through the generic tap
         // path, has the recorded L1 (CTest's table_eval_* measures every stratified texel through
         // probefit's model, which probefit_tests holds equal to this path).
-        const std::vector<DownsampleOperator> operators = pyramidOperators(table.baseSize, table.pyramid);
+        const std::vector<DownsampleOperator> operators = pyramidOperators(table.faceSize, table.pyramid);
         for (int m = 0; m < table.levelCount; ++m) {
             if (tableLevelAlpha(table, m) <= 0.0) continue;
             const ImpulseError& recorded = table.levels[m].stratified;
-            const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.baseSize, table.levelCount, table.mapping, m,
+            const ImpulseError e = impulseError(tableTapGenerator(table), operators, table.faceSize, table.levelCount, table.mapping, m,
                                                 {{recorded.worst, 1.0}});
             EXPECT_NEAR(e.max, recorded.max, 1e-6) << name << " level " << m;
         }

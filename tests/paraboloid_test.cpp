@@ -47,7 +47,7 @@ TEST(Paraboloid, WhiteFurnace) {
     ASSERT_EQ(map.levelCount(), 6);
     for (const auto& level : map.levels)
         for (const glm::vec3& texel : level) EXPECT_NEAR(texel.g, 0.75f, 1e-6f);
-    ImportanceSamplingSettings settings;
+    FisSettings settings;
     settings.samples = 16;
     const CubeLevels out = paraboloidFilter(CubeImage(16, white), 5, RoughnessMapping::gltf, settings);
     for (const CubeImage& level : out)
@@ -60,7 +60,7 @@ TEST(Paraboloid, ImpulseResponseIsTheFiltersLinearMap) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> value(0.1f, 2.0f);
     for (float& v : source.rgb) v = value(rng);
-    ImportanceSamplingSettings settings;
+    FisSettings settings;
     settings.samples = 24;
     settings.bias = 0.5;
     const CubeLevels out = paraboloidFilter(source, levels, RoughnessMapping::gltf, settings);
@@ -80,7 +80,7 @@ TEST(Paraboloid, ImpulseResponseIsTheFiltersLinearMap) {
 
 TEST(Paraboloid, KernelLandsWhereTheReferencePutsIt) {
     const int size = 16, levels = 5;
-    ImportanceSamplingSettings settings;
+    FisSettings settings;
     settings.samples = 256;
     const ParaboloidImpulse impulse(size, levels, RoughnessMapping::gltf, settings);
     for (int m = 1; m < levels; ++m) {

@@ -14,7 +14,7 @@
 #include "initial_layout.h"
 #include "lobe_cells.h"
 #include "probe/error.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/reference.h"
 #include "probe/seam_measure.h"
 #include "probe/synthetic.h"
@@ -30,8 +30,8 @@ namespace {
 
 using namespace probe;
 
-TapTable lobeTable(int baseSize, int levelCount, int taps, TableForm form) {
-    TapTable table = emptyTable(baseSize, levelCount, taps, form, RoughnessMapping::gltf, {});
+TapTable lobeTable(int faceSize, int levelCount, int taps, TableForm form) {
+    TapTable table = emptyTable(faceSize, levelCount, taps, form, RoughnessMapping::gltf, {});
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> jitter(-0.05, 0.05);
     for (int m = 1; m < levelCount; ++m) {
@@ -220,7 +220,7 @@ TEST(SeamTerm, TheFitReducesIt) {
     // 16^2, 3 levels, 4 taps: at level 1 the fit with the seam term (weight 2) ends with less than half
     // the seam term of the fit without it (measured: 0.013 against 0.045).
     FitSettings settings;
-    settings.baseSize = 16;
+    settings.faceSize = 16;
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 20;
@@ -296,7 +296,7 @@ TEST(CheckerTerm, TheFitReducesIt) {
     // 16^2, 3 levels, 4 taps: at level 1 the fit with the checker term (weight 8) ends with a lower
     // checker term than the fit without it (measured: 0.014 against 0.028).
     FitSettings settings;
-    settings.baseSize = 16;
+    settings.faceSize = 16;
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 20;
@@ -410,12 +410,12 @@ TEST(LobeCells, RoutesFindWhatWasAdded) {
 TEST(LobeCells, FastObjectiveIsCloseToTheExactL1) {
     for (const char* name : {"gltf64_quad8", "gltf128_quad8"}) {
         const TapTable table = readTable(std::filesystem::path(PROBE_TABLES_DIR) / (std::string(name) + ".json"));
-        const ImpulseModel model(table.baseSize, table.pyramid, table.taps, table.form);
+        const ImpulseModel model(table.faceSize, table.pyramid, table.taps, table.form);
         for (int m = 1; m < table.levelCount; ++m) {
             const double alpha = tableLevelAlpha(table, m);
-            const std::vector<WeightedTexel> texels = stratifiedTexels(table.baseSize >> m, 64);
-            const std::vector<OutputTexel> fast = prepareTexels(texels, table.baseSize, m, alpha, false, Measure::cells);
-            const std::vector<OutputTexel> exact = prepareTexels(texels, table.baseSize, m, alpha);
+            const std::vector<WeightedTexel> texels = stratifiedTexels(table.faceSize >> m, 64);
+            const std::vector<OutputTexel> fast = prepareTexels(texels, table.faceSize, m, alpha, false, Measure::cells);
+            const std::vector<OutputTexel> exact = prepareTexels(texels, table.faceSize, m, alpha);
             const LevelEvaluation f = evaluatePrepared(model, levelBlocks(table, m).data(), fast);
             const LevelEvaluation e = evaluatePrepared(model, levelBlocks(table, m).data(), exact);
             ImpulseModel::Workspace ws = model.workspace();
@@ -467,7 +467,7 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     // candidates within that reach the lobe's tail there (probefit tail), or among all within where
     // none does.
     FitSettings settings;
-    settings.baseSize = 16;
+    settings.faceSize = 16;
     settings.taps = 8;
     settings.maxIterations = 10;
     settings.measureAll = false;
@@ -556,7 +556,7 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
 
 TEST(SeamSelect, RefusesCandidatesOfAnotherShape) {
     FitSettings settings;
-    settings.baseSize = 16;
+    settings.faceSize = 16;
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 1;
@@ -641,7 +641,7 @@ TEST(FisLevelSamples, TheMixAndItsChecks) {
     EXPECT_EQ(mixedLevelSamples(16, 7), (std::vector<int>{16, 16, 64, 256, 256, 256, 256}));
     EXPECT_EQ(mixedLevelSamples(128, 5), (std::vector<int>{128, 128, 512, 1024, 1024}));
     EXPECT_EQ(mixedLevelSamples(2048, 2), (std::vector<int>{2048, 2048}));
-    ImportanceSamplingSettings s;
+    FisSettings s;
     s.levelSamples = {1, 2};
     EXPECT_THROW(validateSampleCounts(s, 3), ProbeError);
     s.levelSamples = {1, 0, 2};
@@ -649,12 +649,11 @@ TEST(FisLevelSamples, TheMixAndItsChecks) {
     s.levelSamples = {1, 5, 2};
     EXPECT_NO_THROW(validateSampleCounts(s, 3));
     // Each level as uniform FIS with that level's count.
-    const TapGenerator mixed = importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf, s);
+    const TapGenerator mixed = fisTapGenerator(16, 3, RoughnessMapping::gltf, s);
     std::vector<Tap> a, b;
     for (int m = 1; m < 3; ++m) {
         mixed(m, {2, 5, 1}, a);
-        importanceSampleTapGenerator(16, 3, RoughnessMapping::gltf,
-                                     ImportanceSamplingSettings{s.levelSamples[m], 0.0, {}, {}, FisMap::cube})(m, {2, 5, 1}, b);
+        fisTapGenerator(16, 3, RoughnessMapping::gltf, FisSettings{s.levelSamples[m], 0.0, {}, {}, FisMap::cube})(m, {2, 5, 1}, b);
         ASSERT_EQ(a.size(), b.size()) << "level " << m;
         for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].direction, b[k].direction);
     }

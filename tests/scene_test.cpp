@@ -8,7 +8,7 @@
 #include <unistd.h>
 
 #include "probe/error.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/plan.h"
 #include "probe/probe_io.h"
 #include "probe/pyramid.h"
@@ -85,8 +85,8 @@ TEST_F(SceneTest, Mixed) {
     // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
     const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));
     const int deepest = p.probes[0].pyramidLevels;
-    const ImportanceSamplingSettings fis{32, 0.0, {}, {}, FisMap::cube};
-    EXPECT_EQ(deepest, deepestPyramidLevelRead(importanceSampleTapGenerator(16, 4, RoughnessMapping::gltf, fis), 16, {1, 2}));
+    const FisSettings fis{32, 0.0, {}, {}, FisMap::cube};
+    EXPECT_EQ(deepest, deepestPyramidLevelRead(fisTapGenerator(16, 4, RoughnessMapping::gltf, fis), 16, {1, 2}));
     EXPECT_GT(deepest, 0);
     EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: pyramid 0..{}", deepest), "sky: level 0 (fis)",
                                                     "sky: level 1 (fis)", "sky: level 2 (fis)", "sky: sh-irradiance", "dfg-table"}));
@@ -116,4 +116,10 @@ TEST_F(SceneTest, BadScenesNameTheField) {
     expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr"}], "materials": [], "extra": 1})", "extra");
     expectRefused(R"({"probes": [], "materials": []})", "probes");
     expectRefused("{not json", "not valid JSON");
+    expectRefused(R"({"version": 2, "probes": [{"name": "sky", "image": "sky.exr"}], "materials": []})", "version");
+}
+
+TEST_F(SceneTest, VersionOneIsTheFormatAndMayBeLeftOut) {
+    EXPECT_EQ(readScene(write(R"({"version": 1, "probes": [{"name": "sky", "image": "sky.exr"}], "materials": []})")).probes.size(), 1u);
+    EXPECT_EQ(readScene(write(R"({"probes": [{"name": "sky", "image": "sky.exr"}], "materials": []})")).probes.size(), 1u);
 }

@@ -61,7 +61,7 @@ TEST_F(ShaderStatsTest, EveryRuntimePipelineCompilesWithStatistics) {
     // Both sampling paths of both filters, with every output format, quad and constant tables.
     for (const char* sampling : {"hardware", "exact"})
         for (const char* format : {"rgba32f", "rgba16f", "b10g11r11"}) {
-            EXPECT_TRUE(names.count(std::string("importance_sampling_") + sampling + "_" + format)) << sampling << " " << format;
+            EXPECT_TRUE(names.count(std::string("fis_") + sampling + "_" + format)) << sampling << " " << format;
             for (const char* form : {"quad", "const"})
                 EXPECT_TRUE(names.count(std::string("table_filter_") + sampling + "_" + format + " " + form)) << sampling << " " << format;
         }
@@ -79,8 +79,8 @@ TEST_F(ShaderStatsTest, HardwareSamplingCostsLessPerTapAndSample) {
     }
     EXPECT_GT(loop("table_filter_hardware_rgba32f quad").instructionsPerUnit(),
               loop("table_filter_hardware_rgba32f const").instructionsPerUnit());
-    const LoopCost hardware = loop("importance_sampling_hardware_rgba32f");
-    const LoopCost exact = loop("importance_sampling_exact_rgba32f");
+    const LoopCost hardware = loop("fis_hardware_rgba32f");
+    const LoopCost exact = loop("fis_exact_rgba32f");
     EXPECT_GT(hardware.instructionsPerUnit(), 0.0);
     EXPECT_LT(hardware.instructionsPerUnit(), exact.instructionsPerUnit());
     EXPECT_LT(hardware.runtimeInstructionsPerUnit(), exact.runtimeInstructionsPerUnit());
@@ -91,8 +91,7 @@ TEST_F(ShaderStatsTest, HardwareSamplingCostsLessPerTapAndSample) {
 // (the storage buffer of buffers.glsl, a face per workgroup). Exact sampling reads its eight texels
 // through the texel buffer.
 TEST_F(ShaderStatsTest, HardwareTapAndSampleReadOnlyThePyramidThroughVectorMemory) {
-    for (const char* name :
-         {"table_filter_hardware_rgba32f quad", "table_filter_hardware_rgba32f const", "importance_sampling_hardware_rgba32f"}) {
+    for (const char* name : {"table_filter_hardware_rgba32f quad", "table_filter_hardware_rgba32f const", "fis_hardware_rgba32f"}) {
         const LoopCost cost = loop(name);
         EXPECT_GT(cost.runtime.vectorMemory, 0) << name;
         EXPECT_EQ(cost.vectorMemoryPerUnit(), 1.0) << name;
@@ -167,9 +166,9 @@ TEST_F(ShaderStatsTest, SweepMethodsCostTheirShaderPerTexel) {
     const nlohmann::json out = probe::stats::sweepInstructions(report, costs, device->name(), device->driver());
     const std::vector<std::pair<std::string, double>> expected{{"table_filter_hardware_rgba32f quad", 19.5},
                                                                {"table_filter_hardware_rgba32f const", 9.75},
-                                                               {"importance_sampling_hardware_rgba32f", 31.3},
-                                                               {"importance_sampling_hardware_rgba32f", 14.2},
-                                                               {"importance_sampling_paraboloid_rgba32f", 31.3}};
+                                                               {"fis_hardware_rgba32f", 31.3},
+                                                               {"fis_hardware_rgba32f", 14.2},
+                                                               {"fis_paraboloid_rgba32f", 31.3}};
     ASSERT_EQ(out["methods"].size(), expected.size());
     for (std::size_t k = 0; k < expected.size(); ++k) {
         const nlohmann::json& m = out["methods"][k];
@@ -178,7 +177,7 @@ TEST_F(ShaderStatsTest, SweepMethodsCostTheirShaderPerTexel) {
     }
     // The table with N = 8 costs more per texel than FIS with as many samples as its taps, and less than
     // exact sampling would.
-    EXPECT_GT(out["methods"][0]["instructions_per_texel"].get<double>(), byHand("importance_sampling_hardware_rgba32f", 19.5));
+    EXPECT_GT(out["methods"][0]["instructions_per_texel"].get<double>(), byHand("fis_hardware_rgba32f", 19.5));
     EXPECT_LT(out["methods"][0]["instructions_per_texel"].get<double>(), byHand("table_filter_exact_rgba32f quad", 19.5));
 
     EXPECT_THROW(probe::stats::sweepMethodLoop("table", "cubic"), probe::ProbeError);

@@ -71,18 +71,10 @@ std::vector<LoopVariant> loopVariants() {
                              4 * kTapGroupsA * frames,
                              4 * kTapGroupsB * frames,
                              4 * frames});
-    for (const auto& [sampling, spirv] : {std::pair{"hardware", std::span<const uint32_t>(kImportanceSamplingHardwareRgba32fSpv)},
-                                          std::pair{"exact", std::span<const uint32_t>(kImportanceSamplingExactRgba32fSpv)},
-                                          std::pair{"paraboloid", std::span<const uint32_t>(kImportanceSamplingParaboloidRgba32fSpv)}})
-        loops.push_back({fmt::format("importance_sampling_{}_rgba32f", sampling),
-                         "sample",
-                         spirv,
-                         {},
-                         {kSamplesA},
-                         {kSamplesB},
-                         kSamplesA,
-                         kSamplesB,
-                         1});
+    for (const auto& [sampling, spirv] : {std::pair{"hardware", std::span<const uint32_t>(kFisHardwareRgba32fSpv)},
+                                          std::pair{"exact", std::span<const uint32_t>(kFisExactRgba32fSpv)},
+                                          std::pair{"paraboloid", std::span<const uint32_t>(kFisParaboloidRgba32fSpv)}})
+        loops.push_back({fmt::format("fis_{}_rgba32f", sampling), "sample", spirv, {}, {kSamplesA}, {kSamplesB}, kSamplesA, kSamplesB, 1});
     return loops;
 }
 

@@ -43,7 +43,7 @@ struct PipelineStatistics {
 
 // A loop to measure, the table filter's taps or FIS's samples: the pipeline as the runtime creates it,
 // whose loop counts are push constants or table data, and two compilations whose counts are constants
-// (table_filter.comp's kFixedTapGroups, importance_sampling.comp's kFixedSampleCount), which the driver
+// (table_filter.comp's kFixedTapGroups, fis.comp's kFixedSampleCount), which the driver
 // unrolls.
 struct LoopVariant {
     std::string name; // e.g. "table_filter_hardware_rgba32f quad"

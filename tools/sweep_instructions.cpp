@@ -10,8 +10,8 @@ namespace probe::stats {
 
 std::string sweepMethodLoop(const std::string& family, const std::string& form) {
     if (family == "table" && (form == "quad" || form == "const")) return "table_filter_hardware_rgba32f " + form;
-    if (family == "fis" || family == "fis-mix") return "importance_sampling_hardware_rgba32f";
-    if (family == "fis-paraboloid") return "importance_sampling_paraboloid_rgba32f";
+    if (family == "fis" || family == "fis-mix") return "fis_hardware_rgba32f";
+    if (family == "fis-paraboloid") return "fis_paraboloid_rgba32f";
     throw ProbeError(fmt::format("a sweep method of family '{}' and form '{}': no filter shader costs it", family, form));
 }
 

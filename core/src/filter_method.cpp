@@ -25,7 +25,7 @@ MethodKind parseMethodKind(std::string_view name) {
     throw ParameterError("method.kind", fmt::format("{}: expected table, fis or reference", name));
 }
 
-void validateMethod(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping) {
+void validateMethod(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping) {
     validateMappingLevels(mapping, levelCount);
     switch (method.kind) {
     case MethodKind::table: {
@@ -34,7 +34,7 @@ void validateMethod(const FilterMethod& method, int baseSize, int levelCount, co
         validateTable(table, "tap table");
         std::string reasons;
         const auto add = [&](const std::string& reason) { reasons += (reasons.empty() ? "" : "; ") + reason; };
-        if (table.baseSize != baseSize) add(fmt::format("it is for base size {}, not {}", table.baseSize, baseSize));
+        if (table.faceSize != faceSize) add(fmt::format("it is for face size {}, not {}", table.faceSize, faceSize));
         if (table.levelCount != levelCount) add(fmt::format("it has {} levels, not {}", table.levelCount, levelCount));
         if (table.mapping != mapping)
             add(fmt::format("it is for the {} roughness mapping, not {}", describeRoughnessMapping(table.mapping),
@@ -47,10 +47,10 @@ void validateMethod(const FilterMethod& method, int baseSize, int levelCount, co
     }
 }
 
-TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping) {
+TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping) {
     switch (method.kind) {
     case MethodKind::table: return tableTapGenerator(*method.table);
-    case MethodKind::fis: return importanceSampleTapGenerator(baseSize, levelCount, mapping, method.fis);
+    case MethodKind::fis: return fisTapGenerator(faceSize, levelCount, mapping, method.fis);
     case MethodKind::reference: break;
     }
     return {};

@@ -4,17 +4,17 @@
 
 namespace probe {
 
-ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
                           const RoughnessMapping& mapping, int level, const std::vector<WeightedTexel>& texels) {
-    return impulseError([&](const Texel& texel) { return impulseWithTaps(operators, baseSize, level, texel, generator); }, baseSize,
+    return impulseError([&](const Texel& texel) { return impulseWithTaps(operators, faceSize, level, texel, generator); }, faceSize,
                         levelCount, mapping, level, texels);
 }
 
-ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, const RoughnessMapping& mapping, int level,
+ImpulseError impulseError(const ImpulseResponse& response, int faceSize, int levelCount, const RoughnessMapping& mapping, int level,
                           const std::vector<WeightedTexel>& texels) {
     const double alpha = levelAlpha(mapping, level, levelCount);
-    const CubeGeometry source(baseSize);
-    const int size = baseSize >> level;
+    const CubeGeometry source(faceSize);
+    const int size = faceSize >> level;
     std::vector<double> errors(texels.size());
 #pragma omp parallel for schedule(dynamic, 4)
     for (std::size_t n = 0; n < texels.size(); ++n) {

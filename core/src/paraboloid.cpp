@@ -66,9 +66,9 @@ double paraboloidTexelSolidAngle(const glm::dvec3& direction, int size) {
     return jacobian * texel * texel;
 }
 
-double paraboloidLevel(const glm::dvec3& direction, double cubeLevel, int baseSize) {
-    const double cubeTexel = 4.0 * std::numbers::pi / (6.0 * baseSize * baseSize);
-    return cubeLevel + 0.5 * std::log2(cubeTexel / paraboloidTexelSolidAngle(direction, paraboloidSize(baseSize)));
+double paraboloidLevel(const glm::dvec3& direction, double cubeLevel, int faceSize) {
+    const double cubeTexel = 4.0 * std::numbers::pi / (6.0 * faceSize * faceSize);
+    return cubeLevel + 0.5 * std::log2(cubeTexel / paraboloidTexelSolidAngle(direction, paraboloidSize(faceSize)));
 }
 
 ParaboloidMap buildParaboloidMap(const CubeImage& source) {
@@ -107,11 +107,10 @@ glm::dvec3 sampleParaboloid(const ParaboloidMap& map, const glm::dvec3& directio
     return value;
 }
 
-CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
-                            const ImportanceSamplingSettings& settings) {
+CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings) {
     validateSizeAndLevels(source.size, levelCount);
     const ParaboloidMap map = buildParaboloidMap(source);
-    const std::vector<std::vector<Tap>> samples = importanceSamplesPerLevel(source.size, levelCount, mapping, settings);
+    const std::vector<std::vector<Tap>> samples = fisSamplesPerLevel(source.size, levelCount, mapping, settings);
     CubeLevels out;
     for (int m = 0; m < levelCount; ++m) {
         const int size = source.size >> m;
@@ -126,7 +125,7 @@ CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const Rough
 #pragma omp for schedule(dynamic, 16)
             for (std::size_t t = 0; t < texelCount(size); ++t) {
                 const Texel texel{static_cast<int>(t / imageTexels(size)), static_cast<int>(t % size), static_cast<int>(t / size % size)};
-                importanceSampleTaps(texelDirection(texel, size), samples[m], taps);
+                fisTaps(texelDirection(texel, size), samples[m], taps);
                 glm::dvec3 sum(0.0);
                 double weightSum = 0.0;
                 for (const Tap& tap : taps) {
@@ -141,31 +140,30 @@ CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const Rough
     return out;
 }
 
-ParaboloidImpulse::ParaboloidImpulse(int baseSize, int levelCount, const RoughnessMapping& mapping,
-                                     const ImportanceSamplingSettings& settings)
-    : baseSize_(baseSize), levelCount_(levelCount), mapping_(mapping),
-      samples_(importanceSamplesPerLevel(baseSize, levelCount, mapping, settings)) {
-    const int size = paraboloidSize(baseSize);
+ParaboloidImpulse::ParaboloidImpulse(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings)
+    : faceSize_(faceSize), levelCount_(levelCount), mapping_(mapping),
+      samples_(fisSamplesPerLevel(faceSize, levelCount, mapping, settings)) {
+    const int size = paraboloidSize(faceSize);
     source_.resize(2 * imageTexels(size));
     for (int image = 0; image < 2; ++image)
         for (int j = 0; j < size; ++j)
             for (int i = 0; i < size; ++i)
                 source_[image * imageTexels(size) + static_cast<std::size_t>(j) * size + i] =
-                    bilinearFootprint(baseSize, toArray(paraboloidDirection(image, i + 0.5, j + 0.5, size)));
+                    bilinearFootprint(faceSize, toArray(paraboloidDirection(image, i + 0.5, j + 0.5, size)));
 }
 
 std::vector<double> ParaboloidImpulse::response(int level, const Texel& texel) const {
     if (levelAlpha(mapping_, level, levelCount_) <= 0.0)
         throw ProbeError("paraboloid impulse response: level " + std::to_string(level) + " is a copy (alpha = 0)");
-    const int size = paraboloidSize(baseSize_), levels = mapLevelCount(size);
+    const int size = paraboloidSize(faceSize_), levels = mapLevelCount(size);
     std::vector<Tap> taps;
-    importanceSampleTaps(texelDirection(texel, baseSize_ >> level), samples_[level], taps);
+    fisTaps(texelDirection(texel, faceSize_ >> level), samples_[level], taps);
     double weightSum = 0.0;
     for (const Tap& tap : taps) weightSum += tap.weight;
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
     for (int k = 0; k < levels; ++k) weights[k].assign(2 * imageTexels(size >> k), 0.0);
     for (const Tap& tap : taps) {
-        const TrilinearFootprint f = paraboloidFootprint(size, levels, tap.direction, paraboloidLevel(tap.direction, tap.level, baseSize_));
+        const TrilinearFootprint f = paraboloidFootprint(size, levels, tap.direction, paraboloidLevel(tap.direction, tap.level, faceSize_));
         for (int t = 0; t < f.count; ++t) weights[f.taps[t].level][f.taps[t].index] += tap.weight / weightSum * f.taps[t].weight;
     }
     // Each mip texel is the mean of its four children: its weight goes a quarter to each.
@@ -180,7 +178,7 @@ std::vector<double> ParaboloidImpulse::response(int level, const Texel& texel) c
                     for (const std::size_t c : {f, f + 1, f + 2 * s, f + 2 * s + 1}) weights[k - 1][c] += 0.25 * w;
                 }
     }
-    std::vector<double> base(texelCount(baseSize_), 0.0);
+    std::vector<double> base(texelCount(faceSize_), 0.0);
     for (std::size_t t = 0; t < source_.size(); ++t) {
         const double w = weights[0][t];
         if (w == 0.0) continue;

@@ -24,12 +24,12 @@ constexpr double kLevelMargin = 1e-3;
 
 } // namespace
 
-int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels) {
-    const int maxLevel = pyramidLevelCount(baseSize) - 1;
+int deepestPyramidLevelRead(const TapGenerator& generator, int faceSize, const std::vector<int>& levels) {
+    const int maxLevel = pyramidLevelCount(faceSize) - 1;
     int deepest = 0;
     std::vector<Tap> taps;
     for (int m : levels) {
-        const int size = baseSize >> m;
+        const int size = faceSize >> m;
         for (int f = 0; f < kFaceCount; ++f)
             for (int j = 0; j < size; ++j)
                 for (int i = 0; i < size; ++i) {
@@ -64,15 +64,15 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             if (material.hasDiffuse()) p.diffuseMaterials.push_back(material.name);
         }
         for (auto& [level, names] : readers) {
-            p.levels.push_back(level);
+            p.computedLevels.push_back(level);
             p.levelReaders.push_back(names);
         }
         p.irradiance = !p.diffuseMaterials.empty();
-        p.readsPyramid =
-            std::any_of(p.levels.begin(), p.levels.end(), [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
+        p.readsPyramid = std::any_of(p.computedLevels.begin(), p.computedLevels.end(),
+                                     [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
         // The reference reads pyramid level 0, the source, texel by texel.
         if (p.readsPyramid && probe.method.kind != MethodKind::reference)
-            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.levels);
+            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.computedLevels);
         plan.probes.push_back(std::move(p));
     }
     for (const SceneMaterial& material : scene.materials)
@@ -98,17 +98,18 @@ struct Step {
 std::vector<Step> steps(const Plan& plan) {
     std::vector<Step> out;
     for (const ProbePlan& p : plan.probes) {
-        if (p.levels.empty() && !p.irradiance) continue;
+        if (p.computedLevels.empty() && !p.irradiance) continue;
         out.push_back({loadPass(p.probe), "the probe is read by some material"});
         if (p.readsPyramid)
             out.push_back({pyramidPass(p.probe, p.pyramidLevels),
                            p.method == MethodKind::reference
                                ? fmt::format("the reference of levels {} reads the source (pyramid level 0) texel by texel",
-                                             fmt::join(p.levels, ", "))
+                                             fmt::join(p.computedLevels, ", "))
                                : fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source)",
-                                             fmt::join(p.levels, ", "), p.pyramidLevels)});
-        for (std::size_t k = 0; k < p.levels.size(); ++k)
-            out.push_back({levelPass(p.probe, p.levels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
+                                             fmt::join(p.computedLevels, ", "), p.pyramidLevels)});
+        for (std::size_t k = 0; k < p.computedLevels.size(); ++k)
+            out.push_back(
+                {levelPass(p.probe, p.computedLevels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
         if (p.irradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
     }
     if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});

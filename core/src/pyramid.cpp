@@ -112,12 +112,12 @@ DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings) {
     return op;
 }
 
-int pyramidLevelCount(int baseSize) { return maxLevelCount(baseSize); }
+int pyramidLevelCount(int faceSize) { return maxLevelCount(faceSize); }
 
-std::vector<DownsampleOperator> pyramidOperators(int baseSize, PyramidSettings settings) {
-    validateSizeAndLevels(baseSize, 1);
+std::vector<DownsampleOperator> pyramidOperators(int faceSize, PyramidSettings settings) {
+    validateSizeAndLevels(faceSize, 1);
     std::vector<DownsampleOperator> ops;
-    for (int size = baseSize; size > 1; size /= 2) ops.push_back(downsampleOperator(size, settings));
+    for (int size = faceSize; size > 1; size /= 2) ops.push_back(downsampleOperator(size, settings));
     return ops;
 }
 

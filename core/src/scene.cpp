@@ -182,6 +182,9 @@ Scene readScene(const std::filesystem::path& path) {
     Scene scene;
     scene.path = path;
     FieldReader r(path, "", root);
+    const int version = r.optional<int>("version").value_or(kSceneFormatVersion);
+    if (version != kSceneFormatVersion)
+        r.fail("version", fmt::format("{}: this build reads scene format version {}", version, kSceneFormatVersion));
     const json& probes = r.child("probes");
     const json& materials = r.child("materials");
     if (!probes.is_array() || probes.empty()) r.fail("probes", "must be a non-empty array");

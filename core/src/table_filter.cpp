@@ -25,16 +25,16 @@ TapGenerator tableTapGenerator(const TapTable& table) {
     for (int m = 0; m < table.levelCount; ++m) used.push_back(tapsInUse(table, m));
     return [&table, used](int level, const Texel& texel, std::vector<Tap>& taps) {
         if (tableLevelAlpha(table, level) <= 0.0) return false;
-        tableTaps(table, level, used[level], texelCubePoint(texel, table.baseSize >> level), taps);
+        tableTaps(table, level, used[level], texelCubePoint(texel, table.faceSize >> level), taps);
         return true;
     };
 }
 
 CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table) {
     validateTable(table, "tap table");
-    if (pyramid.empty() || pyramid[0].size != table.baseSize)
+    if (pyramid.empty() || pyramid[0].size != table.faceSize)
         throw ProbeError(
-            fmt::format("tap table for base size {} applied to a probe of size {}", table.baseSize, pyramid.empty() ? 0 : pyramid[0].size));
+            fmt::format("tap table for face size {} applied to a probe of size {}", table.faceSize, pyramid.empty() ? 0 : pyramid[0].size));
     return filterWithTaps(pyramid, table.levelCount, tableTapGenerator(table));
 }
 
@@ -42,7 +42,7 @@ CubeLevels tableFilter(const CubeImage& source, const TapTable& table) { return 
 
 std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators, int level,
                                          const Texel& texel) {
-    return impulseWithTaps(operators, table.baseSize, level, texel, tableTapGenerator(table));
+    return impulseWithTaps(operators, table.faceSize, level, texel, tableTapGenerator(table));
 }
 
 } // namespace probe

@@ -21,7 +21,8 @@ namespace {
 using nlohmann::json;
 
 constexpr std::string_view kFormatName = "probefilter-tap-table";
-constexpr int kFormatVersion = 1;
+// Version 2 names the face size "faceSize"; version 1 called it "baseSize" and is still read.
+constexpr int kFormatVersion = 2;
 
 json errorToJson(const ImpulseError& e) { return {{"mean", e.mean}, {"max", e.max}, {"worst", {e.worst.face, e.worst.i, e.worst.j}}}; }
 
@@ -153,7 +154,7 @@ std::string tableToJson(const TapTable& table) {
     json j = {{"format", kFormatName},
               {"version", kFormatVersion},
               {"layout", "coefficients[frame][tap][parameter: dir x, dir y, dir z, level, weight][coefficient]"},
-              {"baseSize", table.baseSize},
+              {"faceSize", table.faceSize},
               {"levelCount", table.levelCount},
               {"taps", table.taps},
               {"form", tableFormName(table.form)},
@@ -180,19 +181,24 @@ RoughnessMapping tableMapping(const Reader& r, const json& j) {
 TapTable tableFromJson(std::string_view text, const std::filesystem::path& path) {
     const json j = parseJsonFile(text, path, "table file");
     const Reader r{path};
+    if (r.get<std::string>(j, "format") != kFormatName) throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
+    const int version = r.get<int>(j, "version");
+    if (version != 1 && version != kFormatVersion)
+        throw ProbeError(fmt::format("{}: table format version {} (this build reads 1 and {})", path.string(), version, kFormatVersion));
+    const char* faceSizeKey = version == 1 ? "baseSize" : "faceSize";
     r.refuseUnknown(j,
-                    {"format", "version", "layout", "baseSize", "levelCount", "taps", "form", "mapping", "pyramid", "solver",
+                    {"format", "version", "layout", faceSizeKey, "levelCount", "taps", "form", "mapping", "pyramid", "solver",
                      "stratifiedBudget", "fitSeconds", "seamWeight", "roughness", "levels"},
                     "");
-    if (r.get<std::string>(j, "format") != kFormatName) throw ProbeError(fmt::format("{}: not a {} file", path.string(), kFormatName));
-    if (r.get<int>(j, "version") != kFormatVersion)
-        throw ProbeError(fmt::format("{}: table format version {} (expected {})", path.string(), r.get<int>(j, "version"), kFormatVersion));
+    if (version == 1)
+        printToStderr(fmt::format(
+            "note: {}: table format version 1; version 2 names \"baseSize\" \"faceSize\" (probefit export rewrites it)\n", path.string()));
     const json& pyramid = r.field(j, "pyramid");
     r.refuseUnknown(pyramid, {"kind", "weighting"}, "pyramid.");
     TapTable table;
     try {
-        table = emptyTable(r.get<int>(j, "baseSize"), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"), r.name(j, "form", parseTableForm),
-                           tableMapping(r, j),
+        table = emptyTable(r.get<int>(j, faceSizeKey), r.get<int>(j, "levelCount"), r.get<int>(j, "taps"),
+                           r.name(j, "form", parseTableForm), tableMapping(r, j),
                            {r.name(pyramid, "kind", parsePyramidKind), r.name(pyramid, "weighting", parsePyramidWeighting)});
     } catch (const ProbeError& e) {
         const std::string message = e.what();
@@ -250,9 +256,9 @@ void setPublishedLayout(TapTable& table, const std::vector<double>& values) {
                     for (int tap = 0; tap < table.taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = values[n++];
 }
 
-TapTable importPublishedTable(const std::filesystem::path& path, int baseSize, int levelCount, int taps, TableForm form,
+TapTable importPublishedTable(const std::filesystem::path& path, int faceSize, int levelCount, int taps, TableForm form,
                               const RoughnessMapping& mapping, PyramidSettings pyramid) {
-    TapTable table = emptyTable(baseSize, levelCount, taps, form, mapping, pyramid);
+    TapTable table = emptyTable(faceSize, levelCount, taps, form, mapping, pyramid);
     const std::string text = readTextFile(path);
     std::vector<double> numbers;
     std::size_t pos = 0;
@@ -290,7 +296,7 @@ void writePublishedTable(const std::filesystem::path& path, const TapTable& tabl
 
 std::vector<std::string> tableSummary(const TapTable& table) {
     std::vector<std::string> lines;
-    lines.push_back(fmt::format("base size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.baseSize, table.levelCount,
+    lines.push_back(fmt::format("face size {}, {} levels, {} taps x {} frames, form {}, mapping {}", table.faceSize, table.levelCount,
                                 table.taps, kFrameCount, tableFormName(table.form), describeRoughnessMapping(table.mapping)));
     lines.push_back(
         fmt::format("pyramid {} weighted by {}", pyramidKindName(table.pyramid.kind), pyramidWeightingName(table.pyramid.weighting)));
@@ -320,7 +326,7 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
     const std::vector<float> values = publishedLayout(table);
     std::string out = "// Generated by probefit; do not edit.\n" + commentBlock(table);
     out += "#pragma once\n\nnamespace probe_tables::" + std::string(name) + " {\n\n";
-    out += fmt::format("inline constexpr int kBaseSize = {};\n", table.baseSize);
+    out += fmt::format("inline constexpr int kFaceSize = {};\n", table.faceSize);
     out += fmt::format("inline constexpr int kLevelCount = {};\n", table.levelCount);
     out += fmt::format("inline constexpr int kTaps = {}; // per frame\n", table.taps);
     out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form), tableFormName(table.form));
@@ -361,7 +367,7 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     std::string out = "// Generated by probefit; do not edit.\n" + commentBlock(table);
     out += "#ifndef " + guard + "\n#define " + guard + "\n\n";
-    out += fmt::format("#define PROBE_TABLE_BASE_SIZE {}\n", table.baseSize);
+    out += fmt::format("#define PROBE_TABLE_FACE_SIZE {}\n", table.faceSize);
     out += fmt::format("#define PROBE_TABLE_LEVEL_COUNT {}\n", table.levelCount);
     out += fmt::format("#define PROBE_TABLE_TAPS {}\n", table.taps);
     out += fmt::format("#define PROBE_TABLE_COEFFICIENT_COUNT {}\n", coefficientCount(table.form));

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 
 namespace probe {
 
@@ -17,16 +17,16 @@ glm::vec3 sumTaps(const CubeLevels& pyramid, const std::vector<Tap>& taps) {
     return glm::vec3(glm::max(sum / weightSum, glm::dvec3(0.0)));
 }
 
-std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, const std::vector<Tap>& taps) {
-    const int levels = pyramidLevelCount(baseSize);
+std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, const std::vector<Tap>& taps) {
+    const int levels = pyramidLevelCount(faceSize);
     std::vector<std::vector<double>> weights(static_cast<std::size_t>(levels));
-    for (int k = 0; k < levels; ++k) weights[k].assign(texelCount(baseSize >> k), 0.0);
+    for (int k = 0; k < levels; ++k) weights[k].assign(texelCount(faceSize >> k), 0.0);
     double weightSum = 0.0;
     for (const Tap& tap : taps) weightSum += tap.weight;
     if (weightSum == 0.0) return std::move(weights[0]);
     int top = 0;
     for (const Tap& tap : taps) {
-        const TrilinearFootprint f = trilinearFootprint(baseSize, levels, toArray(tap.direction), tap.level);
+        const TrilinearFootprint f = trilinearFootprint(faceSize, levels, toArray(tap.direction), tap.level);
         for (int k = 0; k < f.count; ++k) {
             weights[f.taps[k].level][f.taps[k].index] += tap.weight / weightSum * f.taps[k].weight;
             top = std::max(top, f.taps[k].level);
@@ -37,10 +37,10 @@ std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& op
 }
 
 CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGenerator& generator) {
-    const int baseSize = pyramid[0].size;
+    const int faceSize = pyramid[0].size;
     CubeLevels out;
     for (int m = 0; m < levelCount; ++m) {
-        const int size = baseSize >> m;
+        const int size = faceSize >> m;
         CubeImage level(size);
 #pragma omp parallel
         {
@@ -50,7 +50,7 @@ CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGe
                 const Texel texel{static_cast<int>(t / (static_cast<std::size_t>(size) * size)), static_cast<int>(t % size),
                                   static_cast<int>(t / size % size)};
                 if (generator(m, texel, taps)) level.set(t, sumTaps(pyramid, taps));
-                else level.set(t, pyramid[0].texel(texelIndex(directionToTexel(texelDirection(texel, size), baseSize), baseSize)));
+                else level.set(t, pyramid[0].texel(texelIndex(directionToTexel(texelDirection(texel, size), faceSize), faceSize)));
             }
         }
         out.push_back(std::move(level));
@@ -58,12 +58,12 @@ CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGe
     return out;
 }
 
-std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int baseSize, int level, const Texel& texel,
+std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int faceSize, int level, const Texel& texel,
                                     const TapGenerator& generator) {
     std::vector<Tap> taps;
-    if (generator(level, texel, taps)) return tapImpulseResponse(operators, baseSize, taps);
-    std::vector<double> copy(texelCount(baseSize), 0.0);
-    copy[texelIndex(directionToTexel(texelDirection(texel, baseSize >> level), baseSize), baseSize)] = 1.0;
+    if (generator(level, texel, taps)) return tapImpulseResponse(operators, faceSize, taps);
+    std::vector<double> copy(texelCount(faceSize), 0.0);
+    copy[texelIndex(directionToTexel(texelDirection(texel, faceSize >> level), faceSize), faceSize)] = 1.0;
     return copy;
 }
 

@@ -68,7 +68,7 @@ DirectionBound directionBound(const TapTable& table, int level, int frame, int t
 std::string texelProblem(const TapTable& table, int m, int used, int read, const std::vector<DirectionBound>& bounds, const Texel& t) {
     const int n = coefficientCount(table.form);
     const std::vector<double>& c = table.levels[m].coefficients;
-    const glm::dvec3 d = texelCubePoint(t, table.baseSize >> m);
+    const glm::dvec3 d = texelCubePoint(t, table.faceSize >> m);
     std::array<FrameSetup, kFrameCount> frames;
     double sum = 0.0, magnitude = 0.0;
     for (int frame = 0; frame < kFrameCount; ++frame) {
@@ -107,7 +107,7 @@ void checkTexels(const TapTable& table, int m, int used, int read, std::string_v
     std::vector<DirectionBound> bounds;
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int tap = 0; tap < read; ++tap) bounds.push_back(directionBound(table, m, frame, tap));
-    const int size = table.baseSize >> m, rows = kFaceCount * size;
+    const int size = table.faceSize >> m, rows = kFaceCount * size;
     std::vector<std::string> problems(static_cast<std::size_t>(rows));
 #pragma omp parallel for schedule(dynamic, 8)
     for (int row = 0; row < rows; ++row)
@@ -127,15 +127,15 @@ TableForm parseTableForm(std::string_view name) {
 
 std::string_view tableFormName(TableForm form) { return form == TableForm::quadratic ? "quad" : "const"; }
 
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid) {
+TapTable emptyTable(int faceSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid) {
     TapTable table;
-    table.baseSize = baseSize;
+    table.faceSize = faceSize;
     table.levelCount = levelCount;
     table.taps = taps;
     table.form = form;
     table.mapping = mapping;
     table.pyramid = pyramid;
-    validateSizeAndLevels(baseSize, levelCount);
+    validateSizeAndLevels(faceSize, levelCount);
     validateMappingLevels(mapping, levelCount);
     if (taps < 4 || taps % 4 != 0 || taps > kMaxTaps)
         throw ProbeError(fmt::format("tap count {} is not a multiple of 4 from 4 to {}", taps, kMaxTaps));
@@ -150,7 +150,7 @@ TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, cons
 
 void validateTable(const TapTable& table, std::string_view what) {
     try {
-        validateSizeAndLevels(table.baseSize, table.levelCount);
+        validateSizeAndLevels(table.faceSize, table.levelCount);
         validateMappingLevels(table.mapping, table.levelCount);
     } catch (const ProbeError& e) {
         throw ProbeError(fmt::format("{}: {}", what, e.what()));

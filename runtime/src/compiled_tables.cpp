@@ -17,7 +17,7 @@ namespace {
 // What a generated header holds, whatever its namespace.
 struct HeaderTable {
     std::string_view name;
-    int baseSize;
+    int faceSize;
     int levelCount;
     int taps;
     std::string_view form;
@@ -41,7 +41,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
     const std::string what = "tables/" + std::string(h.name) + ".h";
     const RoughnessMapping mapping = h.mapping == "custom" ? RoughnessMapping::custom({h.levelRoughness.begin(), h.levelRoughness.end()})
                                                            : parseRoughnessMapping(h.mapping);
-    TapTable table = emptyTable(h.baseSize, h.levelCount, h.taps, parseTableForm(h.form), mapping,
+    TapTable table = emptyTable(h.faceSize, h.levelCount, h.taps, parseTableForm(h.form), mapping,
                                 {parsePyramidKind(h.pyramidKind), parsePyramidWeighting(h.pyramidWeighting)});
     table.solver = h.solver;
     table.stratifiedBudget = h.stratifiedBudget;
@@ -61,7 +61,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
 
 #define PROBE_HEADER_TABLE(name)                                                                                                           \
     HeaderTable{#name,                                                                                                                     \
-                probe_tables::name::kBaseSize,                                                                                             \
+                probe_tables::name::kFaceSize,                                                                                             \
                 probe_tables::name::kLevelCount,                                                                                           \
                 probe_tables::name::kTaps,                                                                                                 \
                 probe_tables::name::kForm,                                                                                                 \
@@ -93,7 +93,7 @@ const CompiledTable* findCompiledTable(int faceSize, int levelCount, const Rough
     const CompiledTable* best = nullptr;
     for (const CompiledTable& c : compiledTables()) {
         const TapTable& t = c.table;
-        if (t.baseSize != faceSize || t.levelCount != levelCount || t.mapping != mapping || !(t.pyramid == pyramid)) continue;
+        if (t.faceSize != faceSize || t.levelCount != levelCount || t.mapping != mapping || !(t.pyramid == pyramid)) continue;
         if (t.taps == 8 && t.form == TableForm::quadratic) return &c;
         if (!best) best = &c;
     }

@@ -22,7 +22,7 @@ std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) {
 void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output) {
     computeBarrier(commandBuffer);
     std::vector<VkImageCopy> copies;
-    for (int m : impl.levels) {
+    for (int m : impl.computedLevels) {
         const int size = impl.settings.faceSize >> m;
         impl.descriptors->bind(commandBuffer, impl.convertSets[m]);
         dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size}, groupsFor(texelCount(size)));

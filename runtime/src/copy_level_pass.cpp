@@ -13,7 +13,7 @@ namespace probe::gpu {
 namespace {
 
 struct CopyLevelConstants {
-    int32_t baseSize;
+    int32_t faceSize;
     int32_t level;
     uint32_t firstTexel;
     uint32_t endTexel;

@@ -20,25 +20,25 @@ namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F, the buffers' texels
 
-// First texel of each level of a packed cube with `levels` levels from `baseSize`, and the total.
-std::vector<uint32_t> packedOffsets(int baseSize, int levels) {
+// First texel of each level of a packed cube with `levels` levels from `faceSize`, and the total.
+std::vector<uint32_t> packedOffsets(int faceSize, int levels) {
     std::vector<uint32_t> offsets{0};
-    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(texelCount(baseSize >> m)));
+    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(texelCount(faceSize >> m)));
     return offsets;
 }
 
 // First texel of each level of the bordered pyramid (buffer.h), and the total.
-std::vector<uint32_t> pyramidOffsetsFor(int baseSize, int levels) {
+std::vector<uint32_t> pyramidOffsetsFor(int faceSize, int levels) {
     std::vector<uint32_t> offsets{0};
-    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidLevelTexels(baseSize >> m)));
+    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidLevelTexels(faceSize >> m)));
     return offsets;
 }
 
 // Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
-std::vector<float> geometryTexels(int baseSize, int levels) {
+std::vector<float> geometryTexels(int faceSize, int levels) {
     std::vector<float> texels;
     for (int m = 0; m < levels; ++m) {
-        const CubeGeometry geometry(baseSize >> m);
+        const CubeGeometry geometry(faceSize >> m);
         for (std::size_t t = 0; t < geometry.directions.size(); ++t)
             for (double value : {geometry.directions[t].x, geometry.directions[t].y, geometry.directions[t].z, geometry.solidAngles[t]})
                 texels.push_back(static_cast<float>(value));
@@ -47,10 +47,10 @@ std::vector<float> geometryTexels(int baseSize, int levels) {
 }
 
 // The levels 0..depth of the pyramid buffer, inside the faces.
-CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offsets, int baseSize, int depth) {
+CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offsets, int faceSize, int depth) {
     CubeLevels result;
     for (int m = 0; m <= depth; ++m) {
-        CubeImage level(baseSize >> m);
+        CubeImage level(faceSize >> m);
         const float* first = texels + 4 * std::size_t(offsets[m]);
         for (int f = 0; f < kFaceCount; ++f)
             for (int j = 0; j < level.size; ++j)
@@ -66,9 +66,9 @@ CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offse
 bool has(const Device& device, VkFormat format, VkFormatFeatureFlags needed) { return (device.impl().features(format) & needed) == needed; }
 
 // The dual-paraboloid map (shaders/paraboloid.glsl): both images of every level, down to 1x1.
-std::size_t paraboloidMapTexels(int baseSize) {
+std::size_t paraboloidMapTexels(int faceSize) {
     std::size_t texels = 0;
-    for (int size = paraboloidSize(baseSize); size >= 1; size /= 2) texels += 2 * static_cast<std::size_t>(size) * size;
+    for (int size = paraboloidSize(faceSize); size >= 1; size /= 2) texels += 2 * static_cast<std::size_t>(size) * size;
     return texels;
 }
 
@@ -165,7 +165,7 @@ namespace {
 // device's features alone: nothing is allocated. Throws for settings the method or the device refuses.
 struct FilterShape {
     int pyramidLevels = 0, pyramidDepth = 0;
-    std::vector<int> levels;
+    std::vector<int> computedLevels;
     uint32_t copyLevels = 0;
     bool filters = false; // a computed level is filtered, not copied
     bool buildsPyramid = false, paraboloid = false, convertOutput = false;
@@ -184,17 +184,19 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     if (shape.pyramidDepth > shape.pyramidLevels - 1)
         throw ParameterError("pyramidDepth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth, s.faceSize,
                                                          shape.pyramidLevels - 1));
-    for (int m = 0; m < s.levelCount; ++m) shape.levels.push_back(m);
-    if (!s.levels.empty()) {
-        for (std::size_t k = 0; k < s.levels.size(); ++k)
-            if (s.levels[k] < 0 || s.levels[k] >= s.levelCount || (k > 0 && s.levels[k] <= s.levels[k - 1]))
-                throw ParameterError("levels", fmt::format("{}: not one of 0..{} in ascending order", s.levels[k], s.levelCount - 1));
-        shape.levels = s.levels;
+    for (int m = 0; m < s.levelCount; ++m) shape.computedLevels.push_back(m);
+    if (!s.computedLevels.empty()) {
+        for (std::size_t k = 0; k < s.computedLevels.size(); ++k)
+            if (s.computedLevels[k] < 0 || s.computedLevels[k] >= s.levelCount || (k > 0 && s.computedLevels[k] <= s.computedLevels[k - 1]))
+                throw ParameterError("computedLevels",
+                                     fmt::format("{}: not one of 0..{} in ascending order", s.computedLevels[k], s.levelCount - 1));
+        shape.computedLevels = s.computedLevels;
     }
     shape.outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
         if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) shape.copyLevels |= 1u << m;
-    const bool filters = std::any_of(shape.levels.begin(), shape.levels.end(), [&](int m) { return (shape.copyLevels & (1u << m)) == 0; });
+    const bool filters =
+        std::any_of(shape.computedLevels.begin(), shape.computedLevels.end(), [&](int m) { return (shape.copyLevels & (1u << m)) == 0; });
     shape.filters = filters;
     const MethodKind kind = s.method.kind;
     shape.buildsPyramid = kind != MethodKind::reference && filters;
@@ -247,7 +249,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     FilterShape shape = shapeOf(d, s);
     pyramidLevels = shape.pyramidLevels;
     pyramidDepth = shape.pyramidDepth;
-    levels = std::move(shape.levels);
+    computedLevels = std::move(shape.computedLevels);
     copyLevels = shape.copyLevels;
     buildsPyramid = shape.buildsPyramid;
     paraboloid = shape.paraboloid;
@@ -263,7 +265,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         tableData = tableBufferData(*s.method.table);
         tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
     } else if (kind == MethodKind::fis) {
-        tableData = importanceSamplingBufferData(s, sampleOffsets);
+        tableData = fisBufferData(s, sampleOffsets);
     }
     const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
     pyramidBuffer = Buffer(d, shape.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
@@ -311,10 +313,10 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     if (buildsPyramid || (kind == MethodKind::reference && filters)) makePyramidPipelines(*this);
     switch (kind) {
     case MethodKind::table: pass2 = makeTablePipeline(*this); break;
-    case MethodKind::fis: pass2 = makeImportanceSamplingPipeline(*this); break;
+    case MethodKind::fis: pass2 = makeFisPipeline(*this); break;
     case MethodKind::reference: pass2 = makeReferencePipeline(*this); break;
     }
-    if (std::any_of(levels.begin(), levels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
+    if (std::any_of(computedLevels.begin(), computedLevels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
         copy = makeCopyLevelPipeline(*this);
     if (convertOutput) convert = makeConvertPipeline(*this);
 
@@ -326,7 +328,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         return passes;
     };
     passTimer = std::make_unique<GpuTimer>(d, segments(1));
-    levelTimer = std::make_unique<GpuTimer>(d, segments(levels.size()));
+    levelTimer = std::make_unique<GpuTimer>(d, segments(computedLevels.size()));
     timer = passTimer.get();
 
     submission = std::make_unique<Submission>(d);
@@ -396,7 +398,7 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         }
     levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
     convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
-    for (int m : levels) {
+    for (int m : computedLevels) {
         VkImageView target = VK_NULL_HANDLE;
         if (convertOutput) {
             target = intermediateMips[m].handle();
@@ -437,11 +439,11 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         computeBarrier(commandBuffer);
         mark();
     }
-    for (int m : levels) {
+    for (int m : computedLevels) {
         descriptors->bind(commandBuffer, levelSets[m]);
         if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
         else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
-        else if (settings.method.kind == MethodKind::fis) recordImportanceSamplingLevel(*this, commandBuffer, m);
+        else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
         else recordReferenceLevel(*this, commandBuffer, m);
         if (perLevel) mark();
     }
@@ -522,7 +524,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
     std::vector<VkBufferImageCopy> regions;
     VkDeviceSize offset = 0;
-    for (int m : f.levels) {
+    for (int m : f.computedLevels) {
         VkBufferImageCopy region{};
         region.bufferOffset = offset;
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
@@ -538,9 +540,9 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     f.submission->submitAndWait(download);
     f.submission->release(download);
     CubeLevels result(s.levelCount);
-    for (std::size_t k = 0; k < f.levels.size(); ++k) {
-        CubeImage& level = result[f.levels[k]];
-        level.size = s.faceSize >> f.levels[k];
+    for (std::size_t k = 0; k < f.computedLevels.size(); ++k) {
+        CubeImage& level = result[f.computedLevels[k]];
+        level.size = s.faceSize >> f.computedLevels[k];
         level.rgb.clear();
         unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
                      level.rgb);
@@ -603,7 +605,7 @@ std::vector<PassTime> Filter::levelTimings() const {
     if (!impl_->timed || impl_->timer != impl_->levelTimer.get()) return {};
     std::vector<std::string> names;
     if (impl_->pass1) names.push_back("pass 1");
-    for (int m : impl_->levels) names.push_back(fmt::format("level {}", m));
+    for (int m : impl_->computedLevels) names.push_back(fmt::format("level {}", m));
     if (impl_->convertOutput) names.push_back("convert");
     std::vector<PassTime> segments = impl_->timer->segmentTimings(names);
     std::erase_if(segments, [](const PassTime& p) { return p.name == "pass 1" || p.name == "convert"; });

@@ -27,7 +27,7 @@ struct Filter::Impl {
     int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
     int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
-    std::vector<int> levels;              // the output levels computed, ascending
+    std::vector<int> computedLevels;      // the output levels computed, ascending
     std::vector<uint32_t> pyramidOffsets; // exact sampling: first texel of each bordered pyramid level, and the total
     std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
     uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
@@ -101,7 +101,7 @@ struct Filter::Impl {
 };
 
 // Pass recorders, one per file (pyramid_pass.cpp; for pass 2, one output level at a time:
-// copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, importance_sampling_pass.cpp; then
+// copy_level_pass.cpp, reference_pass.cpp, table_pass.cpp, fis_pass.cpp; then
 // convert_pass.cpp): each binds its sets, records its dispatches and appends them to impl.dispatches.
 // Pass 1: the pipelines of the settings (the reference's: level 0 of the exact pyramid alone).
 void makePyramidPipelines(Filter::Impl& impl);
@@ -122,12 +122,12 @@ std::vector<float> tableBufferData(const TapTable& table);
 uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBufferData
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
-std::unique_ptr<ComputePipeline> makeImportanceSamplingPipeline(const Filter::Impl& impl);
-// The table buffer for FIS: every output level's samples (probe::importanceSamplesPerLevel) as
+std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl);
+// The table buffer for FIS: every output level's samples (probe::fisSamplesPerLevel) as
 // vec4(direction in the tangent frame, pyramid level); sampleOffsets gets each level's first sample
 // and the total.
-std::vector<float> importanceSamplingBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
-void recordImportanceSamplingLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+std::vector<float> fisBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
+void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 // The conversion pass: packs each output level computed into `packed`, then copies it into `output`
 // (in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL).

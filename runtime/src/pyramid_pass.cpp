@@ -28,12 +28,12 @@ namespace probe::gpu {
 namespace {
 
 struct PyramidConstants {
-    int32_t baseSize;
+    int32_t faceSize;
     int32_t level;
 };
 
 struct PyramidTailConstants {
-    int32_t baseSize;
+    int32_t faceSize;
     int32_t level;     // the first mip written
     int32_t lastLevel; // the last
 };

@@ -21,7 +21,7 @@ namespace {
 struct SphereConstants {
     int32_t cellSize;
     int32_t materialCount;
-    int32_t baseSize;
+    int32_t faceSize;
     int32_t levelCount;
     int32_t backgroundSize;
     int32_t dfgSize;
@@ -36,12 +36,12 @@ constexpr std::size_t kGuaranteedStorageRange = std::size_t{1} << 27;
 constexpr float kCameraDistance = 4.0f;
 constexpr float kTanHalfFov = 0.32f;
 
-// The filtered levels packed from S_0 in the pyramid buffer's layout (sampling.glsl reads them), the
+// The filtered levels packed from S_0 in the pyramid buffer's layout (footprint.glsl reads them), the
 // empty ones as zeros (no material reads them).
-std::vector<float> packedLevels(const CubeLevels& levels, int baseSize) {
+std::vector<float> packedLevels(const CubeLevels& levels, int faceSize) {
     std::vector<float> texels;
     for (std::size_t m = 0; m < levels.size(); ++m) {
-        const int size = baseSize >> m;
+        const int size = faceSize >> m;
         if (levels[m].size == 0) {
             texels.resize(texels.size() + 4 * pyramidLevelTexels(size), 0.0f);
             continue;
@@ -62,9 +62,9 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     const CubeLevels& levels = *scene.prefiltered;
     // S_0 from the first level computed; with none (diffuse materials only), the smallest S_0 that
     // has this many levels.
-    int baseSize = 1 << (levels.size() - 1);
+    int faceSize = 1 << (levels.size() - 1);
     for (std::size_t m = levels.size(); m-- > 0;)
-        if (levels[m].size) baseSize = levels[m].size << m;
+        if (levels[m].size) faceSize = levels[m].size << m;
     // Radiance above 2^64 is rendered scaled down and scaled back (probe/range_scale.h), so that the
     // shading sums stay finite.
     double largest = largestMagnitude(*scene.background);
@@ -74,7 +74,7 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     CubeLevels scaledLevels = levels;
     shiftLevels(scaledLevels, -shift);
     // The background after the levels, where spheres.comp reads it.
-    std::vector<float> cubes = packedLevels(scaledLevels, baseSize);
+    std::vector<float> cubes = packedLevels(scaledLevels, faceSize);
     const std::vector<float> background = borderedRgbaTexels(shifted(*scene.background, -shift));
     cubes.insert(cubes.end(), background.begin(), background.end());
 
@@ -124,7 +124,7 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
         submission.upload(parameterBuffer, parameters.data(), parameterBuffer.bytes());
         const SphereConstants constants{scene.cellSize,
                                         static_cast<int32_t>(count),
-                                        baseSize,
+                                        faceSize,
                                         static_cast<int32_t>(levels.size()),
                                         scene.background->size,
                                         dfgSize,

@@ -18,7 +18,7 @@ namespace probe::gpu {
 namespace {
 
 struct TableConstants {
-    int32_t baseSize;
+    int32_t faceSize;
     int32_t pyramidLevels;
     int32_t level;
     uint32_t firstTexel;

@@ -12,7 +12,7 @@
 //
 // Set 0 (PROBE_SET to change it):
 //   binding 0 (PROBE_PYRAMID_BINDING)  samplerCube: the pyramid, a cube with the full mip chain of
-//     face size PROBE_TABLE_BASE_SIZE, mip k made from mip k - 1 by the pyramid pass the table was
+//     face size PROBE_TABLE_FACE_SIZE, mip k made from mip k - 1 by the pyramid pass the table was
 //     fitted for (engine/probe_pyramid.glsl: the B-spline pass of docs/design.md). Sampler: linear
 //     min/mag filter, linear mipmap mode, clamp to edge, no LOD bias, maxLod at least the last mip;
 //     seamless cube filtering, which Vulkan always does.
@@ -26,7 +26,7 @@
 // glTF, Filament and Unity mappings that is 1 .. PROBE_TABLE_LEVEL_COUNT - 1: their level 0 has
 // alpha 0 and is a copy of the source (copy mip 0 instead of dispatching). The authors' mapping
 // filters level 0 too: dispatch 0 .. PROBE_TABLE_LEVEL_COUNT - 1.
-// Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_BASE_SIZE >> level; z is the
+// Dispatch: (ceil(S / 8), ceil(S / 8), 6) workgroups, S = PROBE_TABLE_FACE_SIZE >> level; z is the
 // face, +X, -X, +Y, -Y, +Z, -Z (a workgroup's face gives the table entries all its invocations read).
 // Dispatch every level with no barrier or timestamp between them (they write different mips and read
 // only the pyramid): a GPU then overlaps the small levels, which alone leave it mostly idle.
@@ -38,7 +38,7 @@
 
 #extension GL_EXT_control_flow_attributes : require
 
-#ifndef PROBE_TABLE_BASE_SIZE
+#ifndef PROBE_TABLE_FACE_SIZE
 #error "include a generated table (tables/<name>.glsl) before engine/probe_table_filter.glsl"
 #endif
 #ifdef PROBE_TABLE_PYRAMID_ONLY
@@ -79,7 +79,7 @@ vec3 probeSamplePyramid(vec3 direction, float level) { return textureLod(probePy
 #include "table_taps.glsl"
 
 void main() {
-    int size = PROBE_TABLE_BASE_SIZE >> probeParams.level;
+    int size = PROBE_TABLE_FACE_SIZE >> probeParams.level;
     ivec3 t = ivec3(gl_GlobalInvocationID);
     if (t.x >= size || t.y >= size) return;
     vec3 d = texelCubePoint(t.z, t.x, t.y, size);

@@ -1,5 +1,5 @@
 // probe::importPublishedTable, the reader of the published plain-text layout, on arbitrary text.
-// The shape is the caller's: the one of tests/fixtures/table_16_quad4_gltf.txt (base size 16,
+// The shape is the caller's: the one of tests/fixtures/table_16_quad4_gltf.txt (face size 16,
 // 4 levels, 4 taps, quad), so that the seeds from that file reach the layout code.
 #include "fuzz_input.h"
 

@@ -5,7 +5,7 @@
 
 #include <string_view>
 
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/tap_sum.h"
 #include "probe/tap_table.h"
 
@@ -19,21 +19,21 @@ MethodKind parseMethodKind(std::string_view name);
 struct FilterMethod {
     MethodKind kind = MethodKind::table;
     const TapTable* table = nullptr; // table: the tap table (the caller keeps it alive)
-    ImportanceSamplingSettings fis;  // fis: samples per texel (or per level), level bias, pyramid
+    FisSettings fis;                 // fis: samples per texel (or per level), level bias, pyramid
 
     // Pass 1's pyramid: the table's (it was fitted over it) or FIS's.
     PyramidSettings pyramid() const { return kind == MethodKind::table && table ? table->pyramid : fis.pyramid; }
 };
 
 // Throws ParameterError naming the parameter and every reason unless `method` filters probes of
-// this base size, level count and mapping: a table of that shape (validateTable), FIS sample counts
+// this face size, level count and mapping: a table of that shape (validateTable), FIS sample counts
 // of at least 1 (one per level when given per level).
-void validateMethod(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping);
+void validateMethod(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
 
 // The taps of every output level (empty for the reference, which reads no pyramid). A table's
 // generator refers to method.table. FIS on a paraboloid map has the cube's taps: the same samples,
 // which the map reads at its own levels (probe/paraboloid.h).
-TapGenerator methodTapGenerator(const FilterMethod& method, int baseSize, int levelCount, const RoughnessMapping& mapping);
+TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
 
 // Filters a probe on the CPU with the shared model: the reference, pass 1 and the method's taps, or
 // FIS on a paraboloid map (paraboloidFilter).

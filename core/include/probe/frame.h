@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 #include "probe/shared_constants.h"
 
 namespace probe {

@@ -14,13 +14,13 @@ namespace probe {
 
 // Mean (weighted as the texel set says) and worst e(R) over `texels` of output level m; all cores.
 // A copy level (alpha = 0) is compared with the reference's copy.
-ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
+ImpulseError impulseError(const TapGenerator& generator, const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
                           const RoughnessMapping& mapping, int level, const std::vector<WeightedTexel>& texels);
 
 // The same for a method given by its impulse response (weights over base texels) at an output texel
 // of level m; `response` runs on every core at once.
 using ImpulseResponse = std::function<std::vector<double>(const Texel& texel)>;
-ImpulseError impulseError(const ImpulseResponse& response, int baseSize, int levelCount, const RoughnessMapping& mapping, int level,
+ImpulseError impulseError(const ImpulseResponse& response, int faceSize, int levelCount, const RoughnessMapping& mapping, int level,
                           const std::vector<WeightedTexel>& texels);
 
 } // namespace probe

@@ -2,7 +2,7 @@
 // the source is resampled into two paraboloid images (front: z >= 0, back: z < 0) with box-filtered
 // mip chains, and each GGX sample reads the image of its hemisphere at the mip whose texels cover the
 // sample's solid angle, the texel's solid angle taken from the Jacobian of the paraboloid mapping at
-// the sample. The samples are FIS's (importanceSamples); only the map they read differs from the
+// the sample. The samples are FIS's (fisSamples); only the map they read differs from the
 // cube pyramid.
 //
 // Mapping: d (unit) in the front image is (u, v) = (d.x, d.y) / (1 + d.z), in the back image
@@ -17,9 +17,9 @@
 #include <glm/vec3.hpp>
 
 #include "probe/cube.h"
+#include "probe/cube_footprint.h"
 #include "probe/cube_image.h"
-#include "probe/cube_sampling.h"
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 #include "probe/roughness.h"
 #include "probe/shared_constants.h"
 
@@ -27,7 +27,7 @@ namespace probe {
 
 // Face size of each paraboloid image for a cube of face size S_0: 2 S_0, so that the texels at the
 // image centre cover about the solid angle of the cube's texels at a face centre.
-inline int paraboloidSize(int baseSize) { return 2 * baseSize; }
+inline int paraboloidSize(int faceSize) { return 2 * faceSize; }
 
 // Level k of the map: the front image then the back image, each (size >> k)^2 texels, row-major
 // (row j along v, column i along u).
@@ -55,10 +55,10 @@ double paraboloidTexelSolidAngle(const glm::dvec3& direction, int size);
 // level k: the 2x2 box average of level k - 1.
 ParaboloidMap buildParaboloidMap(const CubeImage& source);
 
-// The map's level for a FIS sample (importanceSamples, rotated to world space) of `cubeLevel`, the
-// level FIS gives it in a cube pyramid of base size `baseSize`: the same sample solid angle over the
+// The map's level for a FIS sample (fisSamples, rotated to world space) of `cubeLevel`, the
+// level FIS gives it in a cube pyramid of face size `faceSize`: the same sample solid angle over the
 // map's texel solid angle at the sample instead of the cube's average texel.
-double paraboloidLevel(const glm::dvec3& direction, double cubeLevel, int baseSize);
+double paraboloidLevel(const glm::dvec3& direction, double cubeLevel, int faceSize);
 
 // Trilinear value of the map at a direction and a fractional level (clamped to the chain):
 // bilinear in each image with clamp-to-edge addressing.
@@ -66,19 +66,18 @@ glm::dvec3 sampleParaboloid(const ParaboloidMap& map, const glm::dvec3& directio
 
 // Filters a probe: FIS's samples (settings.samples or per level, settings.bias) read from the
 // paraboloid map of the source. Levels with alpha = 0 are copies of the source.
-CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
-                            const ImportanceSamplingSettings& settings);
+CubeLevels paraboloidFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
 
 // The impulse response of one output texel of level m (alpha > 0) over base texels (texelIndex at
-// baseSize): the normalized sample weights pushed back through the map's mips and the bilinear
+// faceSize): the normalized sample weights pushed back through the map's mips and the bilinear
 // resampling of the source.
 class ParaboloidImpulse {
 public:
-    ParaboloidImpulse(int baseSize, int levelCount, const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings);
+    ParaboloidImpulse(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
     std::vector<double> response(int level, const Texel& texel) const;
 
 private:
-    int baseSize_, levelCount_;
+    int faceSize_, levelCount_;
     RoughnessMapping mapping_;
     std::vector<std::vector<Tap>> samples_; // per output level, in the tangent frame
     std::vector<Footprint> source_;         // per level-0 map texel, its bilinear source texels

@@ -20,13 +20,13 @@ std::vector<int> levelsReadForRoughness(const RoughnessMapping& mapping, double 
 // level above a fractional level too), clamped to the pyramid; 0 when no level has taps. A tap
 // level within 1e-3 below or at a whole level k counts as reading k + 1, so that the GPU's float
 // tap levels read no deeper either.
-int deepestPyramidLevelRead(const TapGenerator& generator, int baseSize, const std::vector<int>& levels);
+int deepestPyramidLevelRead(const TapGenerator& generator, int faceSize, const std::vector<int>& levels);
 
 struct ProbePlan {
     std::string probe;
     MethodKind method = MethodKind::table;
-    std::vector<int> levels;                            // output levels to compute, ascending
-    std::vector<std::vector<std::string>> levelReaders; // per entry of `levels`: the materials that read it
+    std::vector<int> computedLevels;                    // output levels to compute, ascending
+    std::vector<std::vector<std::string>> levelReaders; // per entry of `computedLevels`: the materials that read it
     bool readsPyramid = false;                          // some level is filtered (not a copy of the source)
     int pyramidLevels = 0;                              // pyramid levels to build below the source (the reference: 0)
     bool irradiance = false;

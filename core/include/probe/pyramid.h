@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "probe/cube_footprint.h"
 #include "probe/cube_image.h"
-#include "probe/cube_sampling.h"
 
 namespace probe {
 
@@ -50,17 +50,17 @@ struct DownsampleOperator {
 
 DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings);
 
-// The operators of every step of a pyramid over a base of `baseSize`: element k maps level k to k + 1.
-std::vector<DownsampleOperator> pyramidOperators(int baseSize, PyramidSettings settings);
+// The operators of every step of a pyramid over a base of `faceSize`: element k maps level k to k + 1.
+std::vector<DownsampleOperator> pyramidOperators(int faceSize, PyramidSettings settings);
 
-// Number of pyramid levels for a base size: log2(S) + 1 (down to 1x1).
-int pyramidLevelCount(int baseSize);
+// Number of pyramid levels for a face size: log2(S) + 1 (down to 1x1).
+int pyramidLevelCount(int faceSize);
 
 // The pyramid of an RGB cube: element 0 is the source, the last is 1x1.
 CubeLevels buildPyramid(const CubeImage& source, const std::vector<DownsampleOperator>& operators);
 CubeLevels buildPyramid(const CubeImage& source, PyramidSettings settings);
 
-// Weights on the texels of every pyramid level (element k has texelCount(baseSize >> k) entries)
+// Weights on the texels of every pyramid level (element k has texelCount(faceSize >> k) entries)
 // pushed back to base texels through the transposed operators, coarsest first; the result is in
 // element 0 and the coarser elements are left modified. Levels above `topLevel` must be zero.
 void pushBackToBase(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& levelWeights, int topLevel);

@@ -2,6 +2,7 @@
 // computed: only the levels and effects its materials need (plan.h).
 //
 // {
+//   "version": 1,
 //   "probes": [{"name": "sunset", "image": "sunset.exr", "face_size": 128, "levels": 7,
 //               "mapping": "gltf", "method": "table", "samples": 32, "table": "t.json"}],
 //   "materials": [{"name": "chrome", "probe": "sunset", "roughness": 0.05, "metallic": 1,
@@ -11,7 +12,8 @@
 // A probe's "roughness" (a list, one perceptual roughness per level, increasing) replaces "mapping".
 // A probe's name names its output folder (no slashes). Only "name" and "image" of a probe and
 // "name" and "roughness" of a material are required; "probe" may be left out when there is one
-// probe. Paths are relative to the scene file.
+// probe. Paths are relative to the scene file. "version" (the format's, 1) may be left out; another
+// version is refused.
 #pragma once
 
 #include <filesystem>
@@ -25,6 +27,8 @@
 #include "probe/roughness.h"
 
 namespace probe {
+
+inline constexpr int kSceneFormatVersion = 1;
 
 struct SceneProbe {
     std::string name;

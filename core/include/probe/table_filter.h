@@ -24,7 +24,7 @@ CubeLevels tableFilter(const CubeImage& source, const TapTable& table);
 CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table);
 
 // Impulse response of one output texel of level m: weights over base texels (operators from
-// pyramidOperators(table.baseSize, table.pyramid)).
+// pyramidOperators(table.faceSize, table.pyramid)).
 std::vector<double> tableImpulseResponse(const TapTable& table, const std::vector<DownsampleOperator>& operators, int level,
                                          const Texel& texel);
 

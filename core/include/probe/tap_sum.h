@@ -24,9 +24,9 @@ struct Tap {
 // sum_i w_i trilinear(pyramid, d_i, level_i) / sum_i w_i, clamped to >= 0; black when the weights sum to 0.
 glm::vec3 sumTaps(const CubeLevels& pyramid, const std::vector<Tap>& taps);
 
-// The same sum as a linear map: weights over base texels (texelIndex at baseSize), normalized by
+// The same sum as a linear map: weights over base texels (texelIndex at faceSize), normalized by
 // sum_i w_i, pushed back through the transposed downsampling operators. No clamp.
-std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, const std::vector<Tap>& taps);
+std::vector<double> tapImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, const std::vector<Tap>& taps);
 
 // The taps of one output texel of output level m (face size S_0 >> m); returns false where that
 // level is a copy of the source (alpha = 0).
@@ -37,7 +37,7 @@ CubeLevels filterWithTaps(const CubeLevels& pyramid, int levelCount, const TapGe
 
 // The impulse response of one output texel: weights over base texels (sum 1 unless the taps'
 // weights cancel); a copy level puts weight 1 on the base texel containing the texel's centre.
-std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int baseSize, int level, const Texel& texel,
+std::vector<double> impulseWithTaps(const std::vector<DownsampleOperator>& operators, int faceSize, int level, const Texel& texel,
                                     const TapGenerator& generator);
 
 } // namespace probe

@@ -30,7 +30,7 @@ struct TableLevel {
 };
 
 struct TapTable {
-    int baseSize = 0;   // S_0
+    int faceSize = 0;   // S_0
     int levelCount = 0; // M output levels (roughnesses)
     int taps = 0;       // N per frame, a multiple of 4
     TableForm form = TableForm::quadratic;
@@ -49,7 +49,7 @@ struct TapTable {
 };
 
 // A table with zero coefficients and unmeasured errors; checks the sizes (ProbeError otherwise).
-TapTable emptyTable(int baseSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid);
+TapTable emptyTable(int faceSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid);
 
 // Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
 void validateTable(const TapTable& table, std::string_view what);

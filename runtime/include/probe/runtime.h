@@ -132,7 +132,7 @@ struct FilterSettings {
     // neither computed nor read back: run() returns them empty (size 0), record() leaves their mips
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
     // of every level.
-    std::vector<int> levels;
+    std::vector<int> computedLevels;
     // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis); none
     // of it when every level computed is a copy (alpha = 0). The levels computed must read no deeper:
     // probe::deepestPyramidLevelRead of their taps (probe/plan.h) is the depth they need.
@@ -208,11 +208,11 @@ public:
 
     // Tools: uploads `source` (face size S_0), runs the passes `repeat` times (timed each time, at
     // the places `timestamps` names) and returns the M output levels (those outside
-    // FilterSettings::levels empty), read back from the output format.
+    // FilterSettings::computedLevels empty), read back from the output format.
     CubeLevels run(const CubeImage& source, int repeat = 1, Timestamps timestamps = Timestamps::passes);
 
     // Engines: records the passes into `commandBuffer`, from `source` to mips 0..M-1 of `output`
-    // (only the mips of FilterSettings::levels are written). What the caller owes:
+    // (only the mips of FilterSettings::computedLevels are written). What the caller owes:
     // - source: usage SAMPLED; the view's subresources in VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
     //   its writes made visible to VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT / VK_ACCESS_SHADER_READ_BIT.
     // - output: usage STORAGE, the mips written in VK_IMAGE_LAYOUT_GENERAL, their earlier use ended by

@@ -17,7 +17,7 @@ enum class FisMap { cube, paraboloid };
 std::string_view fisMapName(FisMap map);   // "cube" or "paraboloid"
 FisMap parseFisMap(std::string_view name); // ParameterError("method.fis.map") for anything else
 
-struct ImportanceSamplingSettings {
+struct FisSettings {
     int samples = 32;
     double bias = 0.0;       // added to the level; 0 is the accurate setting (docs/design.md), Filament uses 1
     PyramidSettings pyramid; // the cube pyramid's; a paraboloid map's mips are box averages
@@ -31,44 +31,41 @@ struct ImportanceSamplingSettings {
 
 // Throws ParameterError ("samples", "fis-bias") unless every sample count is >= 1, a per-level list
 // has levelCount entries and the bias is finite.
-void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount);
+void validateSampleCounts(const FisSettings& settings, int levelCount);
 
 // The per-level mix of sweeps and scenes: N at level 1, 4N at level 2, 16N from level 3 on, at most
 // 1024 (level 0, a copy where alpha = 0, gets N).
 std::vector<int> mixedLevelSamples(int samples, int levelCount);
 
 // The samples of one output level in the tangent frame of R (R = +z), as taps: they do not depend
-// on R, so a filter makes them once per level and rotates them to each texel (importanceSampleTaps,
+// on R, so a filter makes them once per level and rotates them to each texel (fisTaps,
 // and the GPU shader from the same list). Sample i of N uses the Hammersley point
 // (i / N, radicalInverse2(i)), h from the GGX distribution of alpha, l = reflect(-z, h); samples
 // with n.l <= 0 are dropped. pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) +
 // bias, weight n.l (= l.z).
-std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias);
+std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias);
 
-// importanceSamples for every output level of a mapping, settings.samplesAt(m) at level m; empty at
+// fisSamples for every output level of a mapping, settings.samplesAt(m) at level m; empty at
 // the levels with alpha = 0, which are copies. Throws ProbeError as validateSampleCounts.
-std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, const RoughnessMapping& mapping,
-                                                        const ImportanceSamplingSettings& settings);
+std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping,
+                                                 const FisSettings& settings);
 
 // The tangent frame of R (unit) that the samples are rotated into: up = +Z, or +X where
 // |R.z| > 0.999; x = normalize(cross(up, R)), y = cross(R, x), z = R.
-void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y);
+void fisFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y);
 
-// The taps for direction R: `samples` (from importanceSamples) rotated into the frame of R.
-void importanceSampleTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps);
+// The taps for direction R: `samples` (from fisSamples) rotated into the frame of R.
+void fisTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps);
 
 // As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
 // settings.samplesAt(level) samples at each level.
-TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, const RoughnessMapping& mapping,
-                                          const ImportanceSamplingSettings& settings);
+TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
 
 // Filters a probe: builds the pyramid of settings.pyramid and computes every output level.
-CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
-                                  const ImportanceSamplingSettings& settings);
+CubeLevels fisFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
 
 // Impulse response of one output texel of level m over base texels.
-std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
-                                                    const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings, int level,
-                                                    const Texel& texel);
+std::vector<double> fisImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
+                                       const RoughnessMapping& mapping, const FisSettings& settings, int level, const Texel& texel);
 
 } // namespace probe

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 #include "probe/error.h"
+#include "probe/fis.h"
 #include "probe/frame.h"
-#include "probe/importance_sampling.h"
 #include "probe/pyramid.h"
 #include "probe/stratified_texels.h"
 #include "probe/synthetic.h"
@@ -21,8 +21,8 @@ namespace probe {
 namespace {
 
 // A table with positive weights and taps spread around the frame's z axis.
-TapTable randomTable(int baseSize, int levelCount, int taps, TableForm form, unsigned seed) {
-    TapTable table = emptyTable(baseSize, levelCount, taps, form, RoughnessMapping::gltf, {});
+TapTable randomTable(int faceSize, int levelCount, int taps, TableForm form, unsigned seed) {
+    TapTable table = emptyTable(faceSize, levelCount, taps, form, RoughnessMapping::gltf, {});
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> offset(-0.3, 0.3), level(0.0, levelCount), weight(0.5, 1.0), small(0.0, 0.2);
     const int k = coefficientCount(form);
@@ -212,33 +212,33 @@ TEST(TableFilter, ConstantStaysConstant) {
     }
 }
 
-TEST(ImportanceSampling, ConstantStaysConstant) {
+TEST(Fis, ConstantStaysConstant) {
     for (PyramidKind kind : {PyramidKind::bspline, PyramidKind::box}) {
-        ImportanceSamplingSettings settings;
+        FisSettings settings;
         settings.samples = 16;
         settings.pyramid.kind = kind;
-        const CubeLevels out = importanceSampleFilter(constantProbe(16, glm::vec3(3.0f)), 4, RoughnessMapping::gltf, settings);
+        const CubeLevels out = fisFilter(constantProbe(16, glm::vec3(3.0f)), 4, RoughnessMapping::gltf, settings);
         for (const CubeImage& level : out)
             for (float v : level.rgb) EXPECT_NEAR(v, 3.0, 3e-6);
     }
 }
 
 // Running the value form on an impulse probe at base texel t gives w(R, t) of the impulse form.
-void expectImpulseMatchesValue(const TapGenerator& generator, PyramidSettings pyramidSettings, int baseSize, int levels) {
-    const std::vector<DownsampleOperator> ops = pyramidOperators(baseSize, pyramidSettings);
+void expectImpulseMatchesValue(const TapGenerator& generator, PyramidSettings pyramidSettings, int faceSize, int levels) {
+    const std::vector<DownsampleOperator> ops = pyramidOperators(faceSize, pyramidSettings);
     const Texel outputs[] = {{0, 0, 0}, {2, 1, 0}, {5, 1, 1}};
     for (int m = 1; m < levels; ++m)
         for (Texel r : outputs) {
-            const int size = baseSize >> m;
+            const int size = faceSize >> m;
             r.i = std::min(r.i, size - 1);
             r.j = std::min(r.j, size - 1);
-            const std::vector<double> w = impulseWithTaps(ops, baseSize, m, r, generator);
+            const std::vector<double> w = impulseWithTaps(ops, faceSize, m, r, generator);
             EXPECT_NEAR(std::accumulate(w.begin(), w.end(), 0.0), 1.0, 1e-9);
             const std::size_t peak = static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin());
             for (std::size_t t : {peak, (peak + 1) % w.size(), std::size_t{5}}) {
-                Texel source{static_cast<int>(t / (baseSize * baseSize)), static_cast<int>(t % baseSize),
-                             static_cast<int>(t / baseSize % baseSize)};
-                const CubeLevels pyramid = buildPyramid(impulseProbe(baseSize, source), pyramidSettings);
+                Texel source{static_cast<int>(t / (faceSize * faceSize)), static_cast<int>(t % faceSize),
+                             static_cast<int>(t / faceSize % faceSize)};
+                const CubeLevels pyramid = buildPyramid(impulseProbe(faceSize, source), pyramidSettings);
                 const CubeLevels value = filterWithTaps(pyramid, levels, generator);
                 EXPECT_NEAR(value[m].texel(texelIndex(r, size)).r, w[t], 1e-6 * (1.0 + w[t]));
             }
@@ -250,10 +250,10 @@ TEST(TableFilter, ImpulseFormEqualsValueForm) {
     expectImpulseMatchesValue(tableTapGenerator(table), table.pyramid, 8, 4);
 }
 
-TEST(ImportanceSampling, ImpulseFormEqualsValueForm) {
-    ImportanceSamplingSettings settings;
+TEST(Fis, ImpulseFormEqualsValueForm) {
+    FisSettings settings;
     settings.samples = 8;
-    expectImpulseMatchesValue(importanceSampleTapGenerator(8, 4, RoughnessMapping::gltf, settings), settings.pyramid, 8, 4);
+    expectImpulseMatchesValue(fisTapGenerator(8, 4, RoughnessMapping::gltf, settings), settings.pyramid, 8, 4);
 }
 
 TEST(TableFilter, CopyLevelIsTheSource) {
@@ -343,7 +343,7 @@ TEST(TableIo, RoundTrip) {
     const auto path = tempFile("roundtrip.json");
     std::ofstream(path) << tableToJson(table);
     const TapTable back = readTable(path);
-    EXPECT_EQ(back.baseSize, 16);
+    EXPECT_EQ(back.faceSize, 16);
     EXPECT_EQ(back.levelCount, 4);
     EXPECT_EQ(back.taps, 8);
     EXPECT_EQ(back.form, TableForm::quadratic);
@@ -394,7 +394,7 @@ TEST(TableIo, TruncatedOrWrongLayoutIsRefused) {
     wrongTaps.replace(wrongTaps.find("\"taps\": 4"), 9, "\"taps\": 8");
     expectRefused(wrongTaps, "coefficients");
     std::string wrongSize = text;
-    wrongSize.replace(wrongSize.find("\"baseSize\": 16"), 14, "\"baseSize\": 12");
+    wrongSize.replace(wrongSize.find("\"faceSize\": 16"), 14, "\"faceSize\": 12");
     expectRefused(wrongSize, "power of two");
     expectRefused("{\"format\": \"something else\"}", "not a probefilter-tap-table");
     std::filesystem::remove(path);
@@ -406,7 +406,7 @@ TEST(TableIo, GeneratedSourcesRecordInputsAndErrors) {
     const std::string header = tableCppHeader(table, "gltf16_quad4");
     const std::string glsl = tableGlslInclude(table, "gltf16_quad4");
     for (const std::string* s : {&header, &glsl}) {
-        EXPECT_NE(s->find("base size 16, 4 levels, 4 taps"), std::string::npos);
+        EXPECT_NE(s->find("face size 16, 4 levels, 4 taps"), std::string::npos);
         EXPECT_NE(s->find("0.01230"), std::string::npos);
         EXPECT_NE(s->find("bspline weighted by solid-angle"), std::string::npos);
     }

@@ -116,17 +116,17 @@ struct TrilinearFootprintT {
 };
 using TrilinearFootprint = TrilinearFootprintT<double>;
 
-// Trilinear footprint in a pyramid of `levelCount` levels (level k has face size baseSize >> k):
+// Trilinear footprint in a pyramid of `levelCount` levels (level k has face size faceSize >> k):
 // the level is clamped to [0, levelCount - 1] and the floor and ceiling levels are lerped.
 template <typename T>
-TrilinearFootprintT<T> trilinearFootprint(int baseSize, int levelCount, const std::array<T, 3>& direction, T level) {
+TrilinearFootprintT<T> trilinearFootprint(int faceSize, int levelCount, const std::array<T, 3>& direction, T level) {
     if (scalarValue(level) < 0.0) level = T(0.0);
     if (scalarValue(level) > levelCount - 1) level = T(double(levelCount - 1));
     const int lower = static_cast<int>(std::floor(scalarValue(level)));
     const T upperWeight = level - T(double(lower));
     TrilinearFootprintT<T> out;
     auto add = [&](int k, const T& levelWeight) {
-        const FootprintT<T> f = bilinearFootprint(baseSize >> k, direction);
+        const FootprintT<T> f = bilinearFootprint(faceSize >> k, direction);
         for (int t = 0; t < f.count; ++t) out.taps[out.count++] = {k, f.taps[t].index, f.taps[t].weight * levelWeight};
     };
     add(lower, T(1.0) - upperWeight);

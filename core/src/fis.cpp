@@ -1,4 +1,4 @@
-#include "probe/importance_sampling.h"
+#include "probe/fis.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,10 +21,10 @@ FisMap parseFisMap(std::string_view name) {
     throw ParameterError("method.fis.map", fmt::format("{}: expected cube or paraboloid", name));
 }
 
-std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, double bias) {
+std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias) {
     std::vector<Tap> result;
     const double alpha2 = alpha * alpha;
-    const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * baseSize * baseSize);
+    const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * faceSize * faceSize);
     const glm::dvec3 n(0.0, 0.0, 1.0);
     for (int i = 0; i < samples; ++i) {
         const double e1 = static_cast<double>(i) / samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
@@ -40,20 +40,20 @@ std::vector<Tap> importanceSamples(double alpha, int baseSize, int samples, doub
     return result;
 }
 
-void importanceSampleFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y) {
+void fisFrame(const glm::dvec3& R, glm::dvec3& x, glm::dvec3& y) {
     const glm::dvec3 up = std::abs(R.z) < 0.999 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
     x = glm::normalize(glm::cross(up, R));
     y = glm::cross(R, x);
 }
 
-void importanceSampleTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps) {
+void fisTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<Tap>& taps) {
     glm::dvec3 x, y;
-    importanceSampleFrame(R, x, y);
+    fisFrame(R, x, y);
     taps.clear();
     for (const Tap& s : samples) taps.push_back({x * s.direction.x + y * s.direction.y + R * s.direction.z, s.level, s.weight});
 }
 
-void validateSampleCounts(const ImportanceSamplingSettings& settings, int levelCount) {
+void validateSampleCounts(const FisSettings& settings, int levelCount) {
     if (!settings.levelSamples.empty() && static_cast<int>(settings.levelSamples.size()) != levelCount)
         throw ParameterError("method.fis.samples",
                              fmt::format("({} counts): one count, or one per output level ({})", settings.levelSamples.size(), levelCount));
@@ -72,39 +72,35 @@ std::vector<int> mixedLevelSamples(int samples, int levelCount) {
     return counts;
 }
 
-std::vector<std::vector<Tap>> importanceSamplesPerLevel(int baseSize, int levelCount, const RoughnessMapping& mapping,
-                                                        const ImportanceSamplingSettings& settings) {
+std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping,
+                                                 const FisSettings& settings) {
     validateSampleCounts(settings, levelCount);
     std::vector<std::vector<Tap>> perLevel(static_cast<std::size_t>(levelCount));
     for (int m = 0; m < levelCount; ++m) {
         const double alpha = levelAlpha(mapping, m, levelCount);
-        if (alpha > 0.0) perLevel[m] = importanceSamples(alpha, baseSize, settings.samplesAt(m), settings.bias);
+        if (alpha > 0.0) perLevel[m] = fisSamples(alpha, faceSize, settings.samplesAt(m), settings.bias);
     }
     return perLevel;
 }
 
-TapGenerator importanceSampleTapGenerator(int baseSize, int levelCount, const RoughnessMapping& mapping,
-                                          const ImportanceSamplingSettings& settings) {
+TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings) {
     // The samples of each level, made once: the generator runs per texel.
-    const std::vector<std::vector<Tap>> perLevel = importanceSamplesPerLevel(baseSize, levelCount, mapping, settings);
+    const std::vector<std::vector<Tap>> perLevel = fisSamplesPerLevel(faceSize, levelCount, mapping, settings);
     return [=](int level, const Texel& texel, std::vector<Tap>& taps) {
         if (levelAlpha(mapping, level, levelCount) <= 0.0) return false;
-        importanceSampleTaps(texelDirection(texel, baseSize >> level), perLevel[level], taps);
+        fisTaps(texelDirection(texel, faceSize >> level), perLevel[level], taps);
         return true;
     };
 }
 
-CubeLevels importanceSampleFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping,
-                                  const ImportanceSamplingSettings& settings) {
+CubeLevels fisFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings) {
     validateSizeAndLevels(source.size, levelCount);
-    return filterWithTaps(buildPyramid(source, settings.pyramid), levelCount,
-                          importanceSampleTapGenerator(source.size, levelCount, mapping, settings));
+    return filterWithTaps(buildPyramid(source, settings.pyramid), levelCount, fisTapGenerator(source.size, levelCount, mapping, settings));
 }
 
-std::vector<double> importanceSampleImpulseResponse(const std::vector<DownsampleOperator>& operators, int baseSize, int levelCount,
-                                                    const RoughnessMapping& mapping, const ImportanceSamplingSettings& settings, int level,
-                                                    const Texel& texel) {
-    return impulseWithTaps(operators, baseSize, level, texel, importanceSampleTapGenerator(baseSize, levelCount, mapping, settings));
+std::vector<double> fisImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
+                                       const RoughnessMapping& mapping, const FisSettings& settings, int level, const Texel& texel) {
+    return impulseWithTaps(operators, faceSize, level, texel, fisTapGenerator(faceSize, levelCount, mapping, settings));
 }
 
 } // namespace probe

@@ -1,4 +1,4 @@
-#include "probe/cube_sampling.h"
+#include "probe/cube_footprint.h"
 
 namespace probe {
 

@@ -1,15 +1,15 @@
 // Filtered importance sampling (Krivanek & Colbert), one output level per dispatch, mirroring core's
-// importance_sampling.cpp: the level's samples, made once on the host by probe::importanceSamples in
+// fis.cpp: the level's samples, made once on the host by probe::fisSamples in
 // the tangent frame of R (xyz: the reflected direction l, w: its pyramid level; the weight is
 // n.l = l.z), are rotated into the frame of each output texel and read from the pyramid: with
 // PROBE_HARDWARE_SAMPLING one textureLod through the seamless sampler, with PROBE_PARABOLOID_MAP one
 // trilinear read of the dual-paraboloid map at the level its texel solid angle there gives
-// (paraboloid.glsl), else sampling.glsl's arithmetic over the bordered buffer.
+// (paraboloid.glsl), else footprint.glsl's arithmetic over the bordered buffer.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #include "images.glsl"
-#include "sampling.glsl"
+#include "footprint.glsl"
 #include "tap_sum.glsl"
 #ifdef PROBE_PARABOLOID_MAP
 #include "paraboloid.glsl"
@@ -23,7 +23,7 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(constant_id = 0) const int kFixedSampleCount = 0;
 
 layout(push_constant) uniform Params {
-    int baseSize;      // S_0
+    int faceSize;      // S_0
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
     int level;         // the output level of this dispatch
     uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
@@ -36,9 +36,9 @@ vec3 samplePyramid(vec3 direction, float level) {
 #if defined(PROBE_HARDWARE_SAMPLING)
     return textureLod(pyramidCube, direction, level).rgb;
 #elif defined(PROBE_PARABOLOID_MAP)
-    return sampleParaboloid(params.baseSize, direction, paraboloidLevel(direction, level, params.baseSize));
+    return sampleParaboloid(params.faceSize, direction, paraboloidLevel(direction, level, params.faceSize));
 #else
-    return sampleTrilinear(params.baseSize, params.pyramidLevels, direction, level);
+    return sampleTrilinear(params.faceSize, params.pyramidLevels, direction, level);
 #endif
 }
 
@@ -47,7 +47,7 @@ void main() {
     if (index >= params.endTexel) return;
     vec3 R = geometry[index].xyz;
 
-    // probe::importanceSampleFrame
+    // probe::fisFrame
     vec3 up = abs(R.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
     vec3 tx = normalize(cross(up, R)), ty = cross(R, tx);
     vec3 sum = vec3(0.0);
@@ -60,5 +60,5 @@ void main() {
         sum += s.z * samplePyramid(tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
     } while (++k < sampleCount);
-    storeOutput(texelCoordinates(index - params.firstTexel, params.baseSize >> params.level), finishTapSum(sum, weightSum));
+    storeOutput(texelCoordinates(index - params.firstTexel, params.faceSize >> params.level), finishTapSum(sum, weightSum));
 }

@@ -1,11 +1,11 @@
 // Seamless bilinear and trilinear reads of the pyramid buffer, mirroring core's
-// probe/cube_sampling.h with the shader's own arithmetic: texel coordinates x = (u + 1) / 2 * S
+// probe/cube_footprint.h with the shader's own arithmetic: texel coordinates x = (u + 1) / 2 * S
 // clamped to [0, S], so the 2x2 footprint lies within a face and its one-texel border, where
 // pyramid.comp put what the model reads there: the texel of the adjacent face (probe::texelNeighbour)
 // and, at a cube corner, where the footprint's fourth texel does not exist, the Vulkan rule's
 // average of the other three (the model gives a third of its weight to each).
-#ifndef PROBE_SAMPLING_GLSL
-#define PROBE_SAMPLING_GLSL
+#ifndef PROBE_FOOTPRINT_GLSL
+#define PROBE_FOOTPRINT_GLSL
 
 #include "buffers.glsl"
 #include "cube.glsl"
@@ -38,15 +38,15 @@ vec3 sampleBilinearAt(uint first, int size, int face, float x, float y) {
     return bilinearBlend(f, pyramidTexel(t), pyramidTexel(t + 1u), pyramidTexel(t + row), pyramidTexel(t + row + 1u));
 }
 
-// Bilinear value of pyramid level `level` (face size baseSize >> level) at continuous texel
+// Bilinear value of pyramid level `level` (face size faceSize >> level) at continuous texel
 // coordinates (x, y) of `face`.
-vec3 sampleBilinear(int baseSize, int level, int face, float x, float y) {
-    return sampleBilinearAt(pyramidLevelOffset(baseSize, level), baseSize >> level, face, x, y);
+vec3 sampleBilinear(int faceSize, int level, int face, float x, float y) {
+    return sampleBilinearAt(pyramidLevelOffset(faceSize, level), faceSize >> level, face, x, y);
 }
 
-// Trilinear value of the pyramid (levelCount levels from baseSize) at a direction (any length, not
+// Trilinear value of the pyramid (levelCount levels from faceSize) at a direction (any length, not
 // zero) and a fractional level, clamped to [0, levelCount - 1].
-vec3 sampleTrilinear(int baseSize, int levelCount, vec3 direction, float level) {
+vec3 sampleTrilinear(int faceSize, int levelCount, vec3 direction, float level) {
     level = clamp(level, 0.0, float(levelCount - 1));
     int lower = int(floor(level));
     float upperWeight = level - float(lower);
@@ -54,11 +54,11 @@ vec3 sampleTrilinear(int baseSize, int levelCount, vec3 direction, float level) 
     vec2 uv;
     directionToFaceUv(direction, face, uv);
     vec2 unit = uv + 1.0;
-    float half0 = 0.5 * float(baseSize >> lower);
-    vec3 value = (1.0 - upperWeight) * sampleBilinear(baseSize, lower, face, unit.x * half0, unit.y * half0);
+    float half0 = 0.5 * float(faceSize >> lower);
+    vec3 value = (1.0 - upperWeight) * sampleBilinear(faceSize, lower, face, unit.x * half0, unit.y * half0);
     if (lower + 1 < levelCount && upperWeight > 0.0) {
-        float half1 = 0.5 * float(baseSize >> (lower + 1));
-        value += upperWeight * sampleBilinear(baseSize, lower + 1, face, unit.x * half1, unit.y * half1);
+        float half1 = 0.5 * float(faceSize >> (lower + 1));
+        value += upperWeight * sampleBilinear(faceSize, lower + 1, face, unit.x * half1, unit.y * half1);
     }
     return value;
 }

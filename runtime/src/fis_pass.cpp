@@ -1,0 +1,70 @@
+// Filtered importance sampling (shaders/fis.comp): every level's samples, made by
+// probecore in the tangent frame, in the table buffer, and one dispatch per output level computed,
+// reading the cube pyramid or the dual-paraboloid map.
+#include <cstdint>
+
+#include <fis_exact_b10g11r11.spv.h>
+#include <fis_exact_rgba16f.spv.h>
+#include <fis_exact_rgba32f.spv.h>
+#include <fis_hardware_b10g11r11.spv.h>
+#include <fis_hardware_rgba16f.spv.h>
+#include <fis_hardware_rgba32f.spv.h>
+#include <fis_paraboloid_b10g11r11.spv.h>
+#include <fis_paraboloid_rgba16f.spv.h>
+#include <fis_paraboloid_rgba32f.spv.h>
+
+#include "filter_impl.h"
+#include "probe/fis.h"
+
+namespace probe::gpu {
+
+namespace {
+
+struct FisConstants {
+    int32_t faceSize;
+    int32_t pyramidLevels;
+    int32_t level;
+    uint32_t firstTexel;
+    uint32_t endTexel;
+    uint32_t firstSample;
+    uint32_t sampleCount;
+};
+
+} // namespace
+
+std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
+    const std::span<const uint32_t> spirv =
+        impl.paraboloid ? outputVariant(impl, {kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
+        : impl.sampling == Sampling::hardware
+            ? outputVariant(impl, {kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv})
+            : outputVariant(impl, {kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
+    return impl.pipeline(spirv);
+}
+
+std::vector<float> fisBufferData(const FilterSettings& s, std::vector<uint32_t>& sampleOffsets) {
+    std::vector<float> data;
+    sampleOffsets = {0};
+    for (const std::vector<Tap>& level : fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis)) {
+        for (const Tap& sample : level)
+            data.insert(data.end(), {static_cast<float>(sample.direction.x), static_cast<float>(sample.direction.y),
+                                     static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});
+        sampleOffsets.push_back(sampleOffsets.back() + static_cast<uint32_t>(level.size()));
+    }
+    if (data.empty()) data.assign(4, 0.0f); // every level a copy: a buffer cannot be empty
+    return data;
+}
+
+void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
+    const FilterSettings& s = impl.settings;
+    const uint32_t firstSample = impl.sampleOffsets[m];
+    const FisConstants constants{s.faceSize,
+                                 impl.pyramidDepth + 1,
+                                 m,
+                                 impl.outputOffsets[m],
+                                 impl.outputOffsets[m + 1],
+                                 firstSample,
+                                 impl.sampleOffsets[m + 1] - firstSample};
+    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
+}
+
+} // namespace probe::gpu
