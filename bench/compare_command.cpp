@@ -86,10 +86,8 @@ json levelErrors(const probe::CubeLevels& levels, const probe::CubeLevels& refer
     return errors;
 }
 
-void runCompare(const CompareOptions& o) {
-    const probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
-    const int levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
-    probe::validateSizeAndLevels(o.size, levelCount);
+// The options no settings check covers: the sheet's spheres, cells and heat map, the repeats, FIS.
+void checkCompareOptions(const CompareOptions& o) {
     if (o.roughness.empty() || o.roughness.size() > probe::kMaxSheetSpheres)
         throw probe::ProbeError(fmt::format("--roughness: give 1 to {} values", probe::kMaxSheetSpheres));
     for (double r : o.roughness)
@@ -102,14 +100,18 @@ void runCompare(const CompareOptions& o) {
     // The heat maps' white: a relative error, shown in the legend as a percentage.
     if (!(o.maxError >= 1e-6 && o.maxError <= 1e6))
         throw probe::ProbeError(fmt::format("--max-error {}: must be a relative error from 1e-06 to 1e+06", o.maxError));
+}
 
+// The table's settings and FIS's, alike but for the method; the table (--table, or the compiled-in
+// one for the shape) goes into `table`.
+std::array<probe::gpu::FilterSettings, 2> compareSettings(const CompareOptions& o, int levelCount, const probe::RoughnessMapping& mapping,
+                                                          probe::TapTable& table) {
     probe::gpu::FilterSettings tableSettings;
     tableSettings.method.kind = probe::MethodKind::table;
     tableSettings.sampling = probe::gpu::parseSampling(o.sampling);
     tableSettings.faceSize = o.size;
     tableSettings.levelCount = levelCount;
     tableSettings.mapping = mapping;
-    probe::TapTable table;
     if (!o.table.empty()) {
         table = tableOption(o.table);
     } else if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(o.size, levelCount, mapping, {})) {
@@ -124,6 +126,31 @@ void runCompare(const CompareOptions& o) {
     probe::gpu::FilterSettings fisSettings = tableSettings;
     fisSettings.method = {probe::MethodKind::fis, nullptr, {}};
     fisSettings.method.fis.samples = o.samples;
+    return {tableSettings, fisSettings};
+}
+
+// The sheet's spheres (metals of the roughness asked for) into `scene`; their description for the report.
+json addSheetSpheres(const CompareOptions& o, const probe::RoughnessMapping& mapping, int levelCount, probe::gpu::SphereScene& scene) {
+    json materials = json::array();
+    for (double r : o.roughness) {
+        probe::SceneMaterial m;
+        m.name = fmt::format("metal r={}", r);
+        m.roughness = r;
+        m.metallic = 1.0;
+        m.baseColor = glm::dvec3(0.95, 0.93, 0.88);
+        scene.materials.push_back(sphereMaterial(m, mapping, levelCount));
+        materials.push_back({{"roughness", r}, {"level", scene.materials.back().level}, {"metallic", 1.0}});
+    }
+    return materials;
+}
+
+void runCompare(const CompareOptions& o) {
+    const probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
+    const int levelCount = o.levels == 0 ? probe::defaultLevelCount(o.size) : o.levels;
+    probe::validateSizeAndLevels(o.size, levelCount);
+    checkCompareOptions(o);
+    probe::TapTable table;
+    const auto [tableSettings, fisSettings] = compareSettings(o, levelCount, mapping, table);
 
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
@@ -150,16 +177,7 @@ void runCompare(const CompareOptions& o) {
     scene.background = &source;
     scene.dfg = &dfg;
     scene.cellSize = o.cell;
-    json materials = json::array();
-    for (double r : o.roughness) {
-        probe::SceneMaterial m;
-        m.name = fmt::format("metal r={}", r);
-        m.roughness = r;
-        m.metallic = 1.0;
-        m.baseColor = glm::dvec3(0.95, 0.93, 0.88);
-        scene.materials.push_back(sphereMaterial(m, mapping, levelCount));
-        materials.push_back({{"roughness", r}, {"level", scene.materials.back().level}, {"metallic", 1.0}});
-    }
+    const json materials = addSheetSpheres(o, mapping, levelCount, scene);
     auto render = [&](const probe::CubeLevels& levels) {
         scene.prefiltered = &levels;
         return probe::gpu::renderSpheres(device, scene);

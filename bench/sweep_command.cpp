@@ -4,8 +4,8 @@
 // L1 against the exact reference per level, the impulse-response L1 per level, and the GPU time of
 // all levels and of each level's pass-2 dispatch (median of --repeat runs, interleaved over the
 // methods), and the trilinear pyramid reads and the filter shader's taps or samples per output texel,
-// costs that do not depend on the device (tools/shader_stats --sweep turns the latter into
-// instructions). Writes sweep.csv, sweep.md and report.json; scripts/plot-sweep draws it. With --summarize,
+// costs that do not depend on the device (bench/shader_stats/shader_stats --sweep turns the latter into
+// instructions). Writes sweep.csv, sweep.md and report.json; bench/scripts/plot-sweep draws it. With --summarize,
 // summarizes a sweep.csv again without running anything.
 #include <algorithm>
 #include <filesystem>
@@ -224,9 +224,11 @@ void writeSummary(probe::StagedOutput& output, const std::vector<SweepRow>& rows
     // "hardware sampling, rgba32f pyramid" or "exact sampling", for the Markdown's device line.
     const std::string samplingText =
         pyramidFormat.empty() ? fmt::format("{} sampling", sampling) : fmt::format("{} sampling, {} pyramid", sampling, pyramidFormat);
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {}", name, driver, samplingText), size, levelCount);
+    const nlohmann::json header = reportHeader("sweep");
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {}", name, driver, samplingText), size, levelCount,
+                       header);
     nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
-    report.update(reportHeader("sweep"));
+    report.update(header);
     report["sampling"] = sampling;
     if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
     writeJson(output.file("report.json"), report);
@@ -256,6 +258,58 @@ void summarizeAgain(const SweepOptions& o) {
     probe::StagedOutput output(o.out, {dir}, o.force);
     writeSweepCsv(output.file("sweep.csv"), rows);
     writeSummary(output, rows, name, driver, sampling, pyramidFormat, size, levelCount);
+}
+
+// A method's impulse-response L1 per level over stratified texels (it does not depend on the probe).
+std::vector<probe::ImpulseError> methodImpulseErrors(const SweepOptions& o, int levelCount, const Method& method,
+                                                     std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>>& operators) {
+    const probe::PyramidSettings pyramid = method.settings.method.pyramid();
+    auto& ops = operators[pyramid.kind];
+    if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
+    std::vector<probe::ImpulseError> impulse;
+    const probe::FisSettings& fis = method.settings.method.fis;
+    std::optional<probe::ParaboloidImpulse> paraboloid;
+    if (method.settings.method.kind == probe::MethodKind::fis && fis.map == probe::FisMap::paraboloid)
+        paraboloid.emplace(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
+    for (int m = 0; m < levelCount; ++m) {
+        const std::vector<probe::WeightedTexel> texels = probe::stratifiedTexels(o.size >> m, o.texelBudget);
+        // A paraboloid map's level 0 is a copy, as every method's.
+        if (paraboloid && probe::levelAlpha(probe::RoughnessMapping::gltf, m, levelCount) > 0.0)
+            impulse.push_back(probe::impulseError([&](const probe::Texel& t) { return paraboloid->response(m, t); }, o.size, levelCount,
+                                                  probe::RoughnessMapping::gltf, m, texels));
+        else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m, texels));
+    }
+    return impulse;
+}
+
+// GPU time does not depend on the probe's content: every method runs the first probe in each of
+// --repeat rounds, so that a machine whose speed drifts during the sweep slows every method
+// alike; the median over the rounds. In a round a method runs three times in a row, as in
+// bench/scripts/runtime: twice timed per pass, the first to warm the GPU up, for the total of the
+// second; then once timed per level (timestamps that keep a GPU from overlapping levels) for
+// each level's time. Sets every row's gpuMs and levelGpuMs.
+void timeMethods(const SweepOptions& o, int levelCount, const std::vector<Method>& methods,
+                 const std::vector<std::unique_ptr<probe::gpu::Filter>>& filters, const probe::CubeImage& probe,
+                 std::vector<SweepRow>& rows) {
+    // Per method: the total, then each level's pass-2 dispatch, one per round.
+    std::vector<std::vector<std::vector<double>>> runsMs(methods.size(), std::vector<std::vector<double>>(levelCount + 1));
+    for (int round = 0; round < o.repeat; ++round) {
+        for (std::size_t k = 0; k < methods.size(); ++k) {
+            filters[k]->run(probe, 2);
+            for (const probe::gpu::PassTime& t : filters[k]->timings())
+                if (t.name == "total") runsMs[k][0].push_back(t.runsMs.back());
+            filters[k]->run(probe, 1, probe::gpu::Timestamps::levels);
+            const std::vector<probe::gpu::PassTime> levels = filters[k]->levelTimings();
+            for (std::size_t m = 0; m < levels.size(); ++m) runsMs[k][m + 1].push_back(levels[m].medianMs);
+        }
+        printProgress("timing", static_cast<std::size_t>(round + 1), static_cast<std::size_t>(o.repeat));
+    }
+    for (std::size_t k = 0; k < methods.size(); ++k)
+        for (SweepRow& row : rows)
+            if (row.method.name == methods[k].description.name) {
+                row.gpuMs = median(runsMs[k][0]);
+                row.levelGpuMs = median(runsMs[k][static_cast<std::size_t>(row.level) + 1]);
+            }
 }
 
 void runSweep(const SweepOptions& o) {
@@ -297,56 +351,16 @@ void runSweep(const SweepOptions& o) {
     std::vector<SweepRow> rows;
     std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>> operators;
     for (std::size_t k = 0; k < methods.size(); ++k) {
-        Method& method = methods[k];
-        const probe::PyramidSettings pyramid = method.settings.method.pyramid();
-        auto& ops = operators[pyramid.kind];
-        if (ops.empty()) ops = probe::pyramidOperators(o.size, pyramid);
-        std::vector<probe::ImpulseError> impulse;
-        const probe::FisSettings& fis = method.settings.method.fis;
-        std::optional<probe::ParaboloidImpulse> paraboloid;
-        if (method.settings.method.kind == probe::MethodKind::fis && fis.map == probe::FisMap::paraboloid)
-            paraboloid.emplace(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-        for (int m = 0; m < levelCount; ++m) {
-            const std::vector<probe::WeightedTexel> texels = probe::stratifiedTexels(o.size >> m, o.texelBudget);
-            // A paraboloid map's level 0 is a copy, as every method's.
-            if (paraboloid && probe::levelAlpha(probe::RoughnessMapping::gltf, m, levelCount) > 0.0)
-                impulse.push_back(probe::impulseError([&](const probe::Texel& t) { return paraboloid->response(m, t); }, o.size, levelCount,
-                                                      probe::RoughnessMapping::gltf, m, texels));
-            else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m, texels));
-        }
+        const std::vector<probe::ImpulseError> impulse = methodImpulseErrors(o, levelCount, methods[k], operators);
         for (std::size_t p = 0; p < probes.size(); ++p) {
             const probe::CubeLevels out = filters[k]->run(probes[p].cube);
             for (int m = 0; m < levelCount; ++m)
-                rows.push_back({method.description, probes[p].name, m, probe::imageL1(out[m], references[p][m]), impulse[m].mean,
+                rows.push_back({methods[k].description, probes[p].name, m, probe::imageL1(out[m], references[p][m]), impulse[m].mean,
                                 impulse[m].max, 0.0});
         }
         printProgress("methods", k + 1, methods.size());
     }
-
-    // GPU time does not depend on the probe's content: every method runs the first probe in each of
-    // --repeat rounds, so that a machine whose speed drifts during the sweep slows every method
-    // alike; the median over the rounds. In a round a method runs three times in a row, as in
-    // scripts/bench-runtime: twice timed per pass, the first to warm the GPU up, for the total of the
-    // second; then once timed per level (timestamps that keep a GPU from overlapping levels) for
-    // each level's time. Per method: the total, then each level's pass-2 dispatch, one per round.
-    std::vector<std::vector<std::vector<double>>> runsMs(methods.size(), std::vector<std::vector<double>>(levelCount + 1));
-    for (int round = 0; round < o.repeat; ++round) {
-        for (std::size_t k = 0; k < methods.size(); ++k) {
-            filters[k]->run(probes.front().cube, 2);
-            for (const probe::gpu::PassTime& t : filters[k]->timings())
-                if (t.name == "total") runsMs[k][0].push_back(t.runsMs.back());
-            filters[k]->run(probes.front().cube, 1, probe::gpu::Timestamps::levels);
-            const std::vector<probe::gpu::PassTime> levels = filters[k]->levelTimings();
-            for (std::size_t m = 0; m < levels.size(); ++m) runsMs[k][m + 1].push_back(levels[m].medianMs);
-        }
-        printProgress("timing", static_cast<std::size_t>(round + 1), static_cast<std::size_t>(o.repeat));
-    }
-    for (std::size_t k = 0; k < methods.size(); ++k)
-        for (SweepRow& row : rows)
-            if (row.method.name == methods[k].description.name) {
-                row.gpuMs = median(runsMs[k][0]);
-                row.levelGpuMs = median(runsMs[k][static_cast<std::size_t>(row.level) + 1]);
-            }
+    timeMethods(o, levelCount, methods, filters, probes.front().cube, rows);
 
     writeSweepCsv(output.file("sweep.csv"), rows);
     const probe::gpu::Filter& first = *filters.front();

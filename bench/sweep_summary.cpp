@@ -298,9 +298,10 @@ std::string formatSummary(const SweepSummary& summary) {
 }
 
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
-                        const std::string& device, int size, int levelCount) {
+                        const std::string& device, int size, int levelCount, const nlohmann::json& header) {
     std::ostringstream out;
     out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
+    out << fmt::format("Written by `{}` on {}.\n\n", header.at("command_line").get<std::string>(), header.at("date").get<std::string>());
     out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
            "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
            "on one probe (it does not depend on the content); reads are trilinear pyramid reads per output texel of levels >= 1 "

@@ -23,7 +23,7 @@ struct SweepMethod {
     std::string form;           // tables: "quad" or "const"
     double readsPerTexel = 0.0; // trilinear pyramid reads per output texel of levels >= 1, averaged over those texels
     // The taps or samples that the filter shader's loop runs per output texel of levels >= 1: the reads, and a
-    // table level's zero-weight taps up to the shader's groups of four (tools/shader_stats --sweep costs them).
+    // table level's zero-weight taps up to the shader's groups of four (bench/shader_stats/shader_stats --sweep costs them).
     double shaderTapsPerTexel = 0.0;
 };
 
@@ -99,8 +99,10 @@ SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows);
 // The rows of a sweep.csv that writeSweepCsv wrote; ProbeError naming the file and line otherwise.
 std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path);
+// sweep.md: the summary, every table against the FIS front and every method; `header` (reportHeader)
+// gives the command line and date it names.
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
-                        const std::string& device, int size, int levelCount);
+                        const std::string& device, int size, int levelCount, const nlohmann::json& header);
 nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,
                                 int levelCount);
 std::string formatSummary(const SweepSummary& summary);

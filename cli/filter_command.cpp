@@ -80,7 +80,8 @@ nlohmann::json describeTable(const probe::TapTable& t) {
             {"level_count", t.levelCount}, {"mapping", probe::describeRoughnessMapping(t.mapping)}, {"solver", t.solver}};
 }
 
-void runFilter(const FilterOptions& o) {
+// The runtime's settings from the command line; the table, where the method is one, goes into `table`.
+probe::gpu::FilterSettings filterSettings(const FilterOptions& o, const probe::PyramidSettings& pyramid, probe::TapTable& table) {
     probe::gpu::FilterSettings s;
     s.method.kind = probe::parseMethodKind(o.method);
     s.mapping = probe::mappingFromOptions(o.mapping, o.roughness);
@@ -89,16 +90,11 @@ void runFilter(const FilterOptions& o) {
     s.sampling = probe::gpu::parseSampling(o.sampling);
     s.pyramidFormat = probe::gpu::parsePyramidFormat(o.pyramidFormat);
     s.outputFormat = probe::gpu::parseFormat(o.format);
-    const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     s.method.fis.samples = o.samples.front();
     if (o.samples.size() > 1) s.method.fis.levelSamples = o.samples;
     s.method.fis.bias = o.fisBias;
     s.method.fis.map = probe::parseFisMap(o.fisMap);
     s.method.fis.pyramid = pyramid;
-    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
-    probe::checkRepeat(o.repeat);
-
-    probe::TapTable table;
     if (s.method.kind == probe::MethodKind::table) {
         table = chooseTable(o, s, pyramid);
         if (!(table.pyramid == pyramid))
@@ -109,6 +105,47 @@ void runFilter(const FilterOptions& o) {
         s.method.table = &table;
     }
     probe::validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
+    return s;
+}
+
+// The report of a finished run: the settings, the device, every dispatch and the GPU times.
+nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid,
+                           const probe::gpu::Device& device, const probe::gpu::Filter& filter) {
+    nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
+    report.update(reportHeader("filter"));
+    report["input"] = o.input;
+    report["method"] = std::string(probe::methodKindName(s.method.kind));
+    report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
+    report["output_format"] = std::string(probe::gpu::formatName(s.outputFormat));
+    if (s.method.kind != probe::MethodKind::reference)
+        report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(pyramid.kind))},
+                             {"weighting", std::string(probe::pyramidWeightingName(pyramid.weighting))},
+                             {"format", std::string(probe::gpu::formatName(filter.pyramidFormat()))}};
+    if (s.method.kind == probe::MethodKind::fis) {
+        const probe::FisSettings& fis = s.method.fis;
+        const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
+        report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
+    }
+    if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(*s.method.table);
+    report["device"] = describeDevice(device.info(), o.validate);
+    report["dispatches"] = describeDispatches(filter.dispatches());
+    report["repeat"] = o.repeat;
+    nlohmann::json passes = nlohmann::json::array();
+    for (const probe::gpu::PassTime& p : filter.timings())
+        passes.push_back({{"name", p.name}, {"gpu_ms_median", p.medianMs}, {"gpu_ms_runs", p.runsMs}});
+    report["passes"] = passes;
+    // Pass 2 level by level, with --level-times (filter computes every level: entry k is level k).
+    const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings();
+    for (std::size_t k = 0; k < levelTimes.size(); ++k) report["levels"][k]["gpu_ms_median"] = levelTimes[k].medianMs;
+    return report;
+}
+
+void runFilter(const FilterOptions& o) {
+    const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
+    probe::TapTable table;
+    const probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
+    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
+    probe::checkRepeat(o.repeat);
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
@@ -130,35 +167,8 @@ void runFilter(const FilterOptions& o) {
         throw probe::ProbeError(
             fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
-    nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
-    report.update(reportHeader("filter"));
-    report["input"] = o.input;
+    nlohmann::json report = describeRun(o, s, pyramid, device, filter);
     report["input_pixels"] = pixels;
-    report["method"] = std::string(probe::methodKindName(s.method.kind));
-    report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
-    report["output_format"] = std::string(probe::gpu::formatName(s.outputFormat));
-    if (s.method.kind != probe::MethodKind::reference)
-        report["pyramid"] = {{"kind", std::string(probe::pyramidKindName(pyramid.kind))},
-                             {"weighting", std::string(probe::pyramidWeightingName(pyramid.weighting))},
-                             {"format", std::string(probe::gpu::formatName(filter.pyramidFormat()))}};
-    if (s.method.kind == probe::MethodKind::fis) {
-        const probe::FisSettings& fis = s.method.fis;
-        const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
-        report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
-    }
-    if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(table);
-    const probe::gpu::DeviceInfo& info = device.info();
-    report["device"] = describeDevice(info, o.validate);
-    report["dispatches"] = describeDispatches(filter.dispatches());
-    report["repeat"] = o.repeat;
-    nlohmann::json passes = nlohmann::json::array();
-    for (const probe::gpu::PassTime& p : filter.timings())
-        passes.push_back({{"name", p.name}, {"gpu_ms_median", p.medianMs}, {"gpu_ms_runs", p.runsMs}});
-    report["passes"] = passes;
-    // Pass 2 level by level, with --level-times (filter computes every level: entry k is level k).
-    const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings();
-    for (std::size_t k = 0; k < levelTimes.size(); ++k) report["levels"][k]["gpu_ms_median"] = levelTimes[k].medianMs;
-
     if (o.againstReference) {
         const probe::CubeLevels reference = probe::referenceFilter(
             source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
@@ -174,6 +184,7 @@ void runFilter(const FilterOptions& o) {
     double total = 0.0;
     for (const probe::gpu::PassTime& p : filter.timings())
         if (p.name == "total") total = p.medianMs;
+    const probe::gpu::DeviceInfo& info = device.info();
     fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms (median of {}) -> {}\n", o.method,
                probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, o.repeat, o.out);
 }

@@ -18,7 +18,7 @@
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 // 0: the level's sample count from the push constants (the runtime); n > 0: n samples, a constant
-// that unrolls the loop, so that tools/shader_stats measures the cost of a sample as the difference
+// that unrolls the loop, so that bench/shader_stats/shader_stats measures the cost of a sample as the difference
 // between two counts.
 layout(constant_id = 0) const int kFixedSampleCount = 0;
 

@@ -27,7 +27,7 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(constant_id = 0) const int kCoefficientCount = 3; // 3: quadratic, 1: constant
 layout(constant_id = 2) const int kTaps = 8;
 // 0: each level's tap groups in use, from the table (the runtime); n > 0: n groups of four taps per
-// frame at every level, a constant that unrolls the loops, so that tools/shader_stats measures the
+// frame at every level, a constant that unrolls the loops, so that bench/shader_stats/shader_stats measures the
 // cost of a tap as the difference between two counts.
 layout(constant_id = 1) const int kFixedTapGroups = 0;
 

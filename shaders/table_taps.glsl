@@ -23,7 +23,7 @@ vec4 tablePolynomial(int parameter, uint group, FrameSetup f) {
 // frame may not count at d (a loop over frames that some texels of a subgroup need): there its taps
 // weigh 0 at a direction that can be read. A caller that only adds frames that count passes a
 // constant false, and the compiler drops those selects. The loop unrolls where groupsInUse is a
-// constant (the fixed counts that tools/shader_stats compiles to measure the cost of a tap).
+// constant (the fixed counts that bench/shader_stats/shader_stats compiles to measure the cost of a tap).
 void addTableFrame(vec3 d, int axis, int groupsInUse, bool mayWeighZero, inout vec3 sum, inout float weightSum) {
     FrameSetup f = frameSetup(d, axis);
     bool counts = !mayWeighZero || f.weight > 0.0;

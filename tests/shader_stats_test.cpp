@@ -1,4 +1,4 @@
-// tools/shader_stats on RADV's null device for RDNA2 (navi21): every pipeline of the runtime compiles
+// bench/shader_stats/shader_stats on RADV's null device for RDNA2 (navi21): every pipeline of the runtime compiles
 // with statistics, the per-tap and per-sample costs measured from the instruction counts are
 // consistent with what the shaders do, and a sweep's methods are costed with their own shader.
 // Skipped where the RADV driver is not installed.

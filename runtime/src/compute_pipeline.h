@@ -46,7 +46,7 @@ private:
 
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
 // choices fixed per pipeline, whose untaken paths the driver then compiles out. `flags` and `cache`
-// (the engine's, or none) go to vkCreateComputePipelines (tools/shader_stats asks for the driver's
+// (the engine's, or none) go to vkCreateComputePipelines (bench/shader_stats/shader_stats asks for the driver's
 // statistics).
 class ComputePipeline {
 public:

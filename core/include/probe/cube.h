@@ -32,6 +32,8 @@ struct FaceUv {
     double u;
     double v;
 };
+// The face a direction points through and its coordinates there, u and v in [-1, 1] (design.md's
+// face convention); the direction need not be unit length.
 FaceUv directionToFaceUv(const glm::dvec3& direction);
 
 // Texel centre coordinate along one axis of a face of `size` texels: (index + 0.5) / size mapped to [-1, 1].

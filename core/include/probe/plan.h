@@ -55,6 +55,8 @@ inline constexpr const char* kDfgPass = "dfg-table";
 // The tap generator of a probe's method (empty for the reference, which reads no pyramid).
 using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
 
+// What a scene needs computed: per probe the levels its materials read and the pyramid those levels
+// read, the irradiance where a material is diffuse, the DFG table where one is specular.
 Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor);
 
 } // namespace probe

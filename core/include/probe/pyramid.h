@@ -48,6 +48,7 @@ struct DownsampleOperator {
     void applyTranspose(const std::vector<double>& coarse, std::vector<double>& fine) const;
 };
 
+// The operator that builds the level of face size fineSize / 2 from a level of face size fineSize.
 DownsampleOperator downsampleOperator(int fineSize, PyramidSettings settings);
 
 // The operators of every step of a pyramid over a base of `faceSize`: element k maps level k to k + 1.

@@ -20,7 +20,7 @@ struct SeamSteps {
     double interior = 0.0;
     double quarterLine = 0.0;
 };
-SeamSteps steepestSteps(const CubeImage& level);
+SeamSteps steepestSteps(const CubeImage& level); // the largest RGB step of each kind
 
 // edge / interior; 0 for faces under 4 texels (no interior to compare with) or a flat level.
 double seamRatio(const CubeImage& level);

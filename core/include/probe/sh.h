@@ -30,6 +30,7 @@ inline constexpr const char* kShConvention =
     "A_2 = pi / 4; E(n) = sum_k E_k Y_k(n), so a constant radiance L gives E = L";
 using ShCoefficients = std::array<glm::dvec3, kShCount>; // RGB per coefficient
 
+// The nine basis functions Y_k at a unit direction, in the order of kShConvention.
 std::array<double, kShCount> shBasis(const glm::dvec3& unitDirection);
 
 // Projects the radiance of a cube level onto the basis (double precision).

@@ -28,6 +28,7 @@ std::vector<float> publishedLevelLayout(const TapTable& table, int level);
 // count matches the table's shape).
 void setPublishedLayout(TapTable& table, const std::vector<double>& values);
 
+// Reads such a file as a table of the shape given; writes a table in that layout.
 TapTable importPublishedTable(const std::filesystem::path& path, int faceSize, int levelCount, int taps, TableForm form,
                               const RoughnessMapping& mapping, PyramidSettings pyramid);
 void writePublishedTable(const std::filesystem::path& path, const TapTable& table);

@@ -16,7 +16,8 @@ namespace probe {
 // quadratic: P = c0 + c1 theta^2 + c2 phi^2; constant: P = c0.
 enum class TableForm { constant, quadratic };
 TableForm parseTableForm(std::string_view name); // "const" or "quad"; throws ProbeError naming the value
-std::string_view tableFormName(TableForm form);
+std::string_view tableFormName(TableForm form);  // the name parseTableForm reads
+// Coefficients per tap parameter.
 inline int coefficientCount(TableForm form) { return form == TableForm::quadratic ? 3 : 1; }
 
 // One output level: the coefficients and what the fit achieved.

@@ -75,10 +75,11 @@ public:
     Device(const Device&) = delete;
     Device& operator=(const Device&) = delete;
 
-    const DeviceInfo& info() const;
+    const DeviceInfo& info() const; // the device's index, name, driver, type and API version
     // Messages of the validation layer so far (empty without DeviceOptions::validation).
     std::vector<std::string> validationMessages() const;
 
+    // The handles the device runs on: its own, or the engine's it was given.
     VkInstance instance() const;
     VkPhysicalDevice physicalDevice() const;
     VkDevice device() const;

@@ -1,5 +1,5 @@
 // shader_stats: the static GPU cost of every compute pipeline of the runtime, from the Vulkan driver's
-// pipeline statistics, as Markdown tables (scripts/shader-stats runs it on RADV's null device); with
+// pipeline statistics, as Markdown tables (bench/scripts/shader-stats runs it on RADV's null device); with
 // --sweep DIR, the instructions per output texel of every method of the sweep in DIR, written to
 // DIR/instructions.json. Exit codes: 0 success, 2 bad input or failure.
 #include <cstdio>

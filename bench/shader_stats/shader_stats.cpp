@@ -153,8 +153,9 @@ StatisticsDevice::StatisticsDevice() : impl_(std::make_unique<Impl>()) {
         }
     if (!physical) {
         vkDestroyInstance(d.instance, nullptr);
-        throw ProbeError("Vulkan: no device reports pipeline statistics (VK_KHR_pipeline_executable_properties); scripts/shader-stats "
-                         "selects RADV's null device (Debian: mesa-vulkan-drivers)");
+        throw ProbeError(
+            "Vulkan: no device reports pipeline statistics (VK_KHR_pipeline_executable_properties); bench/scripts/shader-stats "
+            "selects RADV's null device (Debian: mesa-vulkan-drivers)");
     }
     VkPhysicalDeviceDriverProperties driverProperties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 properties{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};

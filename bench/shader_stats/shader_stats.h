@@ -1,7 +1,7 @@
 // Static GPU cost of the runtime's compute pipelines: each pipeline compiled by the Vulkan driver, which
 // reports its statistics through VK_KHR_pipeline_executable_properties (RADV with its ACO compiler:
 // instructions, registers, spills, and ACO's latency and throughput estimates). A proxy for the cost on
-// that GPU, not a time: nothing is dispatched, and RADV's null device (scripts/shader-stats) compiles for
+// that GPU, not a time: nothing is dispatched, and RADV's null device (bench/scripts/shader-stats) compiles for
 // an AMD GPU that the machine need not have.
 #pragma once
 
@@ -23,7 +23,7 @@ struct ShaderVariant {
 
 // Every compute pipeline the runtime creates: each SPIR-V it embeds, the table filter with quadratic
 // and with constant tables, the pyramid passes with the B-spline and the box kernel; and the engine
-// drop-in shaders with the default table (tools/engine_pyramid.comp, tools/engine_table_filter.comp).
+// drop-in shaders with the default table (bench/shader_stats/engine_pyramid.comp, bench/shader_stats/engine_table_filter.comp).
 std::vector<ShaderVariant> runtimeVariants();
 
 // The driver's statistics of one compiled pipeline (-1 where the driver does not report one).

@@ -1,4 +1,4 @@
-"""Filament's cmgen against the exact reference and probefilter (see scripts/bench-cmgen)."""
+"""Filament's cmgen against the exact reference and probefilter (see bench/scripts/cmgen)."""
 import argparse
 import json
 import math
@@ -117,9 +117,9 @@ def find_alignment(work):
         error, name, how = min((np.abs(o - face).mean() / scale, name, how)
                                for name in FACES for how, o in orientations(cmgen_level0[name]))
         if error > 2e-3:  # cmgen writes half floats: about 5e-4 relative
-            sys.exit(f"bench-cmgen: no cmgen face matches Vulkan face {k} at level 0 (best {name}, error {error:.2e})")
+            sys.exit(f"bench/scripts/cmgen: no cmgen face matches Vulkan face {k} at level 0 (best {name}, error {error:.2e})")
         alignment.append((name, how, float(error)))
-    print(f"bench-cmgen: cmgen's faces, in Vulkan order: {alignment}", file=sys.stderr)
+    print(f"bench/scripts/cmgen: cmgen's faces, in Vulkan order: {alignment}", file=sys.stderr)
     return alignment
 
 
@@ -163,7 +163,7 @@ def fit_roughness(probes, references, outputs, levels):
             own = np.concatenate([f.reshape(-1, 3) for f in references[name][m]])[texels]
             check = (np.abs(scan[MAPPING_STEP] - own) * weights).sum() / (np.abs(own) * weights).sum()
             if check > 1e-4:
-                sys.exit(f"bench-cmgen: the roughness scan's reference differs from probefilter's at level {m} of {name} "
+                sys.exit(f"bench/scripts/cmgen: the roughness scan's reference differs from probefilter's at level {m} of {name} "
                          f"(L1 {check:.2e})")
         for tool, levels_of in outputs.items():
             losses = np.zeros(len(alphas))
@@ -172,7 +172,7 @@ def fit_roughness(probes, references, outputs, levels):
                 losses += [(np.abs(found - r) * weights).sum() / (np.abs(r) * weights).sum() / len(probes) for r in scan]
             k = int(np.argmin(losses))
             if k in (0, len(alphas) - 1):
-                sys.exit(f"bench-cmgen: {tool}'s level {m} is closest to alpha {alphas[k]:.4g}, the end of the scan "
+                sys.exit(f"bench/scripts/cmgen: {tool}'s level {m} is closest to alpha {alphas[k]:.4g}, the end of the scan "
                          f"({alphas[0]:.4g} to {alphas[-1]:.4g}) around the filament mapping's {expected:.4g}")
             # The parabola's vertex through (log alpha, L1) at k - 1, k, k + 1 (equal steps).
             a, b, c = losses[k - 1:k + 2]
@@ -180,13 +180,13 @@ def fit_roughness(probes, references, outputs, levels):
             fitted = expected * 2.0 ** ((k - MAPPING_STEP + offset) / 8.0)
             fits[tool].append({"level": m, "filament_alpha": expected, "closest_alpha": fitted, "ratio": fitted / expected,
                                "l1_at_closest_step": float(losses[k]), "l1_at_filament_alpha": float(losses[MAPPING_STEP])})
-            print(f"bench-cmgen: {tool}, level {m}: closest alpha {fitted:.4g}, the filament mapping's {expected:.4g} "
+            print(f"bench/scripts/cmgen: {tool}, level {m}: closest alpha {fitted:.4g}, the filament mapping's {expected:.4g} "
                   f"(ratio {fitted / expected:.3f}; L1 {losses[k]:.4f} at the closest step, {losses[MAPPING_STEP]:.4f} at the "
                   "mapping's)", file=sys.stderr)
     for tool, per_level in fits.items():
         bad = [f for f in per_level if not 1.0 / ALPHA_TOLERANCE <= f["ratio"] <= ALPHA_TOLERANCE]
         if bad:
-            sys.exit(f"bench-cmgen: {tool}'s roughness is not the filament mapping's within {ALPHA_TOLERANCE}x at level(s) "
+            sys.exit(f"bench/scripts/cmgen: {tool}'s roughness is not the filament mapping's within {ALPHA_TOLERANCE}x at level(s) "
                      + ", ".join(f"{f['level']} (alpha {f['closest_alpha']:.4g}, expected {f['filament_alpha']:.4g})" for f in bad))
     return fits
 
@@ -248,6 +248,7 @@ def main():
              table_tool: probefilter("--method", "table", "--table", a.table)}
 
     errors = {tool: [] for tool in tools}
+    device = None
     alignment = find_alignment(work)
     references, cmgen_levels, control_levels = {}, {}, {}
     for name, path in probes.items():
@@ -263,7 +264,7 @@ def main():
             if tool.startswith("cmgen"):
                 found = [{n: read_rgb(dest / cross_path.stem / f"m{m}_{n}.exr") for n in FACES} for m in range(levels)]
                 if (dest / cross_path.stem / f"m{levels}_px.exr").exists():
-                    sys.exit(f"bench-cmgen: cmgen wrote more than {levels} levels with --ibl-min-lod-size={min_lod_size}")
+                    sys.exit(f"bench/scripts/cmgen: cmgen wrote more than {levels} levels with --ibl-min-lod-size={min_lod_size}")
                 tool_levels = [[orient(f[n], how) for n, how, _ in alignment] for f in found]
                 if tool == default_cmgen:
                     cmgen_levels[name] = tool_levels
@@ -272,11 +273,13 @@ def main():
                 if tool == control:
                     control_levels[name] = tool_levels
                 if tool == table_tool:
-                    table = json.loads((dest / "report.json").read_text())["table"]
+                    table_report = json.loads((dest / "report.json").read_text())
+                    device = table_report["device"]
+                    table = table_report["table"]
                     if (table["mapping"], table["face_size"], table["level_count"]) != ("filament", size, levels):
-                        sys.exit(f"bench-cmgen: {a.table} is not a filament table of {size}^2 with {levels} levels: {table}")
+                        sys.exit(f"bench/scripts/cmgen: {a.table} is not a filament table of {size}^2 with {levels} levels: {table}")
             errors[tool].append([image_l1(tool_levels[m], references[name][m]) for m in range(1, levels)])
-        print(f"bench-cmgen: {name}: " + ", ".join(f"{t} {np.mean(e[-1]):.4f}" for t, e in errors.items()), file=sys.stderr)
+        print(f"bench/scripts/cmgen: {name}: " + ", ".join(f"{t} {np.mean(e[-1]):.4f}" for t, e in errors.items()), file=sys.stderr)
 
     # cmgen's roughness per level, measured on the synthetic probes; probefilter's FIS-1024, whose
     # alpha is the mapping's by construction, shows what the scan resolves.
@@ -294,6 +297,7 @@ def main():
 
     report = {"size": size, "levels": levels, "cmgen_min_lod_size": min_lod_size, "mapping": "filament", "probes": list(probes),
               "timed_probe": timed, "cmgen_package": f"libfilament-tools {version}", "cpu": platform.processor() or platform.machine(),
+              "device": device,
               "alignment": [{"vulkan_face": k, "cmgen_face": n, "turns": how[0], "flip": how[1], "level0_error": e}
                             for k, (n, how, e) in enumerate(alignment)],
               "roughness_per_level": roughness,
@@ -319,7 +323,6 @@ def main():
         lines.append(f"| {f['level']} | {f['filament_alpha']:.4g} | {f['closest_alpha']:.4g} | {f['ratio']:.3f} | "
                      f"{g['closest_alpha']:.4g} | {g['ratio']:.3f} |")
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    print("\n".join(lines))
 
 
 if __name__ == "__main__":

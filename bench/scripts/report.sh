@@ -1,0 +1,26 @@
+# Sourced by the bench scripts: the header every benchmark report starts with, so that a report says
+# what ran where, when and how. The command line is the one the script was started with.
+#
+#   bench_command="bench/runtime $*"     (set by the script before it parses its arguments)
+#   bench_header TITLE DEVICE            prints the Markdown header; DEVICE: "name, driver" or "CPU only"
+#   bench_device REPORT_JSON             prints "name, driver" from a probefilter report.json
+
+bench_device() {
+    python3 -c "import json, sys; d = json.load(open(sys.argv[1]))['device']; print(d['name'] + ', driver ' + d['driver'])" "$1"
+}
+
+bench_header() {
+    local title=$1 device=$2 root revision
+    root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+    revision=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo "not a git checkout")
+    [[ -n $(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null) ]] && revision+=" (with local changes)"
+    echo "# $title"
+    echo
+    echo "- command: \`${bench_command}\`"
+    echo "- date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    echo "- device: $device"
+    echo "- machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(nproc) cores," \
+        "$(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo)"
+    echo "- revision: $revision"
+    echo
+}
