@@ -85,6 +85,22 @@ void expectLevelsEqual(const CubeLevels& gpuLevels, const CubeLevels& cpuLevels,
 
 } // namespace
 
+TEST_F(GpuTest, FilterProbeIsOneRunOfAFilter) {
+    const CubeImage source = probetest::randomProbe(16, 5);
+    gpu::FilterSettings s;
+    s.faceSize = 16;
+    s.levelCount = 4;
+    s.method.kind = MethodKind::fis;
+    s.sampling = gpu::Sampling::exact;
+    gpu::Filter filter(probetest::testDevice(), s);
+    const CubeLevels expected = filter.run(source);
+    const CubeLevels levels = gpu::filterProbe(probetest::testDevice(), s, source);
+    ASSERT_EQ(levels.size(), expected.size());
+    for (std::size_t m = 0; m < levels.size(); ++m) EXPECT_EQ(levels[m].rgb, expected[m].rgb) << "level " << m;
+    s.faceSize = 12;
+    EXPECT_THROW(gpu::filterProbe(probetest::testDevice(), s, source), ProbeError);
+}
+
 TEST_F(GpuTest, PyramidEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 11);
     for (const probetest::SamplingCase& c : probetest::kSamplingCases)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The README's results table agrees with the sweep reports it is taken from: each number, as
-printed (its decimals), is the report's value rounded (docs/sweep/report.json for the lavapipe rows,
-docs/sweep-h200/report.json for the H200 row)."""
+printed (its decimals), is the report's value rounded (docs/reports/sweep/report.json for the lavapipe rows,
+docs/reports/sweep-h200/report.json for the H200 row)."""
 import json
 import pathlib
 import sys
@@ -11,11 +11,11 @@ root = pathlib.Path(__file__).resolve().parent.parent
 columns = ["gltf128_quad8", "gltf128_quadmix8lean", "fis32-bias0-bspline", "fis1024-bias0.5-bspline"]
 # Row label: (report, key).
 rows = {
-    "image L1": ("docs/sweep/report.json", "image_l1"),
-    "impulse L1": ("docs/sweep/report.json", "impulse_l1"),
-    "reads per texel": ("docs/sweep/report.json", "reads_per_texel"),
-    "lavapipe ms, all levels": ("docs/sweep/report.json", "gpu_ms"),
-    "NVIDIA H200 ms, all levels": ("docs/sweep-h200/report.json", "gpu_ms"),
+    "image L1": ("docs/reports/sweep/report.json", "image_l1"),
+    "impulse L1": ("docs/reports/sweep/report.json", "impulse_l1"),
+    "reads per texel": ("docs/reports/sweep/report.json", "reads_per_texel"),
+    "lavapipe ms, all levels": ("docs/reports/sweep/report.json", "gpu_ms"),
+    "NVIDIA H200 ms, all levels": ("docs/reports/sweep-h200/report.json", "gpu_ms"),
 }
 
 

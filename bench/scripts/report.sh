@@ -1,7 +1,7 @@
 # Sourced by the bench scripts: the header every benchmark report starts with, so that a report says
 # what ran where, when and how. The command line is the one the script was started with.
 #
-#   bench_command="bench/runtime $*"     (set by the script before it parses its arguments)
+#   bench_command="bench/scripts/NAME${*:+$(printf " %q" "$@")}"   (set by the script before it parses its arguments)
 #   bench_header TITLE DEVICE            prints the Markdown header; DEVICE: "name, driver" or "CPU only"
 #   bench_device REPORT_JSON             prints "name, driver" from a probefilter report.json
 

@@ -461,6 +461,70 @@ Filter::Filter(const Device& device, const FilterSettings& settings, VkCommandBu
 }
 Filter::~Filter() = default;
 
+namespace {
+
+// The source of a run, uploaded into the run's own cube image, beyond the range the filter keeps
+// scaled down by a power of two; returns that power, by which the output is scaled back up once read
+// (probe/range_scale.h). The range is an RGBA16F pyramid's 65504, else 2^64 for a float32 output; a
+// 16-bit output saturates at 65504 anyway, so with a float32 pyramid its source goes as it is (the
+// shaders clamp what they read of it to 2^64).
+int uploadRunSource(Filter::Impl& f, const CubeImage& source) {
+    const FilterSettings& s = f.settings;
+    const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+    const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
+    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
+    const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
+    Buffer staging(f.device, texels.size() * sizeof(float), Buffer::Kind::staging);
+    std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
+    VkCommandBuffer upload = f.submission->begin();
+    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkBufferImageCopy whole{};
+    whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
+    whole.imageExtent = {uint32_t(s.faceSize), uint32_t(s.faceSize), 1};
+    vkCmdCopyBufferToImage(upload, staging.handle(), f.runSource.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
+    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT);
+    f.submission->submitAndWait(upload);
+    f.submission->release(upload);
+    return shift;
+}
+
+// The computed levels of the run's output cube, read back in the output format (the others empty).
+CubeLevels readBackRunOutput(Filter::Impl& f) {
+    const FilterSettings& s = f.settings;
+    const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
+    std::vector<VkBufferImageCopy> regions;
+    VkDeviceSize offset = 0;
+    for (int m : f.computedLevels) {
+        VkBufferImageCopy region{};
+        region.bufferOffset = offset;
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
+        region.imageExtent = {uint32_t(s.faceSize >> m), uint32_t(s.faceSize >> m), 1};
+        regions.push_back(region);
+        offset += texelCount(s.faceSize >> m) * bytesPerTexel;
+    }
+    Buffer readBack(f.device, offset, Buffer::Kind::staging);
+    VkCommandBuffer download = f.submission->begin();
+    vkCmdCopyImageToBuffer(download, f.runOutput.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
+                           uint32_t(regions.size()), regions.data());
+    hostReadBarrier(download);
+    f.submission->submitAndWait(download);
+    f.submission->release(download);
+    CubeLevels result(s.levelCount);
+    for (std::size_t k = 0; k < f.computedLevels.size(); ++k) {
+        CubeImage& level = result[f.computedLevels[k]];
+        level.size = s.faceSize >> f.computedLevels[k];
+        level.rgb.clear();
+        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
+                     level.rgb);
+    }
+    return result;
+}
+
+} // namespace
+
 CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
     Impl& f = *impl_;
     const FilterSettings& s = f.settings;
@@ -475,33 +539,10 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
         const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
         f.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
     }
-    const auto allMips = uint32_t(s.levelCount);
-
-    // The source: uploaded, then read by the passes; beyond the range the filter keeps scaled down
-    // by a power of two, and its output scaled back up once read (probe/range_scale.h). The range is
-    // an RGBA16F pyramid's 65504, else 2^64 for a float32 output; a 16-bit output saturates at 65504
-    // anyway, so with a float32 pyramid its source goes as it is (the shaders clamp what they read
-    // of it to 2^64).
-    const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-    const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
-    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
-    const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
-    Buffer staging(d, texels.size() * sizeof(float), Buffer::Kind::staging);
-    std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
-    VkCommandBuffer upload = f.submission->begin();
-    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    VkBufferImageCopy whole{};
-    whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
-    whole.imageExtent = {uint32_t(s.faceSize), uint32_t(s.faceSize), 1};
-    vkCmdCopyBufferToImage(upload, staging.handle(), f.runSource.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
-    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_SHADER_READ_BIT);
-    f.submission->submitAndWait(upload);
-    f.submission->release(upload);
+    const int shift = uploadRunSource(f, source);
 
     // The passes, `repeat` times, into the output cube as an engine's would be laid out.
+    const auto allMips = uint32_t(s.levelCount);
     f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
     const VkImageLayout written = f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
     VkCommandBuffer passes = f.submission->begin();
@@ -520,35 +561,9 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     }
     f.submission->release(passes);
 
-    // The levels computed, read back in the output format.
-    const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
-    std::vector<VkBufferImageCopy> regions;
-    VkDeviceSize offset = 0;
-    for (int m : f.computedLevels) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
-        region.imageExtent = {uint32_t(s.faceSize >> m), uint32_t(s.faceSize >> m), 1};
-        regions.push_back(region);
-        offset += texelCount(s.faceSize >> m) * bytesPerTexel;
-    }
-    Buffer readBack(d, offset, Buffer::Kind::staging);
-    VkCommandBuffer download = f.submission->begin();
-    vkCmdCopyImageToBuffer(download, f.runOutput.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
-                           uint32_t(regions.size()), regions.data());
-    hostReadBarrier(download);
-    f.submission->submitAndWait(download);
-    f.submission->release(download);
-    CubeLevels result(s.levelCount);
-    for (std::size_t k = 0; k < f.computedLevels.size(); ++k) {
-        CubeImage& level = result[f.computedLevels[k]];
-        level.size = s.faceSize >> f.computedLevels[k];
-        level.rgb.clear();
-        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
-                     level.rgb);
-    }
+    CubeLevels result = readBackRunOutput(f);
     shiftLevels(result, shift);
-    if (shift != 0 && !float32) saturateTexels(result, s.outputFormat);
+    if (shift != 0 && s.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, s.outputFormat);
     return result;
 }
 
@@ -654,6 +669,11 @@ CubeLevels Filter::downloadPyramid() const {
                      f.pyramidFormat, result[k].rgb);
     }
     return result;
+}
+
+CubeLevels filterProbe(const Device& device, const FilterSettings& settings, const CubeImage& source) {
+    Filter filter(device, settings);
+    return filter.run(source);
 }
 
 } // namespace probe::gpu

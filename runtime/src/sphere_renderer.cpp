@@ -54,6 +54,37 @@ std::vector<float> packedLevels(const CubeLevels& levels, int faceSize) {
     return texels;
 }
 
+// Radiance above 2^64 is rendered scaled down by 2^shift and scaled back (probe/range_scale.h), so
+// that the shading sums stay finite.
+int sceneShift(const SphereScene& scene) {
+    double largest = largestMagnitude(*scene.background);
+    for (const CubeImage& level : *scene.prefiltered) largest = std::max<double>(largest, largestMagnitude(level));
+    for (const glm::dvec3& c : scene.irradiance) largest = std::max({largest, std::abs(c.r), std::abs(c.g), std::abs(c.b)});
+    return rangeShift(largest);
+}
+
+// The DFG table as spheres.comp reads it: RGBA texels, the scale and bias in R and G (one black texel
+// when there is no table).
+std::vector<float> dfgLookup(const SphereScene& scene) {
+    std::vector<float> lookup;
+    if (!scene.dfg) return {0.0f, 0.0f, 0.0f, 0.0f};
+    if (scene.dfg->height != scene.dfg->width) throw ProbeError("sphere renderer: the DFG table must be square");
+    for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3)
+        lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
+    return lookup;
+}
+
+// A batch's row of cells (RGBA, scaled down by 2^shift) into its place in the whole row, scaled back.
+void placeBatch(Image& out, const std::vector<float>& rgba, std::size_t first, std::size_t count, int cellSize, int shift) {
+    constexpr float largestFloat = std::numeric_limits<float>::max();
+    const std::size_t batchWidth = count * static_cast<std::size_t>(cellSize);
+    for (std::size_t y = 0; y < static_cast<std::size_t>(out.height); ++y)
+        for (std::size_t x = 0; x < batchWidth; ++x)
+            for (std::size_t c = 0; c < 3; ++c)
+                out.rgb[3 * (y * out.width + first * cellSize + x) + c] =
+                    std::min(std::ldexp(rgba[4 * (y * batchWidth + x) + c], shift), largestFloat);
+}
+
 } // namespace
 
 Image renderSpheres(const Device& device, const SphereScene& scene) {
@@ -65,12 +96,7 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     int faceSize = 1 << (levels.size() - 1);
     for (std::size_t m = levels.size(); m-- > 0;)
         if (levels[m].size) faceSize = levels[m].size << m;
-    // Radiance above 2^64 is rendered scaled down and scaled back (probe/range_scale.h), so that the
-    // shading sums stay finite.
-    double largest = largestMagnitude(*scene.background);
-    for (const CubeImage& level : levels) largest = std::max<double>(largest, largestMagnitude(level));
-    for (const glm::dvec3& c : scene.irradiance) largest = std::max({largest, std::abs(c.r), std::abs(c.g), std::abs(c.b)});
-    const int shift = rangeShift(largest);
+    const int shift = sceneShift(scene);
     CubeLevels scaledLevels = levels;
     shiftLevels(scaledLevels, -shift);
     // The background after the levels, where spheres.comp reads it.
@@ -78,15 +104,8 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     const std::vector<float> background = borderedRgbaTexels(shifted(*scene.background, -shift));
     cubes.insert(cubes.end(), background.begin(), background.end());
 
-    std::vector<float> lookup;
+    const std::vector<float> lookup = dfgLookup(scene);
     const int dfgSize = scene.dfg ? scene.dfg->width : 1;
-    if (scene.dfg) {
-        if (scene.dfg->height != dfgSize) throw ProbeError("sphere renderer: the DFG table must be square");
-        for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3)
-            lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
-    } else {
-        lookup.insert(lookup.end(), {0.0f, 0.0f, 0.0f, 0.0f});
-    }
 
     for (const SphereMaterial& m : scene.materials)
         if (m.hasSpecular && !scene.dfg) throw ProbeError("sphere renderer: a specular material needs the DFG table");
@@ -107,7 +126,6 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     Submission submission(device);
     submission.upload(cubeBuffer, cubes.data(), cubeBuffer.bytes());
     submission.upload(lookupBuffer, lookup.data(), lookupBuffer.bytes());
-    constexpr float largestFloat = std::numeric_limits<float>::max();
     for (std::size_t first = 0; first < scene.materials.size(); first += batch) {
         const std::size_t count = std::min(batch, scene.materials.size() - first);
         std::vector<float> parameters = irradiance;
@@ -138,15 +156,9 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
         submission.submitAndWait(commandBuffer);
         submission.release(commandBuffer);
 
-        // The batch's row of cells into its place in the whole row.
         std::vector<float> rgba(pixels * 4);
         submission.download(image, rgba.data(), image.bytes());
-        const std::size_t batchWidth = count * static_cast<std::size_t>(scene.cellSize);
-        for (std::size_t y = 0; y < static_cast<std::size_t>(height); ++y)
-            for (std::size_t x = 0; x < batchWidth; ++x)
-                for (std::size_t c = 0; c < 3; ++c)
-                    out.rgb[3 * (y * width + first * scene.cellSize + x) + c] =
-                        std::min(std::ldexp(rgba[4 * (y * batchWidth + x) + c], shift), largestFloat);
+        placeBatch(out, rgba, first, count, scene.cellSize, shift);
     }
     return out;
 }

@@ -267,6 +267,11 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// One call for the common case, as Filament's prefilter is: builds a Filter of `settings`, filters
+// `source` (face size settings.faceSize) once and returns the M output levels (those outside
+// FilterSettings::computedLevels empty). An engine that filters often keeps a Filter and records it.
+CubeLevels filterProbe(const Device& device, const FilterSettings& settings, const CubeImage& source);
+
 // Order-2 SH projection of a probe on the GPU (shaders/sh_projection.comp): the 9 radiance
 // coefficients per channel in the basis, order and signs of probe/sh.h,
 // L_lm = sum_t L(t) Y_lm(l_t) dOmega_t over the texels, accumulated in float in a fixed order
