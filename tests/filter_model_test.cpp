@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "probe/cpu_filter.h"
 #include "probe/cube_footprint.h"
 #include "probe/error.h"
 #include "probe/fis.h"

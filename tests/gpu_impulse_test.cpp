@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "gpu_test_support.h"
+#include "probe/cpu_filter.h"
 #include "probe/error_measures.h"
 #include "probe/fis.h"
 #include "probe/reference.h"

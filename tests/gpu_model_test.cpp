@@ -9,6 +9,7 @@
 
 #include "device.h" // runtime/src: Device::Impl
 #include "gpu_test_support.h"
+#include "probe/cpu_filter.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
 #include "probe/filter_method.h"

@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 
 #include "gpu_test_support.h"
+#include "probe/cpu_filter.h"
 #include "probe/error.h"
 #include "probe/fis.h"
 #include "probe/plan.h"

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "probe/cpu_filter.h"
 #include "probe/error.h"
 #include "probe/fis.h"
 #include "probe/plan.h"

@@ -3,10 +3,6 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
-#include "probe/paraboloid.h"
-#include "probe/range_scale.h"
-#include "probe/reference.h"
-#include "probe/table_filter.h"
 
 namespace probe {
 
@@ -45,27 +41,6 @@ void validateMethod(const FilterMethod& method, int faceSize, int levelCount, co
     case MethodKind::fis: validateSampleCounts(method.fis, levelCount); break;
     case MethodKind::reference: break;
     }
-}
-
-TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping) {
-    switch (method.kind) {
-    case MethodKind::table: return tableTapGenerator(*method.table);
-    case MethodKind::fis: return fisTapGenerator(faceSize, levelCount, mapping, method.fis);
-    case MethodKind::reference: break;
-    }
-    return {};
-}
-
-CubeLevels filterOnCpu(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FilterMethod& method) {
-    validateMethod(method, source.size, levelCount, mapping);
-    if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
-    const int shift = rangeShift(source);
-    CubeLevels levels = method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid
-                            ? paraboloidFilter(shifted(source, -shift), levelCount, mapping, method.fis)
-                            : filterWithTaps(buildPyramid(shifted(source, -shift), method.pyramid()), levelCount,
-                                             methodTapGenerator(method, source.size, levelCount, mapping));
-    shiftLevels(levels, shift);
-    return levels;
 }
 
 } // namespace probe

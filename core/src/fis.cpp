@@ -93,14 +93,4 @@ TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMappin
     };
 }
 
-CubeLevels fisFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings) {
-    validateSizeAndLevels(source.size, levelCount);
-    return filterWithTaps(buildPyramid(source, settings.pyramid), levelCount, fisTapGenerator(source.size, levelCount, mapping, settings));
-}
-
-std::vector<double> fisImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
-                                       const RoughnessMapping& mapping, const FisSettings& settings, int level, const Texel& texel) {
-    return impulseWithTaps(operators, faceSize, level, texel, fisTapGenerator(faceSize, levelCount, mapping, settings));
-}
-
 } // namespace probe

@@ -230,32 +230,6 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
 
 TapTable readTable(const std::filesystem::path& path) { return tableFromJson(readTextFile(path), path); }
 
-std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
-    const int k = coefficientCount(table.form);
-    const std::vector<double>& c = table.levels[level].coefficients;
-    std::vector<float> out;
-    out.reserve(c.size());
-    for (int p = 0; p < kTapParameterCount; ++p)
-        for (int coefficient = 0; coefficient < k; ++coefficient)
-            for (int frame = 0; frame < kFrameCount; ++frame)
-                for (int tap = 0; tap < table.taps; ++tap) out.push_back(static_cast<float>(c[table.offset(frame, tap, p) + coefficient]));
-    return out;
-}
-
-void setPublishedLayout(TapTable& table, const std::vector<double>& values) {
-    const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
-    if (values.size() != perLevel * table.levels.size())
-        throw ProbeError(
-            fmt::format("{} coefficients in the published layout, expected {}", values.size(), perLevel * table.levels.size()));
-    const int k = coefficientCount(table.form);
-    std::size_t n = 0;
-    for (TableLevel& level : table.levels)
-        for (int p = 0; p < kTapParameterCount; ++p)
-            for (int coefficient = 0; coefficient < k; ++coefficient)
-                for (int frame = 0; frame < kFrameCount; ++frame)
-                    for (int tap = 0; tap < table.taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = values[n++];
-}
-
 TapTable importPublishedTable(const std::filesystem::path& path, int faceSize, int levelCount, int taps, TableForm form,
                               const RoughnessMapping& mapping, PyramidSettings pyramid) {
     TapTable table = emptyTable(faceSize, levelCount, taps, form, mapping, pyramid);

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -101,18 +103,26 @@ std::string texelProblem(const TapTable& table, int m, int used, int read, const
     return {};
 }
 
-// Every output texel of level m (texelProblem), rows in parallel; the first problem in texel order
-// is the one reported, whatever the threads' order.
+// Every output texel of level m (texelProblem), rows in parallel on every core (threads of the
+// standard library: the runtime, which checks tables, links no OpenMP); the first problem in texel
+// order is the one reported, whatever the threads' order.
 void checkTexels(const TapTable& table, int m, int used, int read, std::string_view what) {
     std::vector<DirectionBound> bounds;
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int tap = 0; tap < read; ++tap) bounds.push_back(directionBound(table, m, frame, tap));
     const int size = table.faceSize >> m, rows = kFaceCount * size;
     std::vector<std::string> problems(static_cast<std::size_t>(rows));
-#pragma omp parallel for schedule(dynamic, 8)
-    for (int row = 0; row < rows; ++row)
-        for (int i = 0; i < size && problems[row].empty(); ++i)
-            problems[row] = texelProblem(table, m, used, read, bounds, {row / size, i, row % size});
+    std::atomic<int> next{0};
+    const auto work = [&] {
+        for (int row = next++; row < rows; row = next++)
+            for (int i = 0; i < size && problems[row].empty(); ++i)
+                problems[row] = texelProblem(table, m, used, read, bounds, {row / size, i, row % size});
+    };
+    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, rows / 8));
+    std::vector<std::jthread> helpers;
+    for (int t = 1; t < threads; ++t) helpers.emplace_back(work);
+    work();
+    helpers.clear(); // joins
     for (const std::string& problem : problems)
         if (!problem.empty()) throw ProbeError(fmt::format("{}: {}", what, problem));
 }
@@ -189,6 +199,32 @@ int tapsInUse(const TapTable& table, int level) {
             for (int k = 0; k < coefficientCount(table.form); ++k)
                 if (c[table.offset(frame, tap - 1, tapWeight) + k] != 0.0) return tap;
     return 0;
+}
+
+std::vector<float> publishedLevelLayout(const TapTable& table, int level) {
+    const int k = coefficientCount(table.form);
+    const std::vector<double>& c = table.levels[level].coefficients;
+    std::vector<float> out;
+    out.reserve(c.size());
+    for (int p = 0; p < kTapParameterCount; ++p)
+        for (int coefficient = 0; coefficient < k; ++coefficient)
+            for (int frame = 0; frame < kFrameCount; ++frame)
+                for (int tap = 0; tap < table.taps; ++tap) out.push_back(static_cast<float>(c[table.offset(frame, tap, p) + coefficient]));
+    return out;
+}
+
+void setPublishedLayout(TapTable& table, const std::vector<double>& values) {
+    const std::size_t perLevel = static_cast<std::size_t>(table.coefficientsPerLevel());
+    if (values.size() != perLevel * table.levels.size())
+        throw ProbeError(
+            fmt::format("{} coefficients in the published layout, expected {}", values.size(), perLevel * table.levels.size()));
+    const int k = coefficientCount(table.form);
+    std::size_t n = 0;
+    for (TableLevel& level : table.levels)
+        for (int p = 0; p < kTapParameterCount; ++p)
+            for (int coefficient = 0; coefficient < k; ++coefficient)
+                for (int frame = 0; frame < kFrameCount; ++frame)
+                    for (int tap = 0; tap < table.taps; ++tap) level.coefficients[table.offset(frame, tap, p) + coefficient] = values[n++];
 }
 
 } // namespace probe

@@ -15,6 +15,7 @@
 #include <glm/gtc/packing.hpp>
 #include <vulkan/vulkan.h>
 
+#include "probe/cpu_filter.h"
 #include "probe/error_measures.h"
 #include "probe/reference.h"
 #include "probe/runtime.h"

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "probe/runtime.h"
-#include "probe/table_io.h"
+#include "probe/tap_table.h"
 
 #include "compiled_tables.inc"
 

@@ -11,7 +11,7 @@
 #include <table_filter_hardware_rgba32f.spv.h>
 
 #include "filter_impl.h"
-#include "probe/table_io.h"
+#include "probe/tap_table.h"
 
 namespace probe::gpu {
 

@@ -30,13 +30,4 @@ struct FilterMethod {
 // of at least 1 (one per level when given per level).
 void validateMethod(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
 
-// The taps of every output level (empty for the reference, which reads no pyramid). A table's
-// generator refers to method.table. FIS on a paraboloid map has the cube's taps: the same samples,
-// which the map reads at its own levels (probe/paraboloid.h).
-TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
-
-// Filters a probe on the CPU with the shared model: the reference, pass 1 and the method's taps, or
-// FIS on a paraboloid map (paraboloidFilter).
-CubeLevels filterOnCpu(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FilterMethod& method);
-
 } // namespace probe

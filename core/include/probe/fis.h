@@ -61,11 +61,4 @@ void fisTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<T
 // settings.samplesAt(level) samples at each level.
 TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
 
-// Filters a probe: builds the pyramid of settings.pyramid and computes every output level.
-CubeLevels fisFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
-
-// Impulse response of one output texel of level m over base texels.
-std::vector<double> fisImpulseResponse(const std::vector<DownsampleOperator>& operators, int faceSize, int levelCount,
-                                       const RoughnessMapping& mapping, const FisSettings& settings, int level, const Texel& texel);
-
 } // namespace probe

@@ -17,17 +17,9 @@ TapTable readTable(const std::filesystem::path& path);
 std::string tableToJson(const TapTable& table);
 TapTable tableFromJson(std::string_view text, const std::filesystem::path& path);
 
-// The published layout of one level as floats: quad `vec4 coeffs[5][3][3N/4]` (parameter,
-// coefficient, frame * N/4 + tap/4, tap % 4 in the vec4), const `vec4 coeffs[5][3N/4]`.
-std::vector<float> publishedLevelLayout(const TapTable& table, int level);
-
 // A plain-text file of numbers (separated by white space or commas) holding every level in the
-// published layout, level 0 first. The file does not say its shape, so the caller does; the count
-// must match exactly. Errors are left unmeasured.
-// Sets every level's coefficients from the published layout, level after level (ProbeError unless the
-// count matches the table's shape).
-void setPublishedLayout(TapTable& table, const std::vector<double>& values);
-
+// published layout (publishedLevelLayout), level 0 first. The file does not say its shape, so the
+// caller does; the count must match exactly. Errors are left unmeasured.
 // Reads such a file as a table of the shape given; writes a table in that layout.
 TapTable importPublishedTable(const std::filesystem::path& path, int faceSize, int levelCount, int taps, TableForm form,
                               const RoughnessMapping& mapping, PyramidSettings pyramid);
@@ -41,7 +33,6 @@ std::vector<std::string> tableSummary(const TapTable& table);
 // include (PROBE_TABLE_* defines, `vec4 probeTableCoeffs[]` and `int probeTableTapGroups[]`,
 // read-only globals), both in the published layout, level after level, opening with
 // tableSummary as a comment. `name` must be a C identifier.
-inline constexpr int kLevelFitColumns = 11; // the columns of the header's kLevelFits
 std::string tableCppHeader(const TapTable& table, std::string_view name);
 std::string tableGlslInclude(const TapTable& table, std::string_view name);
 

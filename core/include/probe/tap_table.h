@@ -67,6 +67,19 @@ void validateTableValues(const TapTable& table, std::string_view what);
 // padded with taps of zero weight (probefit mix); they add nothing, so the filters stop before them.
 int tapsInUse(const TapTable& table, int level);
 
+// The published layout of one level as floats: quad `vec4 coeffs[5][3][3N/4]` (parameter,
+// coefficient, frame * N/4 + tap/4, tap % 4 in the vec4), const `vec4 coeffs[5][3N/4]`.
+std::vector<float> publishedLevelLayout(const TapTable& table, int level);
+
+// The columns of a generated header's kLevelFits (table_io.h), one row per level: the stratified
+// texels' impulse L1 (mean, max, worst texel face, i, j), the same over every texel, the smallest
+// weight sum. The runtime reads the compiled-in tables' fits from it.
+inline constexpr int kLevelFitColumns = 11;
+
+// Sets every level's coefficients from the published layout, level after level (ProbeError unless the
+// count matches the table's shape).
+void setPublishedLayout(TapTable& table, const std::vector<double>& values);
+
 // GGX alpha of output level m of the table (0: a copy of the source).
 inline double tableLevelAlpha(const TapTable& table, int level) { return levelAlpha(table.mapping, level, table.levelCount); }
 
