@@ -129,6 +129,7 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
     if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(*s.method.table);
     report["device"] = describeDevice(device.info(), o.validate);
     report["dispatches"] = describeDispatches(filter.dispatches());
+    report["barriers"] = filter.barriers();
     report["repeat"] = o.repeat;
     nlohmann::json passes = nlohmann::json::array();
     for (const probe::gpu::PassTime& p : filter.timings())

@@ -31,6 +31,9 @@ assert all(len(p["gpu_ms_runs"]) == 3 and p["gpu_ms_median"] > 0 for p in r["pas
 assert all(l["gpu_ms_median"] >= 0 for l in r["levels"]) and len(r["levels"]) == 4, r["levels"]
 expected = [("pyramid", k) for k in range(5) for _ in range(2)] + [("table", m) for m in range(4)]
 assert [(d["pass"], d["level"]) for d in r["dispatches"]] == expected, r["dispatches"]
+# A barrier before the run, one before each pyramid dispatch that reads the one before it, one
+# between the passes; pass 2's levels run with none between them.
+assert r["barriers"] == 1 + (len([d for d in r["dispatches"] if d["pass"] == "pyramid"]) - 1) + 1, r["barriers"]
 errors = r["errors_against_reference"]
 assert len(errors) == 4 and errors[0]["image_l1"] == 0 and all(0 < e["image_l1"] < 0.2 for e in errors[1:]), errors
 PY

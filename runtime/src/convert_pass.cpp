@@ -20,7 +20,7 @@ struct ConvertConstants {
 std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) { return impl.pipeline(kConvertB10g11r11Spv); }
 
 void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output) {
-    computeBarrier(commandBuffer);
+    impl.barrier(commandBuffer);
     std::vector<VkImageCopy> copies;
     for (int m : impl.computedLevels) {
         const int size = impl.settings.faceSize >> m;

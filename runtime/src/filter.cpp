@@ -422,8 +422,14 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     boundOutput = output;
 }
 
+void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
+    computeBarrier(commandBuffer);
+    ++barriers;
+}
+
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
     dispatches.clear();
+    barriers = 0;
     const bool perLevel = timestamps == Timestamps::levels;
     timed = timestamps != Timestamps::none;
     timer = perLevel ? levelTimer.get() : passTimer.get();
@@ -432,11 +438,11 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         if (timed) timer->boundary(commandBuffer, boundary++);
     };
     if (timed) timer->reset(commandBuffer);
-    computeBarrier(commandBuffer); // the Filter's resources, against a previous recording's use
+    barrier(commandBuffer); // the Filter's resources, against a previous recording's use
     mark();
     if (pass1) {
         recordPyramidPass(*this, commandBuffer);
-        computeBarrier(commandBuffer);
+        barrier(commandBuffer);
         mark();
     }
     for (int m : computedLevels) {
@@ -628,6 +634,7 @@ std::vector<PassTime> Filter::levelTimings() const {
 }
 
 const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatches; }
+int Filter::barriers() const { return impl_->barriers; }
 
 CubeLevels Filter::downloadPyramid() const {
     Impl& f = *impl_;

@@ -79,6 +79,7 @@ struct Filter::Impl {
     std::vector<Buffer> initStaging;                // the initialization's uploads, until it has run
     int recordings = 0;                             // record() calls
     std::vector<Dispatch> dispatches;
+    int barriers = 0;                    // the pipeline barriers between the dispatches of the last recording
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
     std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
 
@@ -98,6 +99,8 @@ struct Filter::Impl {
     // mips and read only the pyramid) and a boundary after the last, or after each with
     // Timestamps::levels; then the conversion, if any, and a boundary.
     void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
+    // A compute barrier of the passes (computeBarrier), counted in `barriers`.
+    void barrier(VkCommandBuffer commandBuffer);
 };
 
 // Pass recorders, one per file (pyramid_pass.cpp; for pass 2, one output level at a time:

@@ -69,7 +69,7 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
     const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
     for (int level = 0; level <= lastSingle; ++level) {
-        if (level > 0) computeBarrier(commandBuffer);
+        if (level > 0) impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
         const int size = s.faceSize >> level;
@@ -77,18 +77,18 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         const std::size_t texels = hardware ? texelCount(size) : pyramidLevelTexels(size);
         dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texels));
         if (!impl.pass1Corners) continue;
-        computeBarrier(commandBuffer);
+        impl.barrier(commandBuffer);
         dispatchPass(impl, commandBuffer, *impl.pass1Corners, "pyramid", level, constants, groupsFor(kFaceCount * 4));
     }
     if (impl.pass1Tail) {
-        computeBarrier(commandBuffer);
+        impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.pyramidSets[impl.pyramidTailLevel]);
         const PyramidTailConstants constants{s.faceSize, impl.pyramidTailLevel, depth};
         dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.pyramidTailLevel, constants, 1);
     }
     if (!impl.paraboloidMap) return;
     for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {
-        computeBarrier(commandBuffer);
+        impl.barrier(commandBuffer);
         const PyramidConstants constants{s.faceSize, level};
         const std::size_t size = static_cast<std::size_t>(paraboloidSize(s.faceSize) >> level);
         dispatchPass(impl, commandBuffer, *impl.paraboloidMap, "pyramid", level, constants, groupsFor(2 * size * size));

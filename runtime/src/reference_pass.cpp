@@ -39,7 +39,7 @@ void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int
     const int rowsPerChunk = std::clamp(kChunkTexels / s.faceSize, 1, s.faceSize);
     const int rows = kFaceCount * s.faceSize;
     for (int first = 0; first < rows; first += rowsPerChunk) {
-        if (first > 0) computeBarrier(commandBuffer);
+        if (first > 0) impl.barrier(commandBuffer);
         const int stage = (first == 0 ? 1 : 0) | (first + rowsPerChunk >= rows ? 2 : 0);
         const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha), first, rowsPerChunk, stage};
         dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));

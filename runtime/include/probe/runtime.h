@@ -255,8 +255,10 @@ public:
     // runs of the last run(), when that asked for Timestamps::levels; their sum is that run's pass-2
     // time. Empty after any other run() or a record().
     std::vector<PassTime> levelTimings() const;
-    // The dispatches of one run.
+    // The dispatches of one run, and the pipeline barriers between them (the first one orders the run
+    // after a previous use of the Filter's resources).
     const std::vector<Dispatch>& dispatches() const;
+    int barriers() const;
     // The pyramid of the last run (levels 0..pyramidDepth, log2(S_0) by default); empty for the
     // reference method.
     CubeLevels downloadPyramid() const;
