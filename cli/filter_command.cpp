@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "irradiance_output.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
 #include "probe/input_file.h"
@@ -50,6 +51,7 @@ struct FilterOptions {
     bool validate = false;
     bool repairPixels = false;
     std::string ktx2 = "none";
+    std::string irradiance = "none";
     std::string out;
     bool force = false;
     bool allowLong = false;
@@ -146,6 +148,7 @@ void runFilter(const FilterOptions& o) {
     probe::TapTable table;
     const probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
+    const IrradianceOutput irradiance = parseIrradianceOutput(o.irradiance);
     probe::checkRepeat(o.repeat);
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
@@ -178,6 +181,7 @@ void runFilter(const FilterOptions& o) {
         report["errors_against_reference"] = errors;
     }
 
+    if (irradiance != IrradianceOutput::none) report["irradiance"] = writeIrradiance(output, irradiance, device, source);
     writeFilteredProbe(output, levels, s.mapping, ktx2, report);
     writeJson(output.file("report.json"), report);
     output.commit();
@@ -242,6 +246,10 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_flag("--repair-pixels", o->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
+    cmd->add_option("--irradiance", o->irradiance,
+                    "Also write the Lambertian irradiance: none, sh (9 coefficients, on the device; irradiance_sh.exr), cube (the "
+                    "exact cosine convolution, 32^2, on the CPU; irradiance.exr) or both (and SH's error against the cube)")
+        ->capture_default_str();
     cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_flag("--allow-long", o->allowLong, "With --against-reference: " + std::string(kAllowLongHelp));

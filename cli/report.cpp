@@ -102,4 +102,16 @@ void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapp
     probe::printToStderr(fmt::format("reference: about {} at {}^2 (estimated)\n", estimate, faceSize));
 }
 
+nlohmann::json medianTimes(const std::vector<probe::gpu::PassTime>& times) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const probe::gpu::PassTime& t : times) out[t.name] = t.medianMs;
+    return out;
+}
+
+nlohmann::json describeSh(const probe::ShCoefficients& coefficients) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const glm::dvec3& rgb : coefficients) list.push_back({rgb.r, rgb.g, rgb.b});
+    return list;
+}
+
 } // namespace probefilter

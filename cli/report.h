@@ -11,6 +11,7 @@
 #include "probe/probe_io.h"
 #include "probe/roughness.h"
 #include "probe/runtime.h"
+#include "probe/sh.h"
 
 namespace probefilter {
 
@@ -29,6 +30,12 @@ nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validatio
 
 // One object per dispatch: pass, level ("all" for -1), workgroups.
 nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches);
+
+// Each pass's median GPU time in ms, by name.
+nlohmann::json medianTimes(const std::vector<probe::gpu::PassTime>& times);
+
+// SH coefficients as a list of RGB triples, in the order of probe::kShConvention.
+nlohmann::json describeSh(const probe::ShCoefficients& coefficients);
 
 // The median of timings (the mean of the middle two for an even count; 0 for none).
 double median(std::vector<double> values);

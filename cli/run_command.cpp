@@ -37,18 +37,6 @@ struct RunOptions {
 constexpr int kIrradianceSize = 16; // face size of irradiance.exr
 constexpr int kSphereCell = 192;    // pixels per sphere in spheres.png
 
-json medianTimes(const std::vector<probe::gpu::PassTime>& times) {
-    json out = json::object();
-    for (const probe::gpu::PassTime& t : times) out[t.name] = t.medianMs;
-    return out;
-}
-
-json describeSh(const probe::ShCoefficients& c) {
-    json list = json::array();
-    for (const glm::dvec3& rgb : c) list.push_back({rgb.r, rgb.g, rgb.b});
-    return list;
-}
-
 // What one probe's passes made (kept for the spheres when the scene asks for them).
 struct ProbeResult {
     const probe::SceneProbe* probe = nullptr;

@@ -100,6 +100,21 @@ refused "--fis-map sphere" --method fis --fis-map sphere --size 16
 refused "reads it exactly" --method fis --fis-map paraboloid --sampling hardware --size 16
 refused "--pyramid-format b10g11r11" --method fis --sampling hardware --pyramid-format b10g11r11 --size 16
 refused "--pyramid-format rgba16f: only hardware sampling" --method fis --sampling exact --pyramid-format rgba16f --size 16
+refused "--irradiance lambert: expected none, sh, cube or both" --irradiance lambert --size 16
+
+# --irradiance both: the SH projection and the exact irradiance cube, and SH measured against it (on
+# the smooth sky, within a few percent).
+"$PROBEFILTER" filter sky.exr --size 16 --irradiance both --out irradiance >/dev/null 2>&1 || fail "--irradiance both"
+python3 - irradiance <<'PY' || fail "--irradiance both: report"
+import json, os, sys
+folder = sys.argv[1]
+r = json.load(open(os.path.join(folder, "report.json")))["irradiance"]
+assert len(r["sh"]["irradiance"]) == 9 and r["sh"]["file"] == "irradiance_sh.exr", r["sh"]
+assert r["cube"] == {**r["cube"], "file": "irradiance.exr", "face_size": 32, "source_face_size": 16}, r["cube"]
+assert all(os.path.getsize(os.path.join(folder, f)) > 0 for f in ("irradiance.exr", "irradiance_sh.exr"))
+d = r["sh_against_cube"]
+assert 0 < d["relative_l1"] < 0.05 and d["relative_l1"] <= d["max_relative"], d
+PY
 
 # The pyramid format, by default and as asked for: the report names it.
 for format in auto rgba32f; do
