@@ -181,7 +181,7 @@ void runFilter(const FilterOptions& o) {
         report["errors_against_reference"] = errors;
     }
 
-    if (irradiance != IrradianceOutput::none) report["irradiance"] = writeIrradiance(output, irradiance, device, source);
+    if (irradiance != IrradianceOutput::none) report["irradiance"] = writeIrradiance(output, "", irradiance, device, source).report;
     writeFilteredProbe(output, levels, s.mapping, ktx2, report);
     writeJson(output.file("report.json"), report);
     output.commit();

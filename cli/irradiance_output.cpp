@@ -7,7 +7,6 @@
 #include "probe/error.h"
 #include "probe/irradiance.h"
 #include "probe/probe_io.h"
-#include "probe/sh.h"
 #include "report.h"
 
 namespace probefilter {
@@ -20,34 +19,37 @@ IrradianceOutput parseIrradianceOutput(const std::string& name) {
     throw probe::ProbeError(fmt::format("--irradiance {}: expected none, sh, cube or both", name));
 }
 
-nlohmann::json writeIrradiance(probe::StagedOutput& output, IrradianceOutput which, const probe::gpu::Device& device,
-                               const probe::CubeImage& source) {
-    nlohmann::json entry = nlohmann::json::object();
+IrradianceResult writeIrradiance(probe::StagedOutput& output, const std::string& folder, IrradianceOutput which,
+                                 const probe::gpu::Device& device, const probe::CubeImage& source) {
+    IrradianceResult result;
+    nlohmann::json& entry = result.report;
+    entry = nlohmann::json::object();
     probe::CubeImage shCube, cube;
     if (which == IrradianceOutput::sh || which == IrradianceOutput::both) {
         probe::gpu::ShProjector projector(device, source.size);
         const probe::ShCoefficients radiance = projector.project(source);
-        const probe::ShCoefficients irradiance = probe::radianceToIrradiance(radiance);
-        shCube = probe::shToCube(irradiance, probe::kIrradianceCubeSize);
-        probe::writeExr(output.file("irradiance_sh.exr"), probe::cubeToStrip(shCube));
+        result.sh = probe::radianceToIrradiance(radiance);
+        result.shDispatches = projector.dispatches();
+        shCube = probe::shToCube(result.sh, probe::kIrradianceCubeSize);
+        probe::writeExr(output.file(folder + "irradiance_sh.exr"), probe::cubeToStrip(shCube));
         entry["sh"] = {{"convention", probe::kShConvention},      {"radiance", describeSh(radiance)},
-                       {"irradiance", describeSh(irradiance)},    {"file", "irradiance_sh.exr"},
+                       {"irradiance", describeSh(result.sh)},     {"file", folder + "irradiance_sh.exr"},
                        {"face_size", probe::kIrradianceCubeSize}, {"gpu_ms", medianTimes(projector.timings())}};
     }
     if (which == IrradianceOutput::cube || which == IrradianceOutput::both) {
         const Stopwatch clock;
         cube = probe::irradianceCube(source);
-        entry["cube"] = {{"file", "irradiance.exr"},
+        entry["cube"] = {{"file", folder + "irradiance.exr"},
                          {"face_size", probe::kIrradianceCubeSize},
                          {"source_face_size", std::min(source.size, probe::kIrradianceSourceSize)},
                          {"cpu_seconds", clock.seconds()}};
-        probe::writeExr(output.file("irradiance.exr"), probe::cubeToStrip(cube));
+        probe::writeExr(output.file(folder + "irradiance.exr"), probe::cubeToStrip(cube));
     }
     if (which == IrradianceOutput::both) {
         const probe::IrradianceDifference d = probe::irradianceDifference(shCube, cube);
         entry["sh_against_cube"] = {{"relative_l1", d.relativeL1}, {"max_relative", d.maxRelative}};
     }
-    return entry;
+    return result;
 }
 
 } // namespace probefilter

@@ -9,6 +9,7 @@
 
 #include "probe/cube_image.h"
 #include "probe/runtime.h"
+#include "probe/sh.h"
 #include "probe/staged_output.h"
 
 namespace probefilter {
@@ -17,10 +18,16 @@ enum class IrradianceOutput { none, sh, cube, both };
 // "none", "sh", "cube" or "both" (ProbeError naming --irradiance otherwise).
 IrradianceOutput parseIrradianceOutput(const std::string& name);
 
-// sh: irradiance_sh.exr (the SH irradiance evaluated on a probe::kIrradianceCubeSize cube) and the
-// coefficients; cube: irradiance.exr; both: both, and "sh_against_cube". Returns the report's
-// "irradiance" entry.
-nlohmann::json writeIrradiance(probe::StagedOutput& output, IrradianceOutput which, const probe::gpu::Device& device,
-                               const probe::CubeImage& source);
+struct IrradianceResult {
+    nlohmann::json report;      // the report's "irradiance" entry
+    probe::ShCoefficients sh{}; // the SH irradiance, where computed (the spheres shade with it)
+    std::vector<probe::gpu::Dispatch> shDispatches;
+};
+
+// Into `folder` (empty, or ending in '/') of the output: sh: irradiance_sh.exr (the SH irradiance
+// evaluated on a probe::kIrradianceCubeSize cube) and the coefficients; cube: irradiance.exr; both:
+// both, and "sh_against_cube".
+IrradianceResult writeIrradiance(probe::StagedOutput& output, const std::string& folder, IrradianceOutput which,
+                                 const probe::gpu::Device& device, const probe::CubeImage& source);
 
 } // namespace probefilter

@@ -1,12 +1,14 @@
 // probefilter run SCENE.json --out DIR [--device X] [--validate] [--repair-pixels]: runs exactly the scene's plan
 // (probe/plan.h) on a Vulkan device. Per probe, in DIR/<probe>/: level_<m>.exr of the levels it
-// computed, irradiance.exr and the SH coefficients, probe.ktx2 and spheres.png when the scene asks;
-// DIR/dfg.exr; DIR/report.json with the passes it ran, each with its GPU dispatches.
+// computed, the SH irradiance (irradiance_sh.exr and its coefficients) and the irradiance cube
+// (irradiance.exr) as the plan asks, probe.ktx2 and spheres.png when the scene asks; DIR/dfg.exr; DIR/report.json with the passes it ran,
+// each with its GPU dispatches.
 #include <algorithm>
 
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "irradiance_output.h"
 #include "probe/dfg.h"
 #include "probe/error.h"
 #include "probe/plan.h"
@@ -34,8 +36,7 @@ struct RunOptions {
     bool repairPixels = false;
 };
 
-constexpr int kIrradianceSize = 16; // face size of irradiance.exr
-constexpr int kSphereCell = 192;    // pixels per sphere in spheres.png
+constexpr int kSphereCell = 192; // pixels per sphere in spheres.png
 
 // What one probe's passes made (kept for the spheres when the scene asks for them).
 struct ProbeResult {
@@ -73,7 +74,7 @@ public:
                       {"method", std::string(probe::methodKindName(p.method.kind))},
                       {"input_pixels", reportPixelRepairs(p.image, repairs)}};
         if (!plan.computedLevels.empty()) filterLevels(p, plan, result, entry);
-        if (plan.irradiance) projectIrradiance(p, result, entry);
+        if (plan.shIrradiance || plan.irradianceCube) writeProbeIrradiance(p, plan, result, entry);
         if (scene_.outputs.ktx2 != probe::Ktx2Format::none && !plan.computedLevels.empty())
             entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping,
                                            scene_.outputs.ktx2 == probe::Ktx2Format::rgba16f ? probe::Ktx2PixelFormat::rgba16f
@@ -185,19 +186,16 @@ private:
         entry["gpu_ms"] = medianTimes(filter.timings());
     }
 
-    void projectIrradiance(const probe::SceneProbe& p, ProbeResult& result, json& entry) {
-        probe::gpu::ShProjector projector(device_, p.faceSize);
-        const probe::ShCoefficients radiance = projector.project(result.source);
-        result.irradiance = probe::radianceToIrradiance(radiance);
-        recordPass(probe::irradiancePass(p.name), "gpu", describeDispatches(projector.dispatches()));
-        const std::string file = p.name + "/irradiance.exr";
-        probe::writeExr(output_.file(file), probe::cubeToStrip(probe::shToCube(result.irradiance, kIrradianceSize)));
-        entry["sh"] = {{"convention", probe::kShConvention},
-                       {"radiance", describeSh(radiance)},
-                       {"irradiance", describeSh(result.irradiance)},
-                       {"file", file},
-                       {"face_size", kIrradianceSize},
-                       {"gpu_ms", medianTimes(projector.timings())}};
+    // The irradiance the plan asks for, into the probe's folder (irradiance_output.h).
+    void writeProbeIrradiance(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+        const IrradianceOutput which = plan.shIrradiance && plan.irradianceCube ? IrradianceOutput::both
+                                       : plan.shIrradiance                      ? IrradianceOutput::sh
+                                                                                : IrradianceOutput::cube;
+        const IrradianceResult irradiance = writeIrradiance(output_, p.name + "/", which, device_, result.source);
+        result.irradiance = irradiance.sh;
+        if (plan.shIrradiance) recordPass(probe::irradiancePass(p.name), "gpu", describeDispatches(irradiance.shDispatches));
+        if (plan.irradianceCube) recordPass(probe::irradianceCubePass(p.name), "cpu");
+        entry["irradiance"] = irradiance.report;
     }
 
     const RunOptions& options_;
@@ -228,7 +226,8 @@ void runScene(const RunOptions& o) {
     SceneRun run(o, scene, output, device);
     run.checkLimits(plan);
     for (std::size_t k = 0; k < scene.probes.size(); ++k)
-        if (!plan.probes[k].computedLevels.empty() || plan.probes[k].irradiance) run.runProbe(scene.probes[k], plan.probes[k]);
+        if (!plan.probes[k].computedLevels.empty() || plan.probes[k].shIrradiance || plan.probes[k].irradianceCube)
+            run.runProbe(scene.probes[k], plan.probes[k]);
     if (plan.dfgTable) run.makeDfgTable();
     if (scene.outputs.spheres) run.renderSpheres();
     const std::vector<std::string> messages = device.validationMessages();
@@ -246,7 +245,9 @@ void addRunCommand(CLI::App& app) {
     auto o = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Run exactly the passes a scene calls for (see `plan`) and write what they make");
     cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
-    cmd->add_option("--out", o->out, "Output folder: <probe>/level_<m>.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
+    cmd->add_option(
+           "--out", o->out,
+           "Output folder: <probe>/level_<m>.exr, irradiance_sh.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
         ->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();

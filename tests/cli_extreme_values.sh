@@ -46,7 +46,7 @@ for input in in/one_max.exr in/all_max.exr in/rgbe_max.hdr; do
  "outputs": {"exr": true, "ktx2": "$ktx2", "spheres": true}}
 JSON
         "$PROBEFILTER" run "$name.json" --out "$name" >/dev/null 2>&1 || { echo "FAIL: run $input"; failures=$((failures + 1)); continue; }
-        if [[ ! -f $name/p/irradiance.exr || ! -f $name/p/probe.ktx2 ]]; then
+        if [[ ! -f $name/p/irradiance_sh.exr || ! -f $name/p/probe.ktx2 ]]; then
             echo "FAIL: run $input: outputs missing"
             failures=$((failures + 1))
         fi

@@ -27,6 +27,9 @@ scene mixed '"method": "fis", "samples": 32' \
 scene table "\"method\": \"table\", \"table\": \"$fixtures/table_16_quad4_gltf.json\"" \
     '{"name": "satin", "roughness": 0.5, "metallic": 1}' ''
 scene empty '"method": "fis"' '' ''
+# The Lambertian cube only where asked: beside SH, or alone (no spheres, so no SH either).
+scene lambert '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"irradiance": "both"'
+scene cube '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"irradiance": "cube"'
 
 # The passes `plan` prints (the text before " because "), as JSON.
 planned() {
@@ -49,14 +52,20 @@ out = os.path.dirname(sys.argv[2])
 files = sorted(os.path.relpath(os.path.join(r, f), out) for r, _, fs in os.walk(out) for f in fs)
 levels = sorted(int(p.split(" ")[2]) for p in ran if " level " in p)
 want = ["report.json"] + [f"sky/level_{m}.exr" for m in levels]
-if "sky: sh-irradiance" in ran: want.append("sky/irradiance.exr")
+if "sky: sh-irradiance" in ran: want.append("sky/irradiance_sh.exr")
+if "sky: irradiance-cube" in ran: want.append("sky/irradiance.exr")
 if "dfg-table" in ran: want.append("dfg.exr")
 if report.get("probes") and name in ("mirror", "diffuse", "mixed"): want.append("sky/spheres.png")
 if name == "mixed": want.append("sky/probe.ktx2")
 assert files == sorted(want), f"{name}: wrote {files}, expected {sorted(want)}"
 for p in report["probes"]:
-    if "sh" in p:
-        assert "Y2-2 = 1.092548 x y" in p["sh"]["convention"] and len(p["sh"]["irradiance"]) == 9, p["sh"]
+    irradiance = p.get("irradiance", {})
+    assert ("sh" in irradiance) == ("sky: sh-irradiance" in ran) and ("cube" in irradiance) == ("sky: irradiance-cube" in ran), p
+    assert ("sh_against_cube" in irradiance) == ("sh" in irradiance and "cube" in irradiance), irradiance
+    if "sh" in irradiance:
+        assert "Y2-2 = 1.092548 x y" in irradiance["sh"]["convention"] and len(irradiance["sh"]["irradiance"]) == 9, irradiance
+    if "cube" in irradiance:
+        assert irradiance["cube"]["face_size"] == 32 and irradiance["cube"]["file"] == "sky/irradiance.exr", irradiance
 if "dfg" in report: assert "red = A, green = B" in report["dfg"]["convention"]
 PY
 }
@@ -64,6 +73,8 @@ PY
 check_run mirror '["sky: load", "sky: level 0 (fis)", "dfg-table"]'
 check_run diffuse '["sky: load", "sky: sh-irradiance"]'
 check_run empty '[]'
+check_run lambert '["sky: load", "sky: sh-irradiance", "sky: irradiance-cube"]'
+check_run cube '["sky: load", "sky: irradiance-cube"]'
 # Mixed: r = 0.5 reads levels 1 and 2 (lod = 3 r at 16^2); the pyramid depth is whatever their taps read.
 "$PROBEFILTER" plan mixed.json | grep -q "^sky: pyramid 0\.\." || fail "mixed: no pyramid in the plan"
 mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 0\.\.[0-9]*")

@@ -82,6 +82,27 @@ TEST_F(SceneTest, DiffuseOnly) {
     EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", "sky: sh-irradiance"}));
 }
 
+// The Lambertian cube only when the outputs ask for it and a material is diffuse; SH as asked, and
+// for the spheres, which shade diffuse with it.
+TEST_F(SceneTest, IrradianceCubeOnlyWhenAsked) {
+    const auto withOutputs = [](const std::string& materials, const std::string& outputs) {
+        return fmt::format(R"({{"probes": [{{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "fis"}}],
+                               "materials": [{}], "outputs": {{{}}}}})",
+                           materials, outputs);
+    };
+    const std::string chalk = R"({"name": "chalk", "roughness": 1, "specular": 0})";
+    const std::string chrome = R"({"name": "chrome", "roughness": 0, "metallic": 1})";
+    EXPECT_EQ(plan(withOutputs(chalk, R"("irradiance": "both")")).passes(),
+              (std::vector<std::string>{"sky: load", "sky: sh-irradiance", "sky: irradiance-cube"}));
+    EXPECT_EQ(plan(withOutputs(chalk, R"("irradiance": "cube")")).passes(),
+              (std::vector<std::string>{"sky: load", "sky: irradiance-cube"}));
+    EXPECT_EQ(plan(withOutputs(chalk, R"("irradiance": "cube", "spheres": true)")).passes(),
+              (std::vector<std::string>{"sky: load", "sky: sh-irradiance", "sky: irradiance-cube"}));
+    EXPECT_EQ(plan(withOutputs(chrome, R"("irradiance": "both")")).passes(),
+              (std::vector<std::string>{"sky: load", "sky: level 0 (fis)", "dfg-table"}));
+    expectRefused(withOutputs(chalk, R"("irradiance": "lambert")"), "outputs.irradiance");
+}
+
 TEST_F(SceneTest, Mixed) {
     // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
     const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));

@@ -67,7 +67,8 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.computedLevels.push_back(level);
             p.levelReaders.push_back(names);
         }
-        p.irradiance = !p.diffuseMaterials.empty();
+        p.shIrradiance = !p.diffuseMaterials.empty() && (scene.outputs.shIrradiance || scene.outputs.spheres);
+        p.irradianceCube = !p.diffuseMaterials.empty() && scene.outputs.irradianceCube;
         p.readsPyramid = std::any_of(p.computedLevels.begin(), p.computedLevels.end(),
                                      [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
         // The reference reads pyramid level 0, the source, texel by texel.
@@ -87,6 +88,7 @@ std::string levelPass(const std::string& probe, int level, MethodKind method) {
     return fmt::format("{}: level {} ({})", probe, level, methodKindName(method));
 }
 std::string irradiancePass(const std::string& probe) { return fmt::format("{}: sh-irradiance", probe); }
+std::string irradianceCubePass(const std::string& probe) { return fmt::format("{}: irradiance-cube", probe); }
 
 namespace {
 
@@ -98,7 +100,7 @@ struct Step {
 std::vector<Step> steps(const Plan& plan) {
     std::vector<Step> out;
     for (const ProbePlan& p : plan.probes) {
-        if (p.computedLevels.empty() && !p.irradiance) continue;
+        if (p.computedLevels.empty() && !p.shIrradiance && !p.irradianceCube) continue;
         out.push_back({loadPass(p.probe), "the probe is read by some material"});
         if (p.readsPyramid)
             out.push_back({pyramidPass(p.probe, p.pyramidLevels),
@@ -110,7 +112,10 @@ std::vector<Step> steps(const Plan& plan) {
         for (std::size_t k = 0; k < p.computedLevels.size(); ++k)
             out.push_back(
                 {levelPass(p.probe, p.computedLevels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
-        if (p.irradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
+        if (p.shIrradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
+        if (p.irradianceCube)
+            out.push_back({irradianceCubePass(p.probe),
+                           fmt::format("diffuse: {}; the outputs ask for the cube", fmt::join(p.diffuseMaterials, ", "))});
     }
     if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
     return out;

@@ -171,6 +171,11 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
     else if (ktx2 == "rgba32f") o.ktx2 = Ktx2Format::rgba32f;
     else if (!(ktx2.is_object() && ktx2.empty()))
         r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", describeJson(ktx2)));
+    const std::string irradiance = r.optional<std::string>("irradiance").value_or("sh");
+    if (irradiance != "sh" && irradiance != "cube" && irradiance != "both")
+        r.fail("outputs.irradiance", fmt::format("'{}' is not sh, cube or both", irradiance));
+    o.shIrradiance = irradiance != "cube";
+    o.irradianceCube = irradiance != "sh";
     r.refuseUnknown();
     return o;
 }

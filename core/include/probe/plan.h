@@ -29,7 +29,8 @@ struct ProbePlan {
     std::vector<std::vector<std::string>> levelReaders; // per entry of `computedLevels`: the materials that read it
     bool readsPyramid = false;                          // some level is filtered (not a copy of the source)
     int pyramidLevels = 0;                              // pyramid levels to build below the source (the reference: 0)
-    bool irradiance = false;
+    bool shIrradiance = false;                          // some material is diffuse, and the outputs or the spheres want SH
+    bool irradianceCube = false;                        // some material is diffuse, and the outputs want the cube
     std::vector<std::string> diffuseMaterials;
 };
 
@@ -50,6 +51,7 @@ std::string loadPass(const std::string& probe);
 std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 0 (the border) to depth
 std::string levelPass(const std::string& probe, int level, MethodKind method);
 std::string irradiancePass(const std::string& probe);
+std::string irradianceCubePass(const std::string& probe);
 inline constexpr const char* kDfgPass = "dfg-table";
 
 // The tap generator of a probe's method (empty for the reference, which reads no pyramid).
