@@ -15,6 +15,22 @@
 
 using namespace probe;
 
+namespace {
+
+// L = 1 + 0.5 z + 0.3 x y, in the span of bands 0..2: order-2 SH irradiance is exact for it up to
+// quadrature.
+CubeImage bandLimitedRadiance(int size) {
+    CubeImage radiance(size);
+    const CubeGeometry g(size);
+    for (std::size_t t = 0; t < texelCount(size); ++t) {
+        const glm::dvec3& d = g.directions[t];
+        radiance.set(t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y)));
+    }
+    return radiance;
+}
+
+} // namespace
+
 TEST(Sh, BasisIsOrthonormalUnderCubeQuadrature) {
     const int size = 64;
     const CubeGeometry g(size);
@@ -35,15 +51,7 @@ TEST(Sh, WhiteFurnace) {
 }
 
 TEST(Sh, MatchesTheExactCosineConvolutionForBandLimitedRadiance) {
-    // L = 1 + 0.5 z + 0.3 x y is in the span of bands 0..2, so order-2 SH irradiance is exact up to
-    // quadrature.
-    const int size = 64;
-    CubeImage radiance(size);
-    const CubeGeometry g(size);
-    for (std::size_t t = 0; t < texelCount(size); ++t) {
-        const glm::dvec3& d = g.directions[t];
-        radiance.set(t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y)));
-    }
+    const CubeImage radiance = bandLimitedRadiance(64);
     const CubeImage sh = shToCube(radianceToIrradiance(projectRadiance(radiance)), 8);
     const CubeImage exact = exactIrradiance(radiance, 8);
     for (std::size_t k = 0; k < sh.rgb.size(); ++k) EXPECT_NEAR(sh.rgb[k], exact.rgb[k], 2e-4);
@@ -82,18 +90,12 @@ TEST(Irradiance, CubeFromTheAveragedSourceEqualsTheFullConvolution) {
 }
 
 TEST(Irradiance, ShAgainstTheCube) {
-    const int size = 32;
-    CubeImage smooth(size);
-    const CubeGeometry g(size);
-    for (std::size_t t = 0; t < texelCount(size); ++t) {
-        const glm::dvec3& d = g.directions[t];
-        smooth.set(t, glm::vec3(float(1.0 + 0.5 * d.z + 0.3 * d.x * d.y)));
-    }
+    const CubeImage smooth = bandLimitedRadiance(32);
     const auto shCube = [](const CubeImage& radiance) {
         return shToCube(radianceToIrradiance(projectRadiance(radiance)), kIrradianceCubeSize);
     };
     EXPECT_LT(irradianceDifference(shCube(smooth), irradianceCube(smooth)).relativeL1, 1e-4);
-    const CubeImage sun = sunSkyProbe(size);
+    const CubeImage sun = sunSkyProbe(32);
     const IrradianceDifference d = irradianceDifference(shCube(sun), irradianceCube(sun));
     EXPECT_GT(d.relativeL1, 1e-3); // order 2 cannot hold a sun's sharp cosine edge
     EXPECT_EQ(irradianceDifference(irradianceCube(sun), irradianceCube(sun)).relativeL1, 0.0);
