@@ -140,9 +140,11 @@ glm::vec3 loadTexel(const unsigned char* at, VkFormat format) {
 // What an engine does around Filter::record: its source cube (of `sourceFormat`, holding `source`)
 // uploaded and made readable by compute shaders, its output cube (of the filter's output format,
 // RGBA16F or RGBA32F) in GENERAL for the filter's writes, the passes recorded into its command
-// buffer between them, the output copied back. Returns the output levels.
+// buffer between them, the output copied back. Returns the output levels. With `slices`, records
+// those one after another instead of the whole update.
 CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSettings& settings, const CubeImage& source,
-                      VkFormat sourceFormat, gpu::Timestamps timestamps = gpu::Timestamps::passes) {
+                      VkFormat sourceFormat, gpu::Timestamps timestamps = gpu::Timestamps::passes,
+                      const std::vector<gpu::Slice>* slices = nullptr) {
     const int size = settings.faceSize, levels = settings.levelCount;
     const VkFormat outputFormat = settings.outputFormat;
     const CubeTexture in = cubeTexture(c, sourceFormat, size, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
@@ -162,6 +164,7 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
     for (std::size_t t = 0; t < texelCount(size); ++t) storeTexel(data + t * texelBytes(sourceFormat), sourceFormat, source.texel(t));
 
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     poolInfo.queueFamilyIndex = c.queueFamily;
     VkCommandPool pool = VK_NULL_HANDLE;
     EXPECT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool), VK_SUCCESS);
@@ -180,10 +183,26 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
                VK_ACCESS_SHADER_READ_BIT);
     transition(cmd, out.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
 
-    engine.record(
-        cmd, {inView, sourceFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size)},
-        {out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT},
-        timestamps);
+    const gpu::SourceCube sourceCube{inView, sourceFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size)};
+    const gpu::OutputCube outputCube{
+        out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+    // What has been recorded, submitted and waited for; the command buffer begins again.
+    const auto submitAndWait = [&] {
+        vkEndCommandBuffer(cmd);
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &cmd;
+        EXPECT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+        EXPECT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
+        vkBeginCommandBuffer(cmd, &begin);
+    };
+    if (!slices) engine.record(cmd, sourceCube, outputCube, timestamps);
+    // One submission per slice, as frames would run them.
+    for (const gpu::Slice& slice : slices ? *slices : std::vector<gpu::Slice>{}) {
+        engine.record(cmd, sourceCube, outputCube, slice);
+        EXPECT_EQ(engine.dispatches().size(), slice.dispatches) << "the slice's dispatches, known before it was recorded";
+        submitAndWait();
+    }
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
@@ -460,4 +479,44 @@ TEST_F(GpuTest, FilterInitializedInTheEnginesCommandBuffer) {
             EXPECT_EQ(recorded[m].rgb, expected[m].rgb) << "recording " << recording << ", level " << m;
     }
     EXPECT_THROW(gpu::Filter(wrapped, settings, VK_NULL_HANDLE), ProbeError);
+}
+
+// Time slicing: an update recorded as slices (the pyramid, then the levels in groups) writes the same
+// bits as one recording of the whole, for every method and both sampling modes; the slices' costs,
+// known before recording, are what they dispatch, and they cover every level once.
+TEST_F(GpuTest, SlicesEqualTheWholeUpdate) {
+    const gpu::Device& device = probetest::testDevice();
+    const Caller c{device.device(), device.physicalDevice(), device.queueFamily(), device.queue()};
+    const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
+    const CubeImage source = probetest::randomProbe(16, 11);
+    for (MethodKind method : {MethodKind::table, MethodKind::fis, MethodKind::reference})
+        for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+            if (method == MethodKind::reference && sampling == gpu::Sampling::hardware) continue;
+            gpu::FilterSettings s;
+            s.method = {method, &table, {}};
+            s.faceSize = 16;
+            s.levelCount = 4;
+            s.sampling = sampling;
+            s.outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+            gpu::Filter filter(probetest::testDevice(), s);
+            const CubeLevels whole = recordOnce(c, filter, s, source, VK_FORMAT_R32G32B32A32_SFLOAT);
+            const std::size_t wholeDispatches = filter.dispatches().size();
+            for (int count : {1, 2, 3, 8}) {
+                const std::vector<gpu::Slice> slices = filter.slices(count);
+                const std::string what = fmt::format("{} {} in {} slices", methodKindName(method), gpu::samplingName(sampling), count);
+                ASSERT_LE(slices.size(), std::size_t(std::max(count, 2))) << what;
+                std::vector<int> levels;
+                uint32_t dispatches = 0;
+                for (const gpu::Slice& slice : slices) {
+                    levels.insert(levels.end(), slice.levels.begin(), slice.levels.end());
+                    dispatches += slice.dispatches;
+                    EXPECT_GT(slice.texelTaps, 0.0) << what;
+                }
+                EXPECT_EQ(levels, (std::vector<int>{0, 1, 2, 3})) << what;
+                EXPECT_EQ(dispatches, wholeDispatches) << what;
+                const CubeLevels sliced = recordOnce(c, filter, s, source, VK_FORMAT_R32G32B32A32_SFLOAT, gpu::Timestamps::none, &slices);
+                for (int m = 0; m < 4; ++m) EXPECT_EQ(sliced[m].rgb, whole[m].rgb) << what << ": level " << m;
+            }
+            EXPECT_THROW(filter.slices(0), ProbeError);
+        }
 }

@@ -19,10 +19,10 @@ struct ConvertConstants {
 
 std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) { return impl.pipeline(kConvertB10g11r11Spv); }
 
-void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output) {
+void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output, const std::vector<int>& levels) {
     impl.barrier(commandBuffer);
     std::vector<VkImageCopy> copies;
-    for (int m : impl.computedLevels) {
+    for (int m : levels) {
         const int size = impl.settings.faceSize >> m;
         impl.descriptors->bind(commandBuffer, impl.convertSets[m]);
         dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size}, groupsFor(texelCount(size)));

@@ -455,9 +455,28 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
     }
     if (!perLevel) mark();
     if (convertOutput) {
-        recordConversion(*this, commandBuffer, boundOutput);
+        recordConversion(*this, commandBuffer, boundOutput, computedLevels);
         mark();
     }
+}
+
+void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels) {
+    dispatches.clear();
+    barriers = 0;
+    timed = false;
+    barrier(commandBuffer); // the Filter's resources, against the previous slice's use
+    if (pyramid && pass1) {
+        recordPyramidPass(*this, commandBuffer);
+        barrier(commandBuffer);
+    }
+    for (int m : levels) {
+        descriptors->bind(commandBuffer, levelSets[m]);
+        if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
+        else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
+        else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
+        else recordReferenceLevel(*this, commandBuffer, m);
+    }
+    if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, boundOutput, levels);
 }
 
 Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings, VK_NULL_HANDLE)) {}
@@ -573,8 +592,10 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     return result;
 }
 
-void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, Timestamps timestamps) {
-    Impl& f = *impl_;
+namespace {
+
+// record()'s checks of what the engine gives it, each naming the field.
+void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output) {
     const auto refuse = [](const std::string& field, const std::string& problem) {
         return ProbeError(fmt::format("Filter::record: {} {}", field, problem));
     };
@@ -602,11 +623,70 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
     if ((output.usage & written) == 0)
         throw refuse("output.usage", f.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
                                                      : "lacks STORAGE, which the passes write the output with");
+}
+
+// The texel-taps of output level m (Filter::slices).
+double levelTexelTaps(const Filter::Impl& f, int m) {
+    const FilterSettings& s = f.settings;
+    const double texels = double(texelCount(s.faceSize >> m));
+    if (f.copyLevels & (1u << m)) return texels;
+    switch (s.method.kind) {
+    case MethodKind::table: return texels * tapsInUse(*s.method.table, m) * (2.0 + 7.0 / 16.0);
+    case MethodKind::fis: return texels * s.method.fis.samplesAt(m);
+    case MethodKind::reference: break;
+    }
+    return texels * double(texelCount(s.faceSize));
+}
+
+uint32_t levelDispatchCount(const Filter::Impl& f, int m) {
+    const bool copy = (f.copyLevels & (1u << m)) != 0;
+    return (!copy && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u) + (f.convertOutput ? 1u : 0u);
+}
+
+} // namespace
+
+void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, Timestamps timestamps) {
+    Impl& f = *impl_;
+    checkRecordArguments(f, commandBuffer, source, output);
     // One recording at a time: by the second, the first has run, and the initialization before it.
     if (++f.recordings == 2) f.initStaging.clear();
     f.bindImages(source.view, output.image);
     f.recordPasses(commandBuffer, timestamps);
     f.timer->clear();
+}
+
+std::vector<Slice> Filter::slices(int count) const {
+    const Impl& f = *impl_;
+    if (count < 1) throw ProbeError(fmt::format("Filter::slices: count {} is below 1", count));
+    std::vector<Slice> out;
+    if (f.pass1) out.push_back({true, {}, pyramidDispatchCount(f), pyramidTexelTaps(f)});
+    double total = 0.0;
+    for (int m : f.computedLevels) total += levelTexelTaps(f, m);
+    const int levelSlices = std::max(1, count - int(out.size()));
+    // Cut the levels, in order, where their running texel-taps pass each k / levelSlices of the total.
+    double done = 0.0;
+    for (int m : f.computedLevels) {
+        const int k = std::min(levelSlices - 1, int(done * levelSlices / std::max(total, 1e-300)));
+        if (out.empty() || out.back().pyramid || int(out.size()) - (f.pass1 ? 1 : 0) <= k) out.push_back({});
+        out.back().levels.push_back(m);
+        out.back().dispatches += levelDispatchCount(f, m);
+        out.back().texelTaps += levelTexelTaps(f, m);
+        done += levelTexelTaps(f, m);
+    }
+    return out;
+}
+
+void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice) {
+    Impl& f = *impl_;
+    checkRecordArguments(f, commandBuffer, source, output);
+    for (std::size_t k = 0; k < slice.levels.size(); ++k)
+        if (std::find(f.computedLevels.begin(), f.computedLevels.end(), slice.levels[k]) == f.computedLevels.end() ||
+            (k > 0 && slice.levels[k] <= slice.levels[k - 1]))
+            throw ProbeError(fmt::format(
+                "Filter::record: slice.levels: {} is not one of the levels the filter computes, in ascending order", slice.levels[k]));
+    if (++f.recordings == 2) f.initStaging.clear();
+    f.bindImages(source.view, output.image);
+    f.recordSlice(commandBuffer, slice.pyramid, slice.levels);
 }
 
 Sampling Filter::sampling() const { return impl_->sampling; }

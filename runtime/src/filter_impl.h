@@ -99,6 +99,9 @@ struct Filter::Impl {
     // mips and read only the pyramid) and a boundary after the last, or after each with
     // Timestamps::levels; then the conversion, if any, and a boundary.
     void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
+    // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
+    // timestamps.
+    void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels);
     // A compute barrier of the passes (computeBarrier), counted in `barriers`.
     void barrier(VkCommandBuffer commandBuffer);
 };
@@ -109,6 +112,9 @@ struct Filter::Impl {
 // Pass 1: the pipelines of the settings (the reference's: level 0 of the exact pyramid alone).
 void makePyramidPipelines(Filter::Impl& impl);
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer);
+// What recordPyramidPass dispatches and its texel-taps (Filter::slices), known before it records.
+uint32_t pyramidDispatchCount(const Filter::Impl& impl);
+double pyramidTexelTaps(const Filter::Impl& impl);
 
 // Pass 2: the pipeline of the method, sampling and output format (the conversion writes RGBA32F).
 std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl);
@@ -117,6 +123,7 @@ void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int leve
 
 std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl);
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+uint32_t referenceDispatchCount(const Filter::Impl& impl); // per level
 
 std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl);
 // The table buffer: every level in the published layout, level 0 first, then per level the tap
@@ -135,7 +142,7 @@ void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level
 // The conversion pass: packs each output level computed into `packed`, then copies it into `output`
 // (in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL).
 std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl);
-void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output);
+void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output, const std::vector<int>& levels);
 
 // The SPIR-V of a pass-2 shader for the output format: `variants` holds the RGBA32F, RGBA16F and
 // B10G11R11 builds, in that order (the conversion pass's input is RGBA32F).

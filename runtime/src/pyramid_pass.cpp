@@ -63,6 +63,24 @@ void makePyramidPipelines(Filter::Impl& impl) {
     if (impl.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
 }
 
+uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
+    const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
+    const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
+    uint32_t count = uint32_t(lastSingle + 1) * (impl.pass1Corners ? 2 : 1) + (impl.pass1Tail ? 1 : 0);
+    if (impl.paraboloidMap)
+        for (int level = 0; (paraboloidSize(impl.settings.faceSize) >> level) >= 1; ++level) ++count;
+    return count;
+}
+
+double pyramidTexelTaps(const Filter::Impl& impl) {
+    double taps = double(texelCount(impl.settings.faceSize)); // level 0: the source, one read a texel
+    for (int level = 1; level <= (impl.buildsPyramid ? impl.pyramidDepth : 0); ++level)
+        taps += 4.0 * double(texelCount(impl.settings.faceSize >> level));
+    if (impl.paraboloidMap)
+        for (int size = paraboloidSize(impl.settings.faceSize); size >= 1; size /= 2) taps += 4.0 * 2.0 * size * size;
+    return taps;
+}
+
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     const bool hardware = impl.sampling == Sampling::hardware;

@@ -33,15 +33,26 @@ std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl)
     return impl.pipeline(outputVariant(impl, {kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
 }
 
+namespace {
+
+int rowsPerChunk(const FilterSettings& s) { return std::clamp(kChunkTexels / s.faceSize, 1, s.faceSize); }
+
+} // namespace
+
+uint32_t referenceDispatchCount(const Filter::Impl& impl) {
+    const int rows = kFaceCount * impl.settings.faceSize, chunk = rowsPerChunk(impl.settings);
+    return uint32_t((rows + chunk - 1) / chunk);
+}
+
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const double alpha = levelAlpha(s.mapping, m, s.levelCount);
-    const int rowsPerChunk = std::clamp(kChunkTexels / s.faceSize, 1, s.faceSize);
+    const int chunk = rowsPerChunk(s);
     const int rows = kFaceCount * s.faceSize;
-    for (int first = 0; first < rows; first += rowsPerChunk) {
+    for (int first = 0; first < rows; first += chunk) {
         if (first > 0) impl.barrier(commandBuffer);
-        const int stage = (first == 0 ? 1 : 0) | (first + rowsPerChunk >= rows ? 2 : 0);
-        const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha), first, rowsPerChunk, stage};
+        const int stage = (first == 0 ? 1 : 0) | (first + chunk >= rows ? 2 : 0);
+        const ReferenceConstants constants{s.faceSize, m, static_cast<float>(alpha * alpha), first, chunk, stage};
         dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
     }
 }

@@ -188,6 +188,16 @@ struct OutputCube {
     VkImageUsageFlags usage = 0; // as created
 };
 
+// A part of one probe's update, for spreading it over frames (Filter::slices, Filter::record): pass 1,
+// which builds the Filter's pyramid from the source, and some output levels, which read the pyramid
+// that an earlier slice (or this one) built.
+struct Slice {
+    bool pyramid = false;
+    std::vector<int> levels; // ascending, among the levels the Filter computes
+    uint32_t dispatches = 0; // what recording it dispatches
+    double texelTaps = 0.0;  // its work: output texels times the pyramid reads each takes
+};
+
 // The resources and pipelines of one filter setting, reusable for many probes.
 class Filter {
 public:
@@ -240,6 +250,21 @@ public:
     // the device lacks.
     void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output,
                 Timestamps timestamps = Timestamps::passes);
+
+    // Time slicing: the update cut into at most `count` slices (pass 1 alone first, then the levels
+    // in order, grouped so that their texel-taps come out about even), each slice's cost known
+    // before anything is recorded. A level's texel-taps are its texels times the reads each takes: a
+    // table's taps in use times the 2 + 7/16 frames a texel blends on average, FIS's samples, one for
+    // a copy, every source texel for the reference; pass 1's are the source's texels (level 0, one read
+    // each) and four reads for each texel of the levels below (and of a paraboloid map).
+    std::vector<Slice> slices(int count) const;
+    // Records one slice, as record() records them all, without timestamps. The engine records the
+    // slices in order, one frame each (or several in a frame), and keeps the source holding the same
+    // probe until the last has run: the pyramid slice and the copy of level 0 read it. Recording a
+    // slice into a second output cube of the same shape leaves the first, with the old levels,
+    // readable until the last slice completes; the engine then swaps them. The same checks as
+    // record(), and the slice's levels must be the Filter's.
+    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice);
 
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
     // and whether a B10G11R11 output is converted through a copy.
