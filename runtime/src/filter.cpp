@@ -660,6 +660,15 @@ std::vector<Slice> Filter::slices(int count) const {
     if (count < 1) throw ProbeError(fmt::format("Filter::slices: count {} is below 1", count));
     std::vector<Slice> out;
     if (f.pass1) out.push_back({true, {}, pyramidDispatchCount(f), pyramidTexelTaps(f)});
+    if (count == 1) { // the whole update, pass 1 and every level
+        if (out.empty()) out.push_back({});
+        for (int m : f.computedLevels) {
+            out.back().levels.push_back(m);
+            out.back().dispatches += levelDispatchCount(f, m);
+            out.back().texelTaps += levelTexelTaps(f, m);
+        }
+        return out;
+    }
     double total = 0.0;
     for (int m : f.computedLevels) total += levelTexelTaps(f, m);
     const int levelSlices = std::max(1, count - int(out.size()));

@@ -252,7 +252,8 @@ public:
                 Timestamps timestamps = Timestamps::passes);
 
     // Time slicing: the update cut into at most `count` slices (pass 1 alone first, then the levels
-    // in order, grouped so that their texel-taps come out about even), each slice's cost known
+    // in order, grouped so that their texel-taps come out about even; one slice: the whole update,
+    // as record() records it), each slice's cost known
     // before anything is recorded. A level's texel-taps are its texels times the reads each takes: a
     // table's taps in use times the 2 + 7/16 frames a texel blends on average, FIS's samples, one for
     // a copy, every source texel for the reference; pass 1's are the source's texels (level 0, one read
