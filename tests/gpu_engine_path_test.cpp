@@ -210,12 +210,7 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
     vkCmdCopyImageToBuffer(cmd, out.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, uint32_t(back.size()), back.data());
     VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
-    vkEndCommandBuffer(cmd);
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    EXPECT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
-    EXPECT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
+    submitAndWait();
 
     CubeLevels result;
     for (int m = 0; m < levels; ++m) {

@@ -427,6 +427,14 @@ void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
     ++barriers;
 }
 
+void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
+    descriptors->bind(commandBuffer, levelSets[m]);
+    if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
+    else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
+    else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
+    else recordReferenceLevel(*this, commandBuffer, m);
+}
+
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
     dispatches.clear();
     barriers = 0;
@@ -446,11 +454,7 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         mark();
     }
     for (int m : computedLevels) {
-        descriptors->bind(commandBuffer, levelSets[m]);
-        if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
-        else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
-        else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
-        else recordReferenceLevel(*this, commandBuffer, m);
+        recordLevel(commandBuffer, m);
         if (perLevel) mark();
     }
     if (!perLevel) mark();
@@ -469,13 +473,7 @@ void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, cons
         recordPyramidPass(*this, commandBuffer);
         barrier(commandBuffer);
     }
-    for (int m : levels) {
-        descriptors->bind(commandBuffer, levelSets[m]);
-        if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
-        else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
-        else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
-        else recordReferenceLevel(*this, commandBuffer, m);
-    }
+    for (int m : levels) recordLevel(commandBuffer, m);
     if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, boundOutput, levels);
 }
 

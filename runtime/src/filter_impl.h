@@ -99,6 +99,8 @@ struct Filter::Impl {
     // mips and read only the pyramid) and a boundary after the last, or after each with
     // Timestamps::levels; then the conversion, if any, and a boundary.
     void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
+    // Pass 2 at output level m: a copy, or the method's dispatch.
+    void recordLevel(VkCommandBuffer commandBuffer, int m);
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
     // timestamps.
     void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels);
