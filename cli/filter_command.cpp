@@ -4,6 +4,7 @@
 //   [--device X] --out DIR
 #include <algorithm>
 #include <fstream>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -52,6 +53,7 @@ struct FilterOptions {
     bool repairPixels = false;
     std::string ktx2 = "none";
     std::string irradiance = "none";
+    std::optional<int> slices; // time slicing: the update in this many slices, one submission each
     std::string out;
     bool force = false;
     bool allowLong = false;
@@ -110,6 +112,22 @@ probe::gpu::FilterSettings filterSettings(const FilterOptions& o, const probe::P
     return s;
 }
 
+constexpr int kMaxSlices = 64;
+
+// The slices of a sliced run and the GPU time each took (none where the queue has no timestamps).
+nlohmann::json describeSlices(const std::vector<probe::gpu::Slice>& slices, const std::vector<double>& sliceMs) {
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t k = 0; k < slices.size(); ++k) {
+        nlohmann::json slice = {{"pyramid", slices[k].pyramid},
+                                {"levels", slices[k].levels},
+                                {"dispatches", slices[k].dispatches},
+                                {"texel_taps", slices[k].texelTaps}};
+        if (k < sliceMs.size()) slice["gpu_ms"] = sliceMs[k];
+        out.push_back(slice);
+    }
+    return out;
+}
+
 // The report of a finished run: the settings, the device, every dispatch and the GPU times.
 nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid,
                            const probe::gpu::Device& device, const probe::gpu::Filter& filter) {
@@ -150,6 +168,10 @@ void runFilter(const FilterOptions& o) {
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     const IrradianceOutput irradiance = parseIrradianceOutput(o.irradiance);
     probe::checkRepeat(o.repeat);
+    if (o.slices && (*o.slices < 1 || *o.slices > kMaxSlices))
+        throw probe::ProbeError(fmt::format("--slices {}: must be 1 to {}", *o.slices, kMaxSlices));
+    if (o.slices && (o.repeat != 1 || o.levelTimes))
+        throw probe::ProbeError("--slices runs each slice once and times it alone: it takes neither --repeat nor --level-times");
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
@@ -164,8 +186,11 @@ void runFilter(const FilterOptions& o) {
         probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
     const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
     probe::gpu::Filter filter(device, s);
+    const std::vector<probe::gpu::Slice> slices = o.slices ? filter.slices(*o.slices) : std::vector<probe::gpu::Slice>{};
+    std::vector<double> sliceMs;
     const probe::CubeLevels levels =
-        filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
+        o.slices ? filter.run(source, slices, sliceMs)
+                 : filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
         throw probe::ProbeError(
@@ -173,6 +198,12 @@ void runFilter(const FilterOptions& o) {
 
     nlohmann::json report = describeRun(o, s, pyramid, device, filter);
     report["input_pixels"] = pixels;
+    if (o.slices) {
+        report.erase("passes");
+        report.erase("dispatches");
+        report.erase("barriers");
+        report["slices"] = describeSlices(slices, sliceMs);
+    }
     if (o.againstReference) {
         const probe::CubeLevels reference = probe::referenceFilter(
             source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
@@ -189,9 +220,11 @@ void runFilter(const FilterOptions& o) {
     double total = 0.0;
     for (const probe::gpu::PassTime& p : filter.timings())
         if (p.name == "total") total = p.medianMs;
+    if (o.slices) total = std::accumulate(sliceMs.begin(), sliceMs.end(), 0.0);
     const probe::gpu::DeviceInfo& info = device.info();
-    fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms (median of {}) -> {}\n", o.method,
-               probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, o.repeat, o.out);
+    const std::string timing = o.slices ? fmt::format("{} slices", slices.size()) : fmt::format("median of {}", o.repeat);
+    fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms ({}) -> {}\n", o.method,
+               probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, timing, o.out);
 }
 
 } // namespace
@@ -250,6 +283,10 @@ void addFilterCommand(CLI::App& app) {
                     "Also write the Lambertian irradiance: none, sh (9 coefficients, on the device; irradiance_sh.exr), cube (the "
                     "exact cosine convolution, 32^2, on the CPU; irradiance.exr) or both (and SH's error against the cube)")
         ->capture_default_str();
+    cmd->add_option("--slices", o->slices,
+                    fmt::format("Time slicing: run the update as N slices (1 to {}), one submission each, and report each "
+                                "slice's dispatches, texel-taps and GPU time",
+                                kMaxSlices));
     cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_flag("--allow-long", o->allowLong, "With --against-reference: " + std::string(kAllowLongHelp));

@@ -102,6 +102,23 @@ refused "--pyramid-format b10g11r11" --method fis --sampling hardware --pyramid-
 refused "--pyramid-format rgba16f: only hardware sampling" --method fis --sampling exact --pyramid-format rgba16f --size 16
 refused "--irradiance lambert: expected none, sh, cube or both" --irradiance lambert --size 16
 
+# --slices 3: the update as pass 1 and two groups of levels, one submission each; the same levels
+# as one run, and each slice's dispatches, texel-taps and GPU time in the report.
+"$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --slices 3 --out sliced \
+    >/dev/null 2>&1 || fail "--slices 3"
+for m in 0 1 2 3; do cmp -s table/level_$m.exr sliced/level_$m.exr || fail "--slices 3: level $m differs from one run"; done
+python3 - sliced/report.json <<'PY' || fail "--slices 3: report"
+import json, sys
+r = json.load(open(sys.argv[1]))
+slices = r["slices"]
+assert len(slices) == 3 and slices[0]["pyramid"] and not slices[0]["levels"], slices
+assert sum((s["levels"] for s in slices), []) == [0, 1, 2, 3], slices
+assert all(s["dispatches"] > 0 and s["texel_taps"] > 0 and s["gpu_ms"] > 0 for s in slices), slices
+assert "passes" not in r, r.keys()
+PY
+refused "--slices runs each slice once" --slices 2 --repeat 3 --size 16
+refused "--slices 0: must be 1 to 64" --slices 0 --size 16
+
 # --irradiance both: the SH projection and the exact irradiance cube, and SH measured against it (on
 # the smooth sky, within a few percent).
 "$PROBEFILTER" filter sky.exr --size 16 --irradiance both --out irradiance >/dev/null 2>&1 || fail "--irradiance both"

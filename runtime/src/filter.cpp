@@ -329,6 +329,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     };
     passTimer = std::make_unique<GpuTimer>(d, segments(1));
     levelTimer = std::make_unique<GpuTimer>(d, segments(computedLevels.size()));
+    sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
     timer = passTimer.get();
 
     submission = std::make_unique<Submission>(d);
@@ -464,17 +465,21 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
     }
 }
 
-void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels) {
+void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps) {
     dispatches.clear();
     barriers = 0;
-    timed = false;
+    timed = timestamps;
+    timer = sliceTimer.get();
+    if (timed) timer->reset(commandBuffer);
     barrier(commandBuffer); // the Filter's resources, against the previous slice's use
+    if (timed) timer->boundary(commandBuffer, 0);
     if (pyramid && pass1) {
         recordPyramidPass(*this, commandBuffer);
         barrier(commandBuffer);
     }
     for (int m : levels) recordLevel(commandBuffer, m);
     if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, boundOutput, levels);
+    if (timed) timer->boundary(commandBuffer, 1);
 }
 
 Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings, VK_NULL_HANDLE)) {}
@@ -485,6 +490,18 @@ Filter::Filter(const Device& device, const FilterSettings& settings, VkCommandBu
 Filter::~Filter() = default;
 
 namespace {
+
+// The run's own source and output cubes, made on the first run.
+void makeRunImages(Filter::Impl& f) {
+    if (f.runSource.handle()) return;
+    const FilterSettings& s = f.settings;
+    const Device& d = f.device;
+    f.runSource =
+        CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+    f.runSourceView = ImageView(d.device(), f.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
+    const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+    f.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+}
 
 // The source of a run, uploaded into the run's own cube image, beyond the range the filter keeps
 // scaled down by a power of two; returns that power, by which the output is scaled back up once read
@@ -554,14 +571,7 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     if (source.size != s.faceSize)
         throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
     checkRepeat(repeat);
-    const Device& d = f.device;
-    if (!f.runSource.handle()) {
-        f.runSource = CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-        f.runSourceView = ImageView(d.device(), f.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
-        const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
-        f.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    }
+    makeRunImages(f);
     const int shift = uploadRunSource(f, source);
 
     // The passes, `repeat` times, into the output cube as an engine's would be laid out.
@@ -584,6 +594,47 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     }
     f.submission->release(passes);
 
+    CubeLevels result = readBackRunOutput(f);
+    shiftLevels(result, shift);
+    if (shift != 0 && s.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, s.outputFormat);
+    return result;
+}
+
+CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs) {
+    Impl& f = *impl_;
+    const FilterSettings& s = f.settings;
+    if (source.size != s.faceSize)
+        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
+    if (slices.empty()) throw ProbeError("filter: no slices to run");
+    makeRunImages(f);
+    const int shift = uploadRunSource(f, source);
+    f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
+    const auto allMips = uint32_t(s.levelCount);
+    const VkImageLayout written = f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+    sliceMs.clear();
+    // One submission a slice, as frames would run them: the output's layout set before the first,
+    // made readable after the last.
+    for (std::size_t k = 0; k < slices.size(); ++k) {
+        VkCommandBuffer commandBuffer = f.submission->begin();
+        if (k == 0)
+            imageBarrier(commandBuffer, f.runOutput.handle(), 0, allMips, VK_IMAGE_LAYOUT_UNDEFINED, written,
+                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+        f.recordSlice(commandBuffer, slices[k].pyramid, slices[k].levels, true);
+        if (k + 1 == slices.size())
+            imageBarrier(commandBuffer, f.runOutput.handle(), 0, allMips, written, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_ACCESS_TRANSFER_READ_BIT);
+        vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
+        f.timer->clear();
+        f.submission->submitAndWait(commandBuffer, false);
+        f.submission->release(commandBuffer);
+        if (!f.timed) continue;
+        f.timer->collect();
+        for (const PassTime& t : f.timer->timings())
+            if (t.name == "slice") sliceMs.push_back(t.medianMs);
+    }
     CubeLevels result = readBackRunOutput(f);
     shiftLevels(result, shift);
     if (shift != 0 && s.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, s.outputFormat);
@@ -683,7 +734,8 @@ std::vector<Slice> Filter::slices(int count) const {
     return out;
 }
 
-void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice) {
+void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
+                    Timestamps timestamps) {
     Impl& f = *impl_;
     checkRecordArguments(f, commandBuffer, source, output);
     for (std::size_t k = 0; k < slice.levels.size(); ++k)
@@ -693,7 +745,8 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
                 "Filter::record: slice.levels: {} is not one of the levels the filter computes, in ascending order", slice.levels[k]));
     if (++f.recordings == 2) f.initStaging.clear();
     f.bindImages(source.view, output.image);
-    f.recordSlice(commandBuffer, slice.pyramid, slice.levels);
+    f.recordSlice(commandBuffer, slice.pyramid, slice.levels, timestamps != Timestamps::none);
+    f.timer->clear();
 }
 
 Sampling Filter::sampling() const { return impl_->sampling; }

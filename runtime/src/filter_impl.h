@@ -74,6 +74,7 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
     std::unique_ptr<GpuTimer> passTimer;            // a segment per pass
     std::unique_ptr<GpuTimer> levelTimer;           // pass 2 in a segment per output level
+    std::unique_ptr<GpuTimer> sliceTimer;           // a slice in one segment
     GpuTimer* timer = nullptr;                      // the one the last recording wrote
     bool timed = true;                              // the last recording wrote timestamp queries
     std::vector<Buffer> initStaging;                // the initialization's uploads, until it has run
@@ -103,7 +104,7 @@ struct Filter::Impl {
     void recordLevel(VkCommandBuffer commandBuffer, int m);
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
     // timestamps.
-    void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels);
+    void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps);
     // A compute barrier of the passes (computeBarrier), counted in `barriers`.
     void barrier(VkCommandBuffer commandBuffer);
 };

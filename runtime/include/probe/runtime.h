@@ -259,13 +259,18 @@ public:
     // a copy, every source texel for the reference; pass 1's are the source's texels (level 0, one read
     // each) and four reads for each texel of the levels below (and of a paraboloid map).
     std::vector<Slice> slices(int count) const;
-    // Records one slice, as record() records them all, without timestamps. The engine records the
+    // Records one slice, as record() records them all; with timestamps (Timestamps::passes or
+    // levels), timings() then gives its GPU time as "slice" and "total". The engine records the
     // slices in order, one frame each (or several in a frame), and keeps the source holding the same
     // probe until the last has run: the pyramid slice and the copy of level 0 read it. Recording a
     // slice into a second output cube of the same shape leaves the first, with the old levels,
     // readable until the last slice completes; the engine then swaps them. The same checks as
     // record(), and the slice's levels must be the Filter's.
-    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice);
+    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
+                Timestamps timestamps = Timestamps::none);
+    // Tools: uploads `source`, runs `slices` in order, one submission each and timed, and returns the
+    // output levels as run() does; sliceMs gets each slice's GPU time (empty without timestamps).
+    CubeLevels run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs);
 
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
     // and whether a B10G11R11 output is converted through a copy.
