@@ -565,27 +565,54 @@ CubeLevels readBackRunOutput(Filter::Impl& f) {
 
 } // namespace
 
-CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
-    Impl& f = *impl_;
-    const FilterSettings& s = f.settings;
-    if (source.size != s.faceSize)
-        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
-    checkRepeat(repeat);
+namespace {
+
+// Checks the probe, makes the run's images, uploads the probe and binds them; returns the shift
+// uploadRunSource applied.
+int startRun(Filter::Impl& f, const CubeImage& source) {
+    if (source.size != f.settings.faceSize)
+        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
     makeRunImages(f);
     const int shift = uploadRunSource(f, source);
-
-    // The passes, `repeat` times, into the output cube as an engine's would be laid out.
-    const auto allMips = uint32_t(s.levelCount);
     f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
-    const VkImageLayout written = f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
-    VkCommandBuffer passes = f.submission->begin();
-    imageBarrier(passes, f.runOutput.handle(), 0, allMips, VK_IMAGE_LAYOUT_UNDEFINED, written, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
-                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+    return shift;
+}
+
+// The run's output cube as an engine's would be laid out: made writable by the passes before them,
+// and readable by the read-back after them.
+VkImageLayout runOutputLayout(const Filter::Impl& f) {
+    return f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+}
+void runOutputBeforePasses(const Filter::Impl& f, VkCommandBuffer commandBuffer) {
+    imageBarrier(commandBuffer, f.runOutput.handle(), 0, uint32_t(f.settings.levelCount), VK_IMAGE_LAYOUT_UNDEFINED, runOutputLayout(f),
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-    f.recordPasses(passes, timestamps);
-    imageBarrier(passes, f.runOutput.handle(), 0, allMips, written, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+}
+void runOutputAfterPasses(const Filter::Impl& f, VkCommandBuffer commandBuffer) {
+    imageBarrier(commandBuffer, f.runOutput.handle(), 0, uint32_t(f.settings.levelCount), runOutputLayout(f),
+                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+// The levels read back and scaled back up by the run's shift.
+CubeLevels finishRun(Filter::Impl& f, int shift) {
+    CubeLevels result = readBackRunOutput(f);
+    shiftLevels(result, shift);
+    if (shift != 0 && f.settings.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, f.settings.outputFormat);
+    return result;
+}
+
+} // namespace
+
+CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
+    Impl& f = *impl_;
+    checkRepeat(repeat);
+    const int shift = startRun(f, source);
+    // The passes, recorded once and submitted `repeat` times.
+    VkCommandBuffer passes = f.submission->begin();
+    runOutputBeforePasses(f, passes);
+    f.recordPasses(passes, timestamps);
+    runOutputAfterPasses(f, passes);
     vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
     f.timer->clear();
     for (int k = 0; k < repeat; ++k) {
@@ -593,39 +620,20 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
         if (f.timed) f.timer->collect();
     }
     f.submission->release(passes);
-
-    CubeLevels result = readBackRunOutput(f);
-    shiftLevels(result, shift);
-    if (shift != 0 && s.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, s.outputFormat);
-    return result;
+    return finishRun(f, shift);
 }
 
 CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs) {
     Impl& f = *impl_;
-    const FilterSettings& s = f.settings;
-    if (source.size != s.faceSize)
-        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, s.faceSize));
     if (slices.empty()) throw ProbeError("filter: no slices to run");
-    makeRunImages(f);
-    const int shift = uploadRunSource(f, source);
-    f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
-    const auto allMips = uint32_t(s.levelCount);
-    const VkImageLayout written = f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+    const int shift = startRun(f, source);
     sliceMs.clear();
-    // One submission a slice, as frames would run them: the output's layout set before the first,
-    // made readable after the last.
+    // One submission a slice, as frames would run them.
     for (std::size_t k = 0; k < slices.size(); ++k) {
         VkCommandBuffer commandBuffer = f.submission->begin();
-        if (k == 0)
-            imageBarrier(commandBuffer, f.runOutput.handle(), 0, allMips, VK_IMAGE_LAYOUT_UNDEFINED, written,
-                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+        if (k == 0) runOutputBeforePasses(f, commandBuffer);
         f.recordSlice(commandBuffer, slices[k].pyramid, slices[k].levels, true);
-        if (k + 1 == slices.size())
-            imageBarrier(commandBuffer, f.runOutput.handle(), 0, allMips, written, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_ACCESS_TRANSFER_READ_BIT);
+        if (k + 1 == slices.size()) runOutputAfterPasses(f, commandBuffer);
         vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
         f.timer->clear();
         f.submission->submitAndWait(commandBuffer, false);
@@ -635,10 +643,7 @@ CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices
         for (const PassTime& t : f.timer->timings())
             if (t.name == "slice") sliceMs.push_back(t.medianMs);
     }
-    CubeLevels result = readBackRunOutput(f);
-    shiftLevels(result, shift);
-    if (shift != 0 && s.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, s.outputFormat);
-    return result;
+    return finishRun(f, shift);
 }
 
 namespace {
