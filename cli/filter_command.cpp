@@ -162,9 +162,7 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
 }
 
 void runFilter(const FilterOptions& o) {
-    const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
-    probe::TapTable table;
-    const probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
+    // The options that need nothing else first; then the settings, which may look for a table.
     const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
     const IrradianceOutput irradiance = parseIrradianceOutput(o.irradiance);
     probe::checkRepeat(o.repeat);
@@ -172,6 +170,9 @@ void runFilter(const FilterOptions& o) {
         throw probe::ProbeError(fmt::format("--slices {}: must be 1 to {}", *o.slices, kMaxSlices));
     if (o.slices && (o.repeat != 1 || o.levelTimes))
         throw probe::ProbeError("--slices runs each slice once and times it alone: it takes neither --repeat nor --level-times");
+    const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
+    probe::TapTable table;
+    const probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);

@@ -67,6 +67,18 @@ expect_refused scene-unknown-field      "$work/unknown-field.json: materials[0].
 expect_refused scene-roughness-range    "$work/roughness-range.json: materials[0].roughness"     $(run roughness-range)
 expect_refused scene-duplicate-material "$work/duplicate-material.json: materials[1].name"       $(run duplicate-material)
 expect_refused scene-missing-file       "$work/nope.json"                                        $(run nope)
+# The format's version and the outputs' irradiance are checked like any field.
+printf '{"version": 2, "probes": [{"name": "sky", "image": "in/good.exr"}], "materials": []}' >"$work/scene-version.json"
+printf '{"probes": [{"name": "sky", "image": "in/good.exr"}], "materials": [], "outputs": {"irradiance": "lambert"}}' \
+    >"$work/scene-irradiance.json"
+expect_refused scene-version            "$work/scene-version.json: version"                      $(run scene-version)
+expect_refused scene-irradiance         "$work/scene-irradiance.json: outputs.irradiance"        $(run scene-irradiance)
+# A table file of a format version this build does not read.
+sed 's/"version": 2/"version": 3/' "$(dirname "$0")/fixtures/table_16_quad4_gltf.json" >"$work/table-version3.json"
+expect_refused table-version "$work/table-version3.json: table format version 3" \
+    filter "$in/good.exr" --method table --table "$work/table-version3.json" --size 16 --out "$work/out"
+expect_refused filter-irradiance "--irradiance lambert" filter "$in/good.exr" --size 8 --irradiance lambert --out "$work/out"
+expect_refused filter-slices "--slices 0" filter "$in/good.exr" --size 8 --slices 0 --out "$work/out"
 
 expect_refused sweep-size     "face size 12"      sweep --size 12 --out "$work/out"
 expect_refused sweep-hdri-dir "$in/nope"          sweep --size 4 --hdri-dir "$in/nope" --out "$work/out"
