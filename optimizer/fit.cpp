@@ -33,6 +33,12 @@ constexpr double kPenalty = 10.0;
 constexpr double kSplitSpread = 0.5;
 // The bank's starts are screened on every this many stratified texels.
 constexpr std::size_t kBankScreenStride = 8;
+// The coarse texels: every few of the level's stratified texels, at least this many. Starts are
+// screened on them, and the fit's first BFGS iterations run on them.
+constexpr std::size_t kCoarseTexels = 128;
+
+// The coarse texels are every this many of a level's stratified texels.
+std::size_t coarseStride(std::size_t texels) { return std::max<std::size_t>(1, texels / kCoarseTexels); }
 
 // The level of `table` whose alpha is nearest alpha (by ratio, within a factor of 2); -1 if none.
 int nearestLevel(const TapTable& table, double alpha) {
@@ -284,7 +290,11 @@ std::string initDescription(const FitSettings& s) {
         text += fmt::format(", --init table {} {}x3{}", tableFormName(init.form), init.taps,
                             init.taps != s.taps ? fmt::format(" (taps split {} texels apart)", 2 * kSplitSpread) : "");
     if (!s.inits.empty()) text += "; an --init's exact filter is kept where the fit is not better";
-    if (!s.bank.empty()) text += fmt::format(", the nearest roughness among {} bank tables", s.bank.size());
+    if (!s.bank.empty())
+        text += s.bankStarts > 1 ? fmt::format(", the nearest roughness among {} bank tables (the {} best on every {}th texel "
+                                               "are also starts)",
+                                               s.bank.size(), s.bankStarts, kBankScreenStride)
+                                 : fmt::format(", the nearest roughness among {} bank tables", s.bank.size());
     return text;
 }
 
@@ -295,7 +305,11 @@ std::string solverDescription(const FitSettings& s) {
     std::string method;
     switch (s.solver) {
     case FitSolver::lmBfgs:
-        method = fmt::format("{} iterations of {}, then at most {} of {}", s.lmIterations, lm, s.maxIterations, bfgs);
+        method = s.coarseIterations > 0
+                     ? fmt::format("{} iterations of {}, then at most {} of {} on the coarse texels (every few of the "
+                                   "stratified output texels, at least {}) and at most {} on all of them",
+                                   s.lmIterations, lm, s.coarseIterations, bfgs, kCoarseTexels, s.maxIterations)
+                     : fmt::format("{} iterations of {}, then at most {} of {}", s.lmIterations, lm, s.maxIterations, bfgs);
         break;
     case FitSolver::bfgs: method = fmt::format("at most {} iterations of {}", s.maxIterations, bfgs); break;
     case FitSolver::lm: method = fmt::format("at most {} iterations of {}", s.maxIterations, lm); break;
@@ -319,13 +333,12 @@ std::string solverDescription(const FitSettings& s) {
     return fmt::format(
         "Ceres {}: {} on the weighted mean impulse L1{}{} over the stratified output texels{}, per level; "
         "levels with fewer stratified texels get up to {}x the iterations, in proportion; weight sum "
-        "kept >= {} of its mean (penalty {}); start: best of lobe layout{}{}{}{}",
+        "kept >= {} of its mean (penalty {}); start: best of lobe layout{}{}{}{}{}",
         CERES_VERSION_STRING, method, tail, checker, seam, s.roughIterationFactor, kMinWeightSum, kPenalty,
         s.fresh || (s.inits.empty() && s.bank.empty()) ? ", previous level" : ", previous level where nothing below offers a start",
         initDescription(s),
-        s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept{}", s.starts - 1,
-                                   screensStarts(s) ? " (every start runs Levenberg-Marquardt, the lowest objective then BFGS)" : "")
-                     : "",
+        s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "",
+        screensStarts(s) ? "; every start runs Levenberg-Marquardt on the coarse texels, the lowest objective then the whole solver" : "",
         s.hops > 0 ? fmt::format("; then {} hops (the fit's taps moved at random and refitted, kept where the objective is lower)", s.hops)
                    : "");
 }
@@ -413,7 +426,13 @@ public:
     LevelFit(const FitContext& context, TapTable& table, int m, const std::vector<OutputTexel>& texels,
              const std::vector<OutputTexel>& judge, const CheckerTerm& checker)
         : context_(context), settings_(context.settings), model_(context.model), table_(table), m_(m), alpha_(tableLevelAlpha(table, m)),
-          level_(table.levels[m]), texels_(texels), judge_(judge), checker_(checker), blocks_(levelBlocks(table, m)) {}
+          level_(table.levels[m]), texels_(texels), judge_(judge), checker_(checker),
+          blocks_(levelBlocks(table, m)), coarseChecker_{checker.basis, {}, checker.weight} {
+        for (std::size_t n = 0; n < texels.size(); n += coarseStride(texels.size())) {
+            coarse_.push_back(texels[n]);
+            if (!checker.reference.empty()) coarseChecker_.reference.push_back(checker.reference[n]);
+        }
+    }
 
     // previous: the level fitted before this one, a start (-1: none); levelStart: when preparing the
     // texels began, which took kernelSeconds.
@@ -421,24 +440,31 @@ public:
         const std::vector<Start> starts = startsFrom(bestCandidate(previous));
         pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.faceSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
                                             : std::vector<SeamPair>{};
-        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part and only the
-        // lowest objective goes on to BFGS (with --screen-all, or another solver, every start runs in
-        // full and the lowest objective is kept).
-        const bool screen = screensStarts(settings_);
+        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on a quarter of
+        // the texels and only the lowest objective goes on (with --screen-all, or another solver, every
+        // start runs in full and the lowest objective is kept).
+        const bool screen = starts.size() > 1 && settings_.solver == FitSolver::lmBfgs && !settings_.screenAll;
+        level_.coefficients = starts.front().second;
+        reportTerms("at the start");
         double bestObjective = 1e300;
         std::vector<double> fitted;
+        std::string bestName;
         for (const auto& [name, coefficients] : starts) {
             level_.coefficients = coefficients;
-            const double value = solve(true, !screen, starts.size() > 1);
+            const double value = screen ? screenStart() : fitInFull(starts.size() > 1);
             if (starts.size() > 1)
                 context_.report(m_, value, fmt::format("objective after {} from {}", screen ? "Levenberg-Marquardt" : "the fit", name));
             if (value < bestObjective || fitted.empty()) {
                 bestObjective = value;
                 fitted = level_.coefficients;
+                bestName = name;
             }
         }
         level_.coefficients = fitted;
-        if (screen) solve(false, true, false);
+        if (screen) {
+            context_.report(m_, bestObjective, fmt::format("objective lowest after Levenberg-Marquardt: {} goes on", bestName));
+            fitInFull(false);
+        }
         hop();
         if (fallback_ && fitScore(model_, blocks_.data(), texels_, judge_, checker_) > fallback_->first) {
             level_.coefficients = fallback_->second;
@@ -513,24 +539,25 @@ private:
     void addBankCandidate(std::vector<Start>& candidates) {
         std::vector<OutputTexel> screen;
         for (std::size_t n = 0; n < texels_.size(); n += kBankScreenStride) screen.push_back(texels_[n]);
-        double best = 1e300;
-        Start chosen;
+        std::vector<std::pair<double, Start>> screened;
         for (const FitSettings::BankTable& bank : settings_.bank) {
             const int from = nearestLevel(bank.table, alpha_);
             if (from < 0) continue;
             startFromBank(table_, m_, bank.table, from);
             const double value = evaluatePrepared(model_, blocks_.data(), screen).error.mean;
-            if (value < best) {
-                best = value;
-                chosen = {fmt::format("bank {} level {}", bank.name, from), level_.coefficients};
-            }
+            screened.emplace_back(value, Start{fmt::format("bank {} level {}", bank.name, from), level_.coefficients});
         }
-        if (!chosen.second.empty()) candidates.push_back(std::move(chosen));
+        std::ranges::stable_sort(screened, {}, [](const auto& s) { return s.first; });
+        if (screened.empty()) return;
+        candidates.push_back(std::move(screened.front().second));
+        for (std::size_t n = 1; n < screened.size() && n < static_cast<std::size_t>(settings_.bankStarts); ++n)
+            bankStarts_.push_back(std::move(screened[n].second));
     }
 
     // The best candidate and, with --starts K > 1, K - 1 importance layouts (turned apart about the axis).
     std::vector<Start> startsFrom(const std::vector<double>& best) {
         std::vector<Start> starts{{"best start", best}};
+        for (Start& s : bankStarts_) starts.push_back(std::move(s));
         for (int k = 0; k + 1 < settings_.starts; ++k) {
             const double rotation = 2.0 * std::numbers::pi * k / ((settings_.starts - 1) * settings_.taps);
             importanceLayout(table_, m_, alpha_, rotation);
@@ -544,34 +571,49 @@ private:
     // Hops: refits from the best fit so far, moved at random; a hop that lowers the objective is kept.
     void hop() {
         if (settings_.hops <= 0) return;
-        double current = solve(false, false, true);
+        double current = solve(texels_, 0, 0, true);
         for (int k = 0; k < settings_.hops; ++k) {
             const std::vector<double> kept = level_.coefficients;
             hopLayout(table_, m_, alpha_, static_cast<unsigned>(1000 * m_ + k));
-            const double value = solve(true, true, true);
+            const double value = fitInFull(true);
             context_.report(m_, value, fmt::format("objective after hop {}", k + 1));
             if (value < current) current = value;
             else level_.coefficients = kept;
         }
     }
 
-    // Runs the Levenberg-Marquardt part (lm) and the BFGS part (bfgs) of the solver from the level's
-    // coefficients; returns the objective at the end where `compare` (one more evaluation).
-    double solve(bool lm, bool bfgs, bool compare) {
-        const LevelObjective objective(model_, texels_, weightedMeanWeightSum(model_, blocks_.data(), texels_), pairs_, context_.basis,
-                                       settings_.seamWeight, checker_);
-        reportTerms("at the start");
-        if (lm && settings_.solver != FitSolver::bfgs) {
+    // The solver from the level's coefficients: Levenberg-Marquardt, BFGS on the coarse texels (cheap
+    // iterations that carry the fit most of the way down a slow slope) where they are fewer, then
+    // BFGS on every texel; returns the objective at the end where `compare` (one more evaluation).
+    double fitInFull(bool compare) {
+        const int lm = levelIterations(settings_, lmPart(), texels_.size()), bfgs = levelIterations(settings_, bfgsPart(), texels_.size());
+        if (settings_.coarseIterations == 0 || coarse_.size() == texels_.size()) return solve(texels_, lm, bfgs, compare);
+        solve(texels_, lm, 0);
+        solve(coarse_, 0, levelIterations(settings_, settings_.coarseIterations, texels_.size()));
+        return solve(texels_, 0, bfgs, compare);
+    }
+
+    // A start's screening: the Levenberg-Marquardt part on the coarse texels, as many iterations at
+    // every level (it only ranks the starts); returns the objective there.
+    double screenStart() { return solve(coarse_, lmPart(), 0, true); }
+
+    int lmPart() const { return settings_.solver == FitSolver::lm ? settings_.maxIterations : settings_.lmIterations; }
+    int bfgsPart() const { return settings_.solver == FitSolver::lm ? 0 : settings_.maxIterations; }
+
+    // Runs lmIterations of Levenberg-Marquardt, then bfgsIterations of BFGS, over `texels` from the
+    // level's coefficients; returns the objective at the end where `compare` (one more evaluation).
+    double solve(const std::vector<OutputTexel>& texels, int lmIterations, int bfgsIterations, bool compare = false) {
+        const LevelObjective objective(model_, texels, weightedMeanWeightSum(model_, blocks_.data(), texels), pairs_, context_.basis,
+                                       settings_.seamWeight, &texels == &coarse_ ? coarseChecker_ : checker_);
+        if (lmIterations > 0 && settings_.solver != FitSolver::bfgs) {
             ProgressCallback callback(context_.progress, m_, context_.start, 2.0);
             std::vector<double*> blocks;
             for (const double* b : blocks_) blocks.push_back(const_cast<double*>(b));
-            const int iterations = settings_.solver == FitSolver::lm ? settings_.maxIterations : settings_.lmIterations;
-            add(solveLevenbergMarquardt(model_, objective, blocks, levelIterations(settings_, iterations, texels_.size()), callback));
+            add(solveLevenbergMarquardt(model_, objective, blocks, lmIterations, callback));
         }
-        if (bfgs && settings_.solver != FitSolver::lm) {
+        if (bfgsIterations > 0 && settings_.solver != FitSolver::lm) {
             ProgressCallback callback(context_.progress, m_, context_.start, 1.0);
-            add(solveBfgs(model_, objective, level_.coefficients.data(),
-                          levelIterations(settings_, settings_.maxIterations, texels_.size()), callback));
+            add(solveBfgs(model_, objective, level_.coefficients.data(), bfgsIterations, callback));
         }
         const double value = compare ? objective.value(blocks_.data()) : 0.0;
         modelSeconds_ += objective.seconds();
@@ -608,6 +650,9 @@ private:
     const CheckerTerm& checker_;
     const std::vector<const double*> blocks_; // into level_.coefficients, whose storage stays put
     std::vector<SeamPair> pairs_;
+    std::vector<OutputTexel> coarse_; // every few of texels_: at least kCoarseTexels of them
+    CheckerTerm coarseChecker_;       // the checker term's references of coarse_
+    std::vector<Start> bankStarts_;
     std::optional<std::pair<double, std::vector<double>>> fallback_;
     SolveReport report_;
     double modelSeconds_ = 0.0;
@@ -617,7 +662,28 @@ private:
 } // namespace
 
 bool screensStarts(const FitSettings& settings) {
-    return settings.starts > 1 && settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+    const bool bankStarts = settings.bankStarts > 1 && settings.bank.size() > 1 && !settings.fresh;
+    return (settings.starts > 1 || bankStarts) && settings.solver == FitSolver::lmBfgs && !settings.screenAll;
+}
+
+std::size_t coarseTexelCount(std::size_t texels) {
+    const std::size_t stride = coarseStride(texels);
+    return (texels + stride - 1) / stride;
+}
+
+double levelIterationCost(const FitSettings& s, std::size_t texels) {
+    const double share = static_cast<double>(coarseTexelCount(texels)) / static_cast<double>(std::max<std::size_t>(1, texels));
+    // The whole solver from one start (fitInFull).
+    double whole = 0.0;
+    if (s.solver != FitSolver::bfgs) whole += levelIterations(s, s.solver == FitSolver::lm ? s.maxIterations : s.lmIterations, texels);
+    if (s.solver != FitSolver::lm) {
+        if (s.coarseIterations > 0 && share < 1.0) whole += share * levelIterations(s, s.coarseIterations, texels);
+        whole += levelIterations(s, s.maxIterations, texels);
+    }
+    const bool bank = s.bank.size() > 1 && !s.fresh;
+    const int starts = std::max(1, s.starts) + (bank ? std::min(s.bankStarts, static_cast<int>(s.bank.size())) - 1 : 0);
+    const double screening = screensStarts(s) ? starts * share * s.lmIterations : 0.0;
+    return screening + (screensStarts(s) ? 1 : starts) * whole + s.hops * whole;
 }
 
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels) {

@@ -32,7 +32,10 @@ struct FitSettings {
     // Solver iterations for a level with the full budget of stratified texels; a level with fewer
     // texels (the rough ones: 24 at a 2x2 face) costs less per iteration and gets proportionally
     // more, at most roughIterationFactor times as many.
-    int maxIterations = 60;
+    int maxIterations = 30;
+    // BFGS iterations on the coarse texels (every few of the stratified texels) before maxIterations
+    // on all of them: the L1 falls slowly under BFGS, and a quarter of the texels points the same way.
+    int coarseIterations = 200;
     int roughIterationFactor = 4;
     // The seam term (seam_term.h): its weight W against the mean L1 (0: off), over at most this many
     // edge pairs per level.
@@ -60,6 +63,9 @@ struct FitSettings {
         probe::TapTable table;
     };
     std::vector<BankTable> bank;
+    // The bank's levels (the best on a few texels) that start a fit: each is screened like the
+    // other starts, since a start's L1 does not tell which basin is deepest.
+    int bankStarts = 3;
     // Levels to fit (empty: all); the others are copied from the first init, which then must have the
     // table's taps and form, so one level can be refitted without paying for the rest.
     std::vector<int> fitLevels;
@@ -95,6 +101,13 @@ bool screensStarts(const FitSettings& settings);
 
 // The iteration limit of a level with `texels` stratified texels, for `iterations` at the full budget.
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels);
+
+// The coarse texels of a level with this many stratified texels: every few of them, at least 128.
+std::size_t coarseTexelCount(std::size_t texels);
+
+// A level's solver iterations over every start, screening and hop, in iterations over all its
+// stratified texels (a coarse iteration counts as its share of them): what the estimate scales.
+double levelIterationCost(const FitSettings& settings, std::size_t texels);
 
 FitSolver parseFitSolver(const std::string& name);
 

@@ -35,16 +35,6 @@ FitEstimate estimateFit(const FitSettings& settings) {
     const std::size_t parameters = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(parameters), weightGradient(parameters);
     const double threads = std::max(1, omp_get_max_threads());
-    // Iterations per level over all starts (at the full texel budget): every start runs the first
-    // solver, and the second too unless only the best start after the first goes on (fit.h).
-    const int starts = std::max(1, settings.starts);
-    const bool screen = screensStarts(settings);
-    int iterations = 0;
-    if (settings.solver != FitSolver::bfgs)
-        iterations += starts * (settings.solver == FitSolver::lm ? settings.maxIterations : settings.lmIterations);
-    if (settings.solver != FitSolver::lm) iterations += (screen ? 1 : starts) * settings.maxIterations;
-    // Every hop runs the whole solver (both parts of lm-bfgs).
-    iterations += settings.hops * ((settings.solver == FitSolver::lmBfgs ? settings.lmIterations : 0) + settings.maxIterations);
     // The checker term's moments (and the reference's, once per texel) cost beside the L1.
     const std::optional<MomentBasis> checkers =
         settings.checkerWeight > 0.0
@@ -97,7 +87,7 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = (kernel + routes) * fitTexels;
-        if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterations(settings, iterations, stratified.size());
+        if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterationCost(settings, stratified.size());
         if (settings.measure == Measure::cells) // the exact record of the stratified texels
             seconds += (normalization + perMeasured) * fitTexels;
         if (settings.measureAll) // a normalization per class of symmetric texels (evaluate.h), the model per texel

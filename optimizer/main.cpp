@@ -137,6 +137,8 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     if (settings.checkerWeight < 0.0 || !std::isfinite(settings.checkerWeight))
         throw ProbeError(fmt::format("--checker-weight: {} is not a weight >= 0", settings.checkerWeight));
     checkCount("--starts", settings.starts, 1, kMaxStarts);
+    checkCount("--bank-starts", settings.bankStarts, 1, kMaxStarts);
+    checkCount("--coarse-iterations", settings.coarseIterations, 0, kMaxIterations);
     checkCount("--hops", settings.hops, 0, kMaxHops);
     checkCount("--seam-pairs", settings.seamPairBudget, 1, kMaxTexelBudget);
     checkCount("--texels", settings.stratifiedBudget, 24, kMaxTexelBudget);
@@ -376,6 +378,10 @@ int main(int argc, char** argv) {
     fit->add_option("--lm-iterations", settings.lmIterations, "Levenberg-Marquardt iterations per level of lm-bfgs")->capture_default_str();
     fit->add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")
         ->capture_default_str();
+    fit->add_option("--coarse-iterations", settings.coarseIterations,
+                    "BFGS iterations per level on the coarse texels (every few of the stratified texels, at least 128) "
+                    "before --iterations on all of them; 0: none")
+        ->capture_default_str();
     fit->add_option("--rough-factor", settings.roughIterationFactor,
                     "levels with fewer stratified texels get up to this many times the iterations")
         ->capture_default_str();
@@ -392,6 +398,10 @@ int main(int argc, char** argv) {
                     "scales: the aliasing of sharp content) beside the L1; 0: off")
         ->capture_default_str();
     fit->add_option("--seam-pairs", settings.seamPairBudget, "face-edge pairs per level for the seam term")->capture_default_str();
+    fit->add_option("--bank-starts", settings.bankStarts,
+                    "bank levels per level that start a fit (the best on a few texels); with the best start and --starts, "
+                    "each runs Levenberg-Marquardt on the coarse texels and the lowest objective goes on")
+        ->capture_default_str();
     fit->add_option("--starts", settings.starts,
                     "fits per level: from the best start and, above 1, from starts - 1 importance layouts (FIS taps, "
                     "turned apart); the lowest objective is kept")
