@@ -236,12 +236,18 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 
 // Prints the L1 per level; with a tolerance, exits 1 where it differs from the recorded value.
 // With `cells`, also the fit's L1 over cells (lobe_cells.h) on the same texels, against the exact one.
-int runEval(const std::string& path, const std::string& texels, double tolerance, bool cells) {
-    const TapTable table = readTable(path);
+// A budget other than the table's measures that many stratified texels, which it has no record of.
+int runEval(const std::string& path, const std::string& texels, double tolerance, bool cells, std::optional<int> budget) {
+    TapTable table = readTable(path);
     if (texels != "all" && texels != "stratified") throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
     if (cells && texels != "stratified") throw ProbeError("--cells: measures the stratified texels alone (--texels stratified)");
+    if (budget && texels != "stratified") throw ProbeError("--budget: sets the stratified texels alone (--texels stratified)");
+    if (budget) checkCount("--budget", *budget, 24, kMaxTexelBudget);
+    const bool recordedTexels = !budget || *budget == table.stratifiedBudget;
+    if (budget) table.stratifiedBudget = *budget;
     const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
-    fmt::print("{}: impulse-response L1 over {} texels\n", path, texels);
+    fmt::print("{}: impulse-response L1 over {} texels{}\n", path, texels,
+               set == TexelSet::stratified ? fmt::format(" (budget {} per level)", table.stratifiedBudget) : "");
     bool mismatch = false;
     for (int m = 0; m < table.levelCount; ++m) {
         if (tableLevelAlpha(table, m) <= 0.0) {
@@ -251,7 +257,7 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
         const probefit::LevelEvaluation e = probefit::evaluateLevel(table, m, set);
         const ImpulseError& recorded = set == TexelSet::all ? table.levels[m].all : table.levels[m].stratified;
         std::string comparison = "not recorded";
-        if (recorded.mean >= 0.0) {
+        if (recorded.mean >= 0.0 && recordedTexels) {
             const double difference = std::max(std::abs(e.error.mean - recorded.mean), std::abs(e.error.max - recorded.max));
             comparison = fmt::format("recorded {:.6f} / {:.6f}, difference {:.2e}", recorded.mean, recorded.max, difference);
             if (tolerance >= 0.0 && difference > tolerance) mismatch = true;
@@ -438,6 +444,10 @@ int main(int argc, char** argv) {
     eval->add_option("--check", tolerance, "exit 1 where the L1 differs from the recorded one by more than this");
     bool evalCells = false;
     eval->add_flag("--cells", evalCells, "also the fit's L1 over cells on the same texels, against the exact one (stratified texels)");
+    int evalBudget = 0;
+    const CLI::Option* evalBudgetOption =
+        eval->add_option("--budget", evalBudget,
+                         "stratified texels per level (default: the table's, whose L1 it records); another count is measured unrecorded");
 
     CLI::App* tail = app.add_subcommand("tail", "per level, the share of the reference's mass far from the lobe centre that a table "
                                                 "reproduces (face centre, edge, corner); exit 1 where out of the bound");
@@ -476,7 +486,8 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
         if (mix->parsed()) return runMix(mixSources, mixOut);
         if (select->parsed()) return runSelect(selectSources, selectOut, selectFirst);
-        if (eval->parsed()) return runEval(table, texels, tolerance, evalCells);
+        if (eval->parsed())
+            return runEval(table, texels, tolerance, evalCells, evalBudgetOption->count() ? std::optional<int>(evalBudget) : std::nullopt);
         if (tail->parsed()) return runTail(tailTable);
         if (exportTable->parsed()) {
             const TapTable t = readTable(exportSource);

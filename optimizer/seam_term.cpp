@@ -34,8 +34,10 @@ std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, double alpha, in
         pair.b = makeOutputTexel({b, 0.0}, geometry, level, alpha);
         const std::array<double, kMomentCount> ra = kernelMoments(pair.a, basis), rb = kernelMoments(pair.b, basis);
         for (int j = 0; j < kMomentCount; ++j) pair.referenceStep[j] = ra[j] - rb[j];
-        pair.a.kernel = {};
-        pair.b.kernel = {};
+        // (a new vector frees the kernel's storage: `= {}` assigns an empty list and keeps it, 25 MiB
+        // per texel at 1024^2)
+        pair.a.kernel = std::vector<float>();
+        pair.b.kernel = std::vector<float>();
     }
     return pairs;
 }

@@ -82,7 +82,7 @@ TEST(CompiledTables, EqualTheirTableFiles) {
         }
     }
     // --method table finds a compiled-in table at the common sizes of the glTF mapping.
-    for (int size : {16, 32, 64, 128, 256, 512})
+    for (int size : {16, 32, 64, 128, 256, 512, 1024})
         EXPECT_NE(gpu::findCompiledTable(size, defaultLevelCount(size), RoughnessMapping::gltf, {}), nullptr) << size;
 }
 

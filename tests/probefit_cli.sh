@@ -19,6 +19,15 @@ for f in small.json small.h small.glsl; do [[ -s $work/$f ]] || fail "small fit:
 [[ $(grep -c 'over cells 0\.[0-9]* ([-+][0-9.]*%)' "$work/cells.log") -eq 3 ]] || fail "eval --cells: $(cat "$work/cells.log")"
 awk -F'[()%]' '/over cells/ { d = $(NF - 2); if (d < -5 || d > 5) bad = 1 } END { exit bad }' "$work/cells.log" ||
     fail "eval --cells: the cells' L1 is not within 5% of the exact one: $(cat "$work/cells.log")"
+# eval --budget N measures N stratified texels per level, which the table has no record of (its own
+# budget it has): at 4x the texels the mean moves by a few percent at most.
+"$PROBEFIT" eval "$work/small.json" --texels stratified --budget 2048 >"$work/budget.log" || fail "eval --budget: exit $?"
+[[ $(grep -c 'budget 2048 per level' "$work/budget.log") -eq 1 && $(grep -c 'not recorded' "$work/budget.log") -eq 3 ]] ||
+    fail "eval --budget: $(cat "$work/budget.log")"
+"$PROBEFIT" eval "$work/small.json" --texels stratified >"$work/own.log"
+awk 'FILENAME == ARGV[1] { if (/^level [1-3] mean/) own[$2] = $4; next }
+     /^level [1-3] mean/ { r = $4 / own[$2]; if (r < 0.95 || r > 1.05) { print "level " $2 ": " $4 " against " own[$2]; bad = 1 } }
+     END { exit bad }' "$work/own.log" "$work/budget.log" || fail "eval --budget: the mean moved by more than 5%"
 # The fitted levels are far better than the lobe-shaped start (0.29 to 0.6 at this size).
 awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" ||
     fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
@@ -228,6 +237,8 @@ expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
 expect_refused eval-cells-all  "--cells"                eval "$work/small.json" --texels all --cells
+expect_refused eval-budget-all "--budget"               eval "$work/small.json" --texels all --budget 1024
+expect_refused eval-budget-0   "--budget"               eval "$work/small.json" --texels stratified --budget 0
 expect_refused select-shape    "other: not the shape of small" select "$work/small.json" "$work/other.json" --out "$work/out"
 expect_refused select-missing  "$work/nope.json"        select "$work/small.json" "$work/nope.json" --out "$work/out"
 expect_refused select-unwritable "--out"                select "$work/small.json" --out "$work/no/such/dir/out"
