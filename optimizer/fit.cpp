@@ -40,6 +40,10 @@ constexpr std::size_t kCoarseTexels = 128;
 // The coarse texels are every this many of a level's stratified texels.
 std::size_t coarseStride(std::size_t texels) { return std::max<std::size_t>(1, texels / kCoarseTexels); }
 
+// The iterations of the solver's Levenberg-Marquardt and BFGS parts at the full texel budget.
+int lmPart(const FitSettings& s) { return s.solver == FitSolver::lm ? s.maxIterations : s.lmIterations; }
+int bfgsPart(const FitSettings& s) { return s.solver == FitSolver::lm ? 0 : s.maxIterations; }
+
 // The level of `table` whose alpha is nearest alpha (by ratio, within a factor of 2); -1 if none.
 int nearestLevel(const TapTable& table, double alpha) {
     int best = -1;
@@ -440,8 +444,8 @@ public:
         const std::vector<Start> starts = startsFrom(bestCandidate(previous));
         pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.faceSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
                                             : std::vector<SeamPair>{};
-        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on a quarter of
-        // the texels and only the lowest objective goes on (with --screen-all, or another solver, every
+        // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on the coarse
+        // texels and only the lowest objective goes on (with --screen-all, or another solver, every
         // start runs in full and the lowest objective is kept).
         const bool screen = starts.size() > 1 && settings_.solver == FitSolver::lmBfgs && !settings_.screenAll;
         level_.coefficients = starts.front().second;
@@ -586,7 +590,8 @@ private:
     // iterations that carry the fit most of the way down a slow slope) where they are fewer, then
     // BFGS on every texel; returns the objective at the end where `compare` (one more evaluation).
     double fitInFull(bool compare) {
-        const int lm = levelIterations(settings_, lmPart(), texels_.size()), bfgs = levelIterations(settings_, bfgsPart(), texels_.size());
+        const int lm = levelIterations(settings_, lmPart(settings_), texels_.size()),
+                  bfgs = levelIterations(settings_, bfgsPart(settings_), texels_.size());
         if (settings_.coarseIterations == 0 || coarse_.size() == texels_.size()) return solve(texels_, lm, bfgs, compare);
         solve(texels_, lm, 0);
         solve(coarse_, 0, levelIterations(settings_, settings_.coarseIterations, texels_.size()));
@@ -595,10 +600,7 @@ private:
 
     // A start's screening: the Levenberg-Marquardt part on the coarse texels, as many iterations at
     // every level (it only ranks the starts); returns the objective there.
-    double screenStart() { return solve(coarse_, lmPart(), 0, true); }
-
-    int lmPart() const { return settings_.solver == FitSolver::lm ? settings_.maxIterations : settings_.lmIterations; }
-    int bfgsPart() const { return settings_.solver == FitSolver::lm ? 0 : settings_.maxIterations; }
+    double screenStart() { return solve(coarse_, lmPart(settings_), 0, true); }
 
     // Runs lmIterations of Levenberg-Marquardt, then bfgsIterations of BFGS, over `texels` from the
     // level's coefficients; returns the objective at the end where `compare` (one more evaluation).
@@ -674,15 +676,11 @@ std::size_t coarseTexelCount(std::size_t texels) {
 double levelIterationCost(const FitSettings& s, std::size_t texels) {
     const double share = static_cast<double>(coarseTexelCount(texels)) / static_cast<double>(std::max<std::size_t>(1, texels));
     // The whole solver from one start (fitInFull).
-    double whole = 0.0;
-    if (s.solver != FitSolver::bfgs) whole += levelIterations(s, s.solver == FitSolver::lm ? s.maxIterations : s.lmIterations, texels);
-    if (s.solver != FitSolver::lm) {
-        if (s.coarseIterations > 0 && share < 1.0) whole += share * levelIterations(s, s.coarseIterations, texels);
-        whole += levelIterations(s, s.maxIterations, texels);
-    }
+    double whole = (s.solver == FitSolver::bfgs ? 0 : levelIterations(s, lmPart(s), texels)) + levelIterations(s, bfgsPart(s), texels);
+    if (s.solver != FitSolver::lm && s.coarseIterations > 0 && share < 1.0) whole += share * levelIterations(s, s.coarseIterations, texels);
     const bool bank = s.bank.size() > 1 && !s.fresh;
     const int starts = std::max(1, s.starts) + (bank ? std::min(s.bankStarts, static_cast<int>(s.bank.size())) - 1 : 0);
-    const double screening = screensStarts(s) ? starts * share * s.lmIterations : 0.0;
+    const double screening = screensStarts(s) ? starts * share * lmPart(s) : 0.0;
     return screening + (screensStarts(s) ? 1 : starts) * whole + s.hops * whole;
 }
 
