@@ -1,6 +1,7 @@
 #include "fit.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -64,6 +65,14 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// The threads a level's evaluations use: all of them, shared by the chains of levels not yet finished
+// (fitTable), so that a chain's threads go to the others when it ends.
+struct ThreadShare {
+    int threads = 1;
+    std::atomic<int> chainsLeft{1};
+    int now() const { return std::max(1, threads / std::clamp(chainsLeft.load(), 1, threads)); }
+};
+
 // The objective over the stratified texels R with normalized weights a_R:
 //   f = sum_R a_R e_R + sum_R a_R p_R^2 + (W / P) sum_pairs s_pair,
 //   p_R = kPenalty * max(0, kMinWeightSum - weightSum_R / scale),
@@ -74,9 +83,10 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 class LevelObjective {
 public:
     LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
-                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight, const CheckerTerm& checker)
+                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight, const CheckerTerm& checker,
+                   const ThreadShare& share)
         : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight),
-          checker_(checker) {
+          checker_(checker), share_(share) {
         for (const OutputTexel& t : texels) weightTotal_ += t.weight;
     }
 
@@ -96,6 +106,8 @@ public:
         const std::size_t count = texels_.size(), p = static_cast<std::size_t>(parameterCount());
         terms.assign(termCount(), Term{});
         const auto start = Clock::now();
+        // (the level's other work after this evaluation uses as many)
+        omp_set_num_threads(share_.now());
         // One workspace per thread, kept between evaluations: at 1024^2 each is a quarter of a GiB.
         while (workspaces_.size() < static_cast<std::size_t>(omp_get_max_threads())) workspaces_.push_back(model_.workspace());
 #pragma omp parallel
@@ -104,6 +116,7 @@ public:
             std::vector<double> scratch;
 #pragma omp for schedule(dynamic, 4)
             for (std::size_t n = 0; n < count; ++n) {
+                if (n + 1 < count) prefetch(texels_[n + 1]);
                 const ImpulseModel::Result r = model_.evaluate(blocks, texels_[n], ws, errorGradient ? errorGradient + n * p : nullptr,
                                                                errorGradient ? weightGradient + n * p : nullptr);
                 const double deficit = kMinWeightSum - r.weightSum / weightScale_;
@@ -154,6 +167,7 @@ private:
     const MomentBasis& basis_;
     double seamWeight_;
     const CheckerTerm& checker_;
+    const ThreadShare& share_;
     double weightTotal_ = 0.0;
     mutable std::vector<ImpulseModel::Workspace> workspaces_;
     mutable double seconds_ = 0.0;
@@ -303,7 +317,7 @@ std::string initDescription(const FitSettings& s) {
 }
 
 std::string solverDescription(const FitSettings& s) {
-    const std::string lm = "Levenberg-Marquardt (dense QR, residual sqrt(a e) per stratified output texel, function "
+    const std::string lm = "Levenberg-Marquardt (dense normal Cholesky, residual sqrt(a e) per stratified output texel, function "
                            "tolerance 1e-6)";
     const std::string bfgs = "BFGS (Wolfe line search, function tolerance 1e-7)";
     std::string method;
@@ -342,7 +356,9 @@ std::string solverDescription(const FitSettings& s) {
         s.fresh || (s.inits.empty() && s.bank.empty()) ? ", previous level" : ", previous level where nothing below offers a start",
         initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "",
-        screensStarts(s) ? "; every start runs Levenberg-Marquardt on the coarse texels, the lowest objective then the whole solver" : "",
+        screensStarts(s) ? "; every start runs Levenberg-Marquardt on the coarse texels, the lowest objective then the rest of the "
+                           "solver (BFGS, or the whole solver where a level has no coarse texels)"
+                         : "",
         s.hops > 0 ? fmt::format("; then {} hops (the fit's taps moved at random and refitted, kept where the objective is lower)", s.hops)
                    : "");
 }
@@ -372,7 +388,7 @@ SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObject
     ceres::Problem problem;
     problem.AddResidualBlock(new LevelCost(model, objective), nullptr, blocks);
     ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
+    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
     options.max_num_iterations = iterations;
     options.function_tolerance = 1e-6;
     // Start with a small step: the default radius wastes the first iterations on rejected steps.
@@ -415,6 +431,7 @@ struct FitContext {
     Clock::time_point start;
     const ImpulseModel& model;
     const MomentBasis& basis;
+    const ThreadShare& share;
 
     void report(int level, double value, std::string stage) const {
         if (progress) progress({level, 0, value, secondsSince(start), std::move(stage)});
@@ -467,7 +484,7 @@ public:
         level_.coefficients = fitted;
         if (screen) {
             context_.report(m_, bestObjective, fmt::format("objective lowest after Levenberg-Marquardt: {} goes on", bestName));
-            fitInFull(false);
+            fitInFull(false, true);
         }
         hop();
         if (fallback_ && fitScore(model_, blocks_.data(), texels_, judge_, checker_) > fallback_->first) {
@@ -589,11 +606,12 @@ private:
     // The solver from the level's coefficients: Levenberg-Marquardt, BFGS on the coarse texels (cheap
     // iterations that carry the fit most of the way down a slow slope) where they are fewer, then
     // BFGS on every texel; returns the objective at the end where `compare` (one more evaluation).
-    double fitInFull(bool compare) {
+    // A `screened` start has run its Levenberg-Marquardt on the coarse texels: it goes on to their BFGS.
+    double fitInFull(bool compare, bool screened = false) {
         const int lm = levelIterations(settings_, lmPart(settings_), texels_.size()),
                   bfgs = levelIterations(settings_, bfgsPart(settings_), texels_.size());
         if (settings_.coarseIterations == 0 || coarse_.size() == texels_.size()) return solve(texels_, lm, bfgs, compare);
-        solve(texels_, lm, 0);
+        if (!screened) solve(texels_, lm, 0);
         solve(coarse_, 0, levelIterations(settings_, settings_.coarseIterations, texels_.size()));
         return solve(texels_, 0, bfgs, compare);
     }
@@ -606,7 +624,7 @@ private:
     // level's coefficients; returns the objective at the end where `compare` (one more evaluation).
     double solve(const std::vector<OutputTexel>& texels, int lmIterations, int bfgsIterations, bool compare = false) {
         const LevelObjective objective(model_, texels, weightedMeanWeightSum(model_, blocks_.data(), texels), pairs_, context_.basis,
-                                       settings_.seamWeight, &texels == &coarse_ ? coarseChecker_ : checker_);
+                                       settings_.seamWeight, &texels == &coarse_ ? coarseChecker_ : checker_, context_.share);
         if (lmIterations > 0 && settings_.solver != FitSolver::bfgs) {
             ProgressCallback callback(context_.progress, m_, context_.start, 2.0);
             std::vector<double*> blocks;
@@ -675,13 +693,16 @@ std::size_t coarseTexelCount(std::size_t texels) {
 
 double levelIterationCost(const FitSettings& s, std::size_t texels) {
     const double share = static_cast<double>(coarseTexelCount(texels)) / static_cast<double>(std::max<std::size_t>(1, texels));
-    // The whole solver from one start (fitInFull).
-    double whole = (s.solver == FitSolver::bfgs ? 0 : levelIterations(s, lmPart(s), texels)) + levelIterations(s, bfgsPart(s), texels);
-    if (s.solver != FitSolver::lm && s.coarseIterations > 0 && share < 1.0) whole += share * levelIterations(s, s.coarseIterations, texels);
+    // The whole solver from one start (fitInFull), and what a screened start runs after its screening.
+    const double lm = s.solver == FitSolver::bfgs ? 0 : levelIterations(s, lmPart(s), texels);
+    const bool coarse = s.solver != FitSolver::lm && s.coarseIterations > 0 && share < 1.0;
+    double whole = lm + levelIterations(s, bfgsPart(s), texels);
+    if (coarse) whole += share * levelIterations(s, s.coarseIterations, texels);
+    const double afterScreening = coarse ? whole - lm : whole;
     const bool bank = s.bank.size() > 1 && !s.fresh;
     const int starts = std::max(1, s.starts) + (bank ? std::min(s.bankStarts, static_cast<int>(s.bank.size())) - 1 : 0);
-    const double screening = screensStarts(s) ? starts * share * lmPart(s) : 0.0;
-    return screening + (screensStarts(s) ? 1 : starts) * whole + s.hops * whole;
+    if (screensStarts(s)) return starts * share * lmPart(s) + afterScreening + s.hops * whole;
+    return starts * whole + s.hops * whole;
 }
 
 int levelIterations(const FitSettings& settings, int iterations, std::size_t texels) {
@@ -790,7 +811,9 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const std::lock_guard lock(mutex);
         if (progress) progress(p);
     };
-    const FitContext context{settings, reportLocked, start, model, basis};
+    ThreadShare share;
+    share.threads = omp_get_max_threads();
+    const FitContext context{settings, reportLocked, start, model, basis, share};
     TapTable finished = table;
     auto finish = [&](int m, bool done) {
         const std::lock_guard lock(mutex);
@@ -843,15 +866,16 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         }
         finish(m, true);
     };
-    // Every thread on one chain at a time, each chain's share of them on its levels' texels; the
-    // results do not depend on how the threads are shared.
-    const int threads = omp_get_max_threads();
-    const int concurrent = std::max(1, std::min(threads, static_cast<int>(chains.size())));
+    // Every thread on one chain at a time, the chains not yet finished sharing the threads on their
+    // levels' texels (ThreadShare); the results do not depend on how the threads are shared.
+    share.chainsLeft = static_cast<int>(chains.size());
+    const int concurrent = std::max(1, std::min(share.threads, static_cast<int>(chains.size())));
     omp_set_max_active_levels(2);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(concurrent)
     for (std::size_t c = 0; c < chains.size(); ++c) {
-        omp_set_num_threads(std::max(1, threads / concurrent));
+        omp_set_num_threads(share.now());
         for (const int m : chains[c]) runLevel(m);
+        --share.chainsLeft;
     }
     omp_set_max_active_levels(1);
     table.fitSeconds = secondsSince(start);

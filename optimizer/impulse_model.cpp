@@ -466,10 +466,8 @@ std::int32_t ImpulseModel::routeOf(const OutputTexel& texel, int k, std::uint32_
     node.begin = static_cast<std::uint32_t>(routes.children.size());
     node.count = static_cast<std::uint8_t>(children.size());
     node.pushed = true;
-    for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n) {
-        routes.children.push_back(children[n - op.rowStart[p]]);
-        routes.childWeights.push_back(op.entries[n].weight);
-    }
+    for (std::uint32_t n = op.rowStart[p]; n < op.rowStart[p + 1]; ++n)
+        routes.children.push_back({children[n - op.rowStart[p]], static_cast<float>(op.entries[n].weight)});
     return id;
 }
 
@@ -514,7 +512,8 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, bool 
             const CellRoutes::Node& node = routes.nodes[static_cast<std::size_t>(id)];
             const double v = ws.nodeWeight[static_cast<std::size_t>(id)];
             if (node.pushed)
-                for (std::uint32_t n = node.begin; n < node.begin + node.count; ++n) touch(routes.children[n], routes.childWeights[n] * v);
+                for (std::uint32_t n = node.begin; n < node.begin + node.count; ++n)
+                    touch(routes.children[n].node, static_cast<double>(routes.children[n].weight) * v);
             else if (node.count == 1) ws.cellMass[static_cast<std::size_t>(routes.cells[node.begin])] += v;
             else
                 for (int n = 0; n < 9; ++n)
@@ -544,7 +543,8 @@ double ImpulseModel::measureCells(const OutputTexel& texel, Workspace& ws, bool 
             double sum = 0.0;
             if (node.pushed)
                 for (std::uint32_t n = node.begin; n < node.begin + node.count; ++n)
-                    sum += routes.childWeights[n] * ws.nodeAdjoint[static_cast<std::size_t>(routes.children[n])];
+                    sum +=
+                        static_cast<double>(routes.children[n].weight) * ws.nodeAdjoint[static_cast<std::size_t>(routes.children[n].node)];
             else if (node.count == 1) sum = ws.cellSlope[static_cast<std::size_t>(routes.cells[node.begin])];
             else
                 for (int n = 0; n < 9; ++n)

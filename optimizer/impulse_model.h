@@ -44,6 +44,13 @@ struct OutputTexel {
     double kernelTail = 0.0;
 };
 
+// Asks the core to load a fitted texel's cells and routes into its cache: the cells' pass is bound by
+// memory, so the objective fetches the next texel's while it measures one (about a fifth of its time).
+inline void prefetch(const OutputTexel& texel) {
+    texel.routes.prefetch();
+    prefetchBytes(texel.cells.data(), texel.cells.size() * sizeof(LobeCell));
+}
+
 // How a fitted texel's reference is held: over every base texel (exact), or over cells (lobe_cells.h).
 enum class Measure { exact, cells };
 

@@ -1,13 +1,16 @@
 #include "lobe_cells.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <mutex>
 
 #include <glm/geometric.hpp>
 
 #include "probe/cube.h"
 #include "probe/ggx.h"
 #include "probe/pyramid.h"
+#include "probe/roughness.h"
 
 namespace probefit {
 
@@ -16,6 +19,21 @@ using namespace probe;
 namespace {
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+
+// texelSolidAngle(x, y, size) of every texel of a face of `size`, made once per size and kept: it is
+// the same on every face and for every output texel, and its four atan2 per texel would be most of
+// the cells' cost.
+const std::vector<double>& faceSolidAngles(int size) {
+    static std::array<std::once_flag, 32> made;
+    static std::array<std::vector<double>, 32> tables;
+    const std::size_t k = static_cast<std::size_t>(log2Exact(size));
+    std::call_once(made[k], [&] {
+        tables[k].resize(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) tables[k][static_cast<std::size_t>(y * size + x)] = texelSolidAngle(x, y, size);
+    });
+    return tables[k];
+}
 
 class CellBuilder {
 public:
@@ -62,10 +80,11 @@ private:
     // cells, over its 4x4 sub-texels.
     double cellMass(int level, int face, int i, int j) const {
         const int sub = std::max(0, level - 2), size = faceSize_ >> sub, span = 1 << (level - sub);
+        const std::vector<double>& solidAngles = faceSolidAngles(size);
         double sum = 0.0;
         for (int y = j * span; y < (j + 1) * span; ++y)
             for (int x = i * span; x < (i + 1) * span; ++x)
-                sum += density_(texelDirection({face, x, y}, size)) * texelSolidAngle(x, y, size);
+                sum += density_(texelDirection({face, x, y}, size)) * solidAngles[static_cast<std::size_t>(y * size + x)];
         return sum;
     }
 
@@ -126,6 +145,13 @@ std::int32_t CellRoutes::add(std::uint32_t key) {
     nodes.push_back({key, 0, 0, false});
     slots_[s] = static_cast<std::int32_t>(nodes.size());
     return static_cast<std::int32_t>(nodes.size()) - 1;
+}
+
+void CellRoutes::prefetch() const {
+    prefetchBytes(nodes.data(), nodes.size() * sizeof(Node));
+    prefetchBytes(cells.data(), cells.size() * sizeof(std::int32_t));
+    prefetchBytes(children.data(), children.size() * sizeof(Child));
+    prefetchBytes(slots_.data(), slots_.size() * sizeof(std::int32_t));
 }
 
 LobeDensity ggxLobe(const glm::dvec3& R, double alpha) {

@@ -8,6 +8,7 @@
 // `LobeCells.FastObjectiveIsCloseToTheExactL1` bounds the difference.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -60,6 +61,11 @@ struct CellTree {
     }
 };
 
+// Asks the core to load `bytes` from `data` into its cache, a line at a time.
+inline void prefetchBytes(const void* data, std::size_t bytes) {
+    for (std::size_t offset = 0; offset < bytes; offset += 64) __builtin_prefetch(static_cast<const char*>(data) + offset);
+}
+
 // What the cells' pass has learnt of the pyramid texels one output texel's taps reach: for each,
 // the cells its response spreads over, or the texels of the level below that it is pushed down to.
 // That depends on the cells alone, not on the taps, so it is kept from one evaluation to the next
@@ -72,16 +78,24 @@ struct CellRoutes {
         std::uint8_t count = 0;
         bool pushed = false;
     };
+    // A pushed-down texel's node of its operator row and its weight there (a float, as the kernel the
+    // pass measures against: the pass is bound by memory).
+    struct Child {
+        std::int32_t node = 0;
+        float weight = 0.0f;
+    };
     std::vector<Node> nodes;
-    std::vector<std::int32_t> cells;    // a spread's cells: one at the base, nine above (the level's stencil)
-    std::vector<std::int32_t> children; // a pushed-down texel's nodes of its operator row, and their weights
-    std::vector<double> childWeights;
+    std::vector<std::int32_t> cells; // a spread's cells: one at the base, nine above (the level's stencil)
+    std::vector<Child> children;
 
     static std::uint32_t key(int level, std::uint32_t index) { return static_cast<std::uint32_t>(level) << 28 | index; }
     // The node of `key`, or -1.
     std::int32_t find(std::uint32_t key) const;
     // A new node for `key` (not yet present): its id.
     std::int32_t add(std::uint32_t key);
+    // Asks the core to load the routes into its cache (the cells' pass walks them in an order the
+    // hardware prefetcher cannot follow).
+    void prefetch() const;
 
 private:
     std::vector<std::int32_t> slots_; // open addressing on the key: node id + 1, 0 where free
