@@ -2,7 +2,8 @@
 # scripts/regenerate-tables on the committed gltf16_quad8 with a short recipe: the jobs run as Slurm
 # array tasks (each run here with SLURM_ARRAY_TASK_ID set) and through GNU parallel give the same table,
 # bit for bit; no regenerated level is worse than the committed one (the refit keeps it); the report
-# names every level; a finished job is not run again; bad names and job numbers are refused (exit 2).
+# names every level; a finished job is not run again; with no names every table but the mixes is
+# planned; bad names and job numbers are refused (exit 2).
 set -uo pipefail
 : "${PROBEFIT:?}"
 export PROBEFIT
@@ -54,6 +55,12 @@ refused() { # expected text, args...
     [[ $code -eq 2 ]] || fail "exit $code for: $*"
     grep -qF -- "$text" "$work/err" || fail "message for $*: $(cat "$work/err")"
 }
+# With no names: every committed table but the mixes, which the assembly remakes from their sources.
+"$regenerate" plan --out "$work/all" >/dev/null || fail "plan of every table"
+planned=$(cut -d' ' -f1 "$work/all/jobs.txt" | sort -u | wc -l)
+unmixed=$(find "$root/tables" -maxdepth 1 -name '*.json' ! -name '*mix*' | wc -l)
+[[ $planned -eq $unmixed ]] || fail "plan of every table: $planned tables, expected $unmixed"
+
 refused "no committed table" plan --out "$work/bad" nosuch64_quad8
 refused "mixed table" plan --out "$work/bad" gltf128_quadmix8
 refused "no job number" task "$work/slurm"

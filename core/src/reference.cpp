@@ -49,6 +49,20 @@ bool faceBehind(const glm::dvec3& R, int face) {
     return true;
 }
 
+// The texels [first, last) of row j of a face of `size` where R.l > 0 may hold (both kernels vanish
+// elsewhere): along a row R.l is linear in u, so they are one interval. It is widened by a texel for
+// rounding; the kernels' own test decides within it, so the sums are those over the whole row.
+std::pair<int, int> facingSpan(const glm::dvec3& R, int face, int j, int size) {
+    const double v = texelCentreUv(j, size);
+    const double left = glm::dot(R, faceUvToCubePoint(face, -1.0, v)), right = glm::dot(R, faceUvToCubePoint(face, 1.0, v));
+    if (left <= 0.0 && right <= 0.0) return {0, 0};
+    if (left > 0.0 && right > 0.0) return {0, size};
+    // R.l = 0 at texel coordinate x (texel i's centre is at i + 0.5).
+    const double x = size * left / (left - right);
+    if (left > 0.0) return {0, std::min(size, static_cast<int>(std::ceil(x)) + 1)};
+    return {std::max(0, static_cast<int>(std::floor(x)) - 1), size};
+}
+
 struct Convolution {
     glm::dvec3 weighted{0.0}; // sum L K dOmega
     double weight = 0.0;      // sum K dOmega
@@ -64,7 +78,8 @@ Convolution convolve(const SourceTexels& src, const glm::dvec3& R, Kernel kernel
     for (int f = 0; f < kFaceCount; ++f) {
         if (faceBehind(R, f)) continue;
         for (std::size_t row = 0; row < s; ++row) {
-            const std::size_t begin = (f * s + row) * s, end = begin + s;
+            const auto [first, last] = facingSpan(R, f, static_cast<int>(row), src.size);
+            const std::size_t begin = (f * s + row) * s + first, end = (f * s + row) * s + last;
             float sr = 0.0f, sg = 0.0f, sb = 0.0f, sw = 0.0f;
 #pragma omp simd reduction(+ : sr, sg, sb, sw)
             for (std::size_t t = begin; t < end; ++t) {
@@ -168,14 +183,16 @@ std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& geo
 ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha) : ReferenceLobe(R, source, alpha, 1.0) {
     if (alpha2_ <= 0.0) return;
     // In texel order, so the sum does not depend on how the caller visits texels.
-    const std::size_t faceTexels = texelCount(source.size) / kFaceCount;
     double sum = 0.0;
     for (int f = 0; f < kFaceCount; ++f) {
         if (faceBehind(r_, f)) continue;
-        for (std::size_t t = f * faceTexels; t < (f + 1) * faceTexels; ++t) {
-            const glm::dvec3& l = source.directions[t];
-            const glm::dvec3 d = r_ - l;
-            sum += ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source.solidAngles[t];
+        for (int j = 0; j < source.size; ++j) {
+            const auto [first, last] = facingSpan(r_, f, j, source.size);
+            for (std::size_t t = texelIndex({f, first, j}, source.size), end = t + static_cast<std::size_t>(last - first); t < end; ++t) {
+                const glm::dvec3& l = source.directions[t];
+                const glm::dvec3 d = r_ - l;
+                sum += ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source.solidAngles[t];
+            }
         }
     }
     normalization_ = sum;
