@@ -12,5 +12,6 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     probefilter::addCompareCommand(app);
     probefilter::addSweepCommand(app);
+    probefilter::addImpulseCommand(app);
     return probefilter::runCommandLine(app, "probebench", argc, argv);
 }
