@@ -279,7 +279,8 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
-    cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f")->capture_default_str();
+    cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)")
+        ->capture_default_str();
     cmd->add_option("--irradiance", o->irradiance,
                     "Also write the Lambertian irradiance: none, sh (9 coefficients, on the device; irradiance_sh.exr), cube (the "
                     "exact cosine convolution, 32^2, on the CPU; irradiance.exr) or both (and SH's error against the cube)")

@@ -9,9 +9,8 @@ namespace probefilter {
 
 std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name) {
     if (name == "none") return std::nullopt;
-    if (name == "rgba16f") return probe::Ktx2PixelFormat::rgba16f;
-    if (name == "rgba32f") return probe::Ktx2PixelFormat::rgba32f;
-    throw probe::ProbeError(fmt::format("--ktx2: unknown format '{}' (expected none, rgba16f or rgba32f)", name));
+    if (const std::optional<probe::Ktx2PixelFormat> format = probe::parseKtx2PixelFormat(name)) return format;
+    throw probe::ProbeError(fmt::format("--ktx2: unknown format '{}' (expected none, rgba16f, rgba32f or rgb9e5)", name));
 }
 
 nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
@@ -38,10 +37,9 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
     if (partial) metadata.push_back({"probefilter.computed_levels", computed});
     const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, format, metadata);
     if (clamped)
-        probe::printToStderr(
-            fmt::format("probefilter: warning: {} value(s) above 65504 clamped to the half-float range in {}\n", clamped, name));
-    nlohmann::json report = {
-        {"file", name}, {"format", format == probe::Ktx2PixelFormat::rgba16f ? "rgba16f" : "rgba32f"}, {"clamped_values", clamped}};
+        probe::printToStderr(fmt::format("probefilter: warning: {} value(s) outside the {} range clamped to it in {}\n", clamped,
+                                         probe::ktx2FormatName(format), name));
+    nlohmann::json report = {{"file", name}, {"format", probe::ktx2FormatName(format)}, {"clamped_values", clamped}};
     if (partial) report["computed_levels"] = computed;
     return report;
 }

@@ -86,7 +86,7 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_flag("--force", options->force, kForceHelp);
     cmd->add_flag("--allow-long", options->allowLong, kAllowLongHelp);
-    cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f or rgba32f");
+    cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)");
     cmd->add_flag("--repair-pixels", options->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->callback([options] { runReference(*options); });

@@ -1,8 +1,10 @@
-// KTX2 output: read back equal (RGBA32F exactly, RGBA16F to half precision), half-range clamping
-// counted, metadata kept.
+// KTX2 output: read back equal (RGBA32F exactly, RGBA16F to half precision, RGB9E5 to its shared
+// exponent's), clamping to each format's range counted, metadata kept.
+#include <algorithm>
 #include <filesystem>
 
 #include <fmt/format.h>
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -38,5 +40,29 @@ TEST(Ktx2, RoundTrip) {
             const float expected = std::min(levels[m].rgb[k], 65504.0f);
             ASSERT_NEAR(half.levels[m].rgb[k], expected, expected * 1e-3f + 1e-7f);
         }
+    fs::remove_all(dir);
+}
+
+// RGB9E5: every channel within half a step of the shared exponent's (2^-9 of the texel's brightest
+// channel), values beyond 65408 and below 0 clamped and counted, a black texel black.
+TEST(Ktx2, SharedExponentRoundTrip) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_e5_test_{}", ::getpid());
+    fs::create_directories(dir);
+    CubeLevels levels = referenceFilter(sunSkyProbe(16), 4, RoughnessMapping::gltf);
+    levels[0].set(0, glm::vec3(1e6f, -0.5f, 3.0f)); // one value above the range, one below
+    levels[0].set(1, glm::vec3(0.0f));
+    levels[0].set(2, glm::vec3(65408.0f, 1e-9f, 0.25f));
+    EXPECT_EQ(writeKtx2Cube(dir / "e5.ktx2", levels, Ktx2PixelFormat::rgb9e5, {}), 2u);
+    const Ktx2Cube e5 = readKtx2Cube(dir / "e5.ktx2");
+    EXPECT_EQ(e5.format, Ktx2PixelFormat::rgb9e5);
+    ASSERT_EQ(e5.levels.size(), levels.size());
+    for (std::size_t m = 0; m < levels.size(); ++m)
+        for (std::size_t t = 0; t < texelCount(levels[m].size); ++t) {
+            const glm::vec3 expected = glm::clamp(levels[m].texel(t), 0.0f, 65408.0f);
+            const float step = std::max({expected.r, expected.g, expected.b}) / 512.0f + 1e-7f;
+            for (int k = 0; k < 3; ++k) ASSERT_NEAR(e5.levels[m].texel(t)[k], expected[k], step) << "level " << m << " texel " << t;
+        }
+    EXPECT_EQ(e5.levels[0].texel(1), glm::vec3(0.0f));
+    EXPECT_EQ(e5.levels[0].texel(2).r, 65408.0f);
     fs::remove_all(dir);
 }

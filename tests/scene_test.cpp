@@ -103,6 +103,20 @@ TEST_F(SceneTest, IrradianceCubeOnlyWhenAsked) {
     expectRefused(withOutputs(chalk, R"("irradiance": "lambert")"), "outputs.irradiance");
 }
 
+// outputs.ktx2 names a format (true is RGBA16F); another value is refused naming the field.
+TEST_F(SceneTest, Ktx2OutputNamesItsFormat) {
+    const auto withKtx2 = [](const std::string& ktx2) {
+        return fmt::format(R"({{"probes": [{{"name": "sky", "image": "sky.exr", "face_size": 16}}],
+                               "materials": [{{"name": "chrome", "roughness": 0, "metallic": 1}}], "outputs": {{"ktx2": {}}}}})",
+                           ktx2);
+    };
+    EXPECT_EQ(readScene(write(withKtx2(R"("rgb9e5")"))).outputs.ktx2, Ktx2PixelFormat::rgb9e5);
+    EXPECT_EQ(readScene(write(withKtx2(R"("rgba32f")"))).outputs.ktx2, Ktx2PixelFormat::rgba32f);
+    EXPECT_EQ(readScene(write(withKtx2("true"))).outputs.ktx2, Ktx2PixelFormat::rgba16f);
+    EXPECT_FALSE(readScene(write(withKtx2("false"))).outputs.ktx2.has_value());
+    expectRefused(withKtx2(R"("bc6h")"), "outputs.ktx2");
+}
+
 TEST_F(SceneTest, Mixed) {
     // 16^2 has 4 levels under glTF: lod = 3 r; r = 0.5 reads levels 1 and 2.
     const Plan p = plan(scene(R"({"name": "plastic", "roughness": 0.5}, {"name": "chrome", "roughness": 0, "metallic": 1})"));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <numeric>
@@ -18,8 +19,47 @@ namespace probe {
 namespace {
 
 constexpr std::array<std::uint8_t, 12> kIdentifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
-constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109;
+constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109, kVkFormatRgb9e5 = 123;
 constexpr float kHalfMax = float(PROBE_HALF_MAX);
+// RGB9E5 (the Vulkan specification's shared exponent): 9 mantissa bits, exponent bias 15, largest
+// exponent 31, so the largest value is 511 / 512 * 2^16.
+constexpr int kMantissaBits = 9, kExponentBias = 15, kMaxExponent = 31;
+constexpr float kRgb9e5Max = 65408.0f;
+
+std::uint32_t vkFormatOf(Ktx2PixelFormat format) {
+    switch (format) {
+    case Ktx2PixelFormat::rgba16f: return kVkFormatRgba16f;
+    case Ktx2PixelFormat::rgba32f: return kVkFormatRgba32f;
+    case Ktx2PixelFormat::rgb9e5: return kVkFormatRgb9e5;
+    }
+    return 0;
+}
+
+// Bytes of one texel (a KTX2 level's texel size) and of the format's components (typeSize).
+std::uint32_t texelBytesOf(Ktx2PixelFormat format) {
+    return format == Ktx2PixelFormat::rgba16f ? 8 : format == Ktx2PixelFormat::rgba32f ? 16 : 4;
+}
+std::uint32_t typeSizeOf(Ktx2PixelFormat format) { return format == Ktx2PixelFormat::rgba16f ? 2 : 4; }
+
+// The Vulkan specification's encoding: the exponent that fits the brightest channel, every channel
+// rounded to nearest on it. c is clamped to [0, kRgb9e5Max] already.
+std::uint32_t encodeRgb9e5(const glm::vec3& c) {
+    const float brightest = std::max({c.r, c.g, c.b});
+    int e = 0;
+    std::frexp(brightest, &e); // brightest = f 2^e with f in [0.5, 1): floor(log2(brightest)) = e - 1
+    int exponent = std::max(-kExponentBias - 1, brightest > 0.0f ? e - 1 : -kExponentBias - 1) + 1 + kExponentBias;
+    const auto mantissa = [&](float v) {
+        return static_cast<std::uint32_t>(std::floor(std::ldexp(v, kMantissaBits + kExponentBias - exponent) + 0.5f));
+    };
+    if (mantissa(brightest) == (1u << kMantissaBits)) ++exponent;
+    return mantissa(c.r) | mantissa(c.g) << 9 | mantissa(c.b) << 18 | static_cast<std::uint32_t>(std::min(exponent, kMaxExponent)) << 27;
+}
+
+glm::vec3 decodeRgb9e5(std::uint32_t bits) {
+    const int exponent = static_cast<int>(bits >> 27) - kExponentBias - kMantissaBits;
+    return {std::ldexp(static_cast<float>(bits & 511u), exponent), std::ldexp(static_cast<float>((bits >> 9) & 511u), exponent),
+            std::ldexp(static_cast<float>((bits >> 18) & 511u), exponent)};
+}
 
 std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
 
@@ -33,6 +73,33 @@ public:
     }
     void padTo(std::size_t alignment) { bytes.resize(align(bytes.size(), alignment), 0); }
 };
+
+// The basic data format descriptor of RGB9E5 (KDFG 1.3, as KTX-Software describes
+// VK_FORMAT_E5B9G9R9_UFLOAT_PACK32): per channel a 9-bit mantissa (1.0 at 8448) and the shared 5-bit
+// exponent (bias 15, largest 31).
+std::vector<std::uint8_t> rgb9e5Descriptor() {
+    ByteWriter w;
+    const std::uint32_t samples = 6, blockSize = 24 + 16 * samples;
+    w.put<std::uint32_t>(4 + blockSize);
+    w.put<std::uint32_t>(0);
+    w.put<std::uint32_t>(2u | (blockSize << 16));
+    w.put<std::uint32_t>(1u | (1u << 8) | (1u << 16)); // RGBSDA, BT709, LINEAR
+    w.put<std::uint32_t>(0);                           // 1x1x1x1
+    w.put<std::uint32_t>(4);                           // bytesPlane0
+    w.put<std::uint32_t>(0);
+    constexpr std::uint32_t kExponent = 0x20; // KHR_DF_SAMPLE_DATATYPE_EXPONENT
+    for (std::uint32_t c = 0; c < 3; ++c) {
+        w.put<std::uint32_t>((9 * c) | (8u << 16) | (c << 24)); // mantissa: bits 9c .. 9c + 8
+        w.put<std::uint32_t>(0);
+        w.put<std::uint32_t>(0);
+        w.put<std::uint32_t>(8448);
+        w.put<std::uint32_t>(27u | (4u << 16) | ((c | kExponent) << 24)); // exponent: bits 27 .. 31
+        w.put<std::uint32_t>(0);
+        w.put<std::uint32_t>(15);
+        w.put<std::uint32_t>(31);
+    }
+    return w.bytes;
+}
 
 // The basic data format descriptor of four float channels, R G B A (KDFG 1.3, section 5).
 std::vector<std::uint8_t> dataFormatDescriptor(std::uint32_t bytesPerChannel) {
@@ -75,6 +142,15 @@ std::vector<std::uint8_t> levelData(const CubeImage& level, Ktx2PixelFormat form
     ByteWriter w;
     for (std::size_t t = 0; t < texelCount(level.size); ++t) {
         const glm::vec3 c = level.texel(t);
+        if (format == Ktx2PixelFormat::rgb9e5) {
+            glm::vec3 kept;
+            for (int k = 0; k < 3; ++k) {
+                kept[k] = std::clamp(c[k], 0.0f, kRgb9e5Max);
+                if (kept[k] != c[k]) ++clamped;
+            }
+            w.put<std::uint32_t>(encodeRgb9e5(kept));
+            continue;
+        }
         for (int k = 0; k < 4; ++k) {
             float value = k < 3 ? c[k] : 1.0f;
             if (format == Ktx2PixelFormat::rgba32f) {
@@ -107,11 +183,26 @@ T readAt(const std::vector<std::uint8_t>& bytes, std::size_t offset, const std::
 
 } // namespace
 
+std::string_view ktx2FormatName(Ktx2PixelFormat format) {
+    switch (format) {
+    case Ktx2PixelFormat::rgba16f: return "rgba16f";
+    case Ktx2PixelFormat::rgba32f: return "rgba32f";
+    case Ktx2PixelFormat::rgb9e5: return "rgb9e5";
+    }
+    return "";
+}
+
+std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name) {
+    for (const Ktx2PixelFormat f : {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5})
+        if (name == ktx2FormatName(f)) return f;
+    return std::nullopt;
+}
+
 std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata) {
-    const bool half = format == Ktx2PixelFormat::rgba16f;
-    const std::uint32_t bytesPerChannel = half ? 2 : 4, texelBytes = 4 * bytesPerChannel;
+    const std::uint32_t texelBytes = texelBytesOf(format);
     const auto levelCount = static_cast<std::uint32_t>(levels.size());
-    const std::vector<std::uint8_t> dfd = dataFormatDescriptor(bytesPerChannel), kvd = keyValueData(metadata);
+    const std::vector<std::uint8_t> dfd = format == Ktx2PixelFormat::rgb9e5 ? rgb9e5Descriptor() : dataFormatDescriptor(typeSizeOf(format)),
+                                    kvd = keyValueData(metadata);
 
     std::size_t clamped = 0;
     std::vector<std::vector<std::uint8_t>> data;
@@ -128,9 +219,8 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
 
     ByteWriter w;
     w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
-    for (std::uint32_t v :
-         {half ? kVkFormatRgba16f : kVkFormatRgba32f, bytesPerChannel, std::uint32_t(levels[0].size), std::uint32_t(levels[0].size),
-          0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
+    for (std::uint32_t v : {vkFormatOf(format), typeSizeOf(format), std::uint32_t(levels[0].size), std::uint32_t(levels[0].size),
+                            0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
         w.put<std::uint32_t>(v);
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
@@ -164,20 +254,27 @@ Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
     const auto width = readAt<std::uint32_t>(bytes, 20, path);
     const auto faces = readAt<std::uint32_t>(bytes, 36, path);
     const auto levelCount = readAt<std::uint32_t>(bytes, 40, path);
-    if ((vkFormat != kVkFormatRgba16f && vkFormat != kVkFormatRgba32f) || faces != 6)
-        throw ProbeError(fmt::format("{}: not an RGBA16F/RGBA32F cube", path.string()));
+    if ((vkFormat != kVkFormatRgba16f && vkFormat != kVkFormatRgba32f && vkFormat != kVkFormatRgb9e5) || faces != 6)
+        throw ProbeError(fmt::format("{}: not an RGBA16F, RGBA32F or RGB9E5 cube", path.string()));
     Ktx2Cube cube;
-    cube.format = vkFormat == kVkFormatRgba16f ? Ktx2PixelFormat::rgba16f : Ktx2PixelFormat::rgba32f;
+    cube.format = vkFormat == kVkFormatRgba16f   ? Ktx2PixelFormat::rgba16f
+                  : vkFormat == kVkFormatRgba32f ? Ktx2PixelFormat::rgba32f
+                                                 : Ktx2PixelFormat::rgb9e5;
     for (std::uint32_t m = 0; m < levelCount; ++m) {
         const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path);
         CubeImage level(static_cast<int>(std::max(1u, width >> m)));
-        for (std::size_t t = 0; t < texelCount(level.size); ++t)
+        for (std::size_t t = 0; t < texelCount(level.size); ++t) {
+            if (cube.format == Ktx2PixelFormat::rgb9e5) {
+                level.set(t, decodeRgb9e5(readAt<std::uint32_t>(bytes, offset + 4 * t, path)));
+                continue;
+            }
             for (int k = 0; k < 3; ++k) {
                 const std::size_t channel = 4 * t + k;
                 level.rgb[3 * t + k] = cube.format == Ktx2PixelFormat::rgba32f
                                            ? readAt<float>(bytes, offset + 4 * channel, path)
                                            : halfBitsToFloat(readAt<std::uint16_t>(bytes, offset + 2 * channel, path));
             }
+        }
         cube.levels.push_back(std::move(level));
     }
     const auto kvdOffset = readAt<std::uint32_t>(bytes, 56, path), kvdLength = readAt<std::uint32_t>(bytes, 60, path);

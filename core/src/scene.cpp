@@ -166,11 +166,10 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
     o.exr = r.optional<bool>("exr").value_or(true);
     o.spheres = r.optional<bool>("spheres").value_or(false);
     const json& ktx2 = r.child("ktx2");
-    if (ktx2.is_boolean()) o.ktx2 = ktx2.get<bool>() ? Ktx2Format::rgba16f : Ktx2Format::none;
-    else if (ktx2 == "rgba16f") o.ktx2 = Ktx2Format::rgba16f;
-    else if (ktx2 == "rgba32f") o.ktx2 = Ktx2Format::rgba32f;
+    if (ktx2.is_boolean()) o.ktx2 = ktx2.get<bool>() ? std::optional(Ktx2PixelFormat::rgba16f) : std::nullopt;
+    else if (ktx2.is_string() && parseKtx2PixelFormat(ktx2.get<std::string>())) o.ktx2 = parseKtx2PixelFormat(ktx2.get<std::string>());
     else if (!(ktx2.is_object() && ktx2.empty()))
-        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f or a boolean", describeJson(ktx2)));
+        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f, rgb9e5 or a boolean", describeJson(ktx2)));
     const std::string irradiance = r.optional<std::string>("irradiance").value_or("sh");
     if (irradiance != "sh" && irradiance != "cube" && irradiance != "both")
         r.fail("outputs.irradiance", fmt::format("'{}' is not sh, cube or both", irradiance));

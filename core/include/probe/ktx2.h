@@ -1,9 +1,12 @@
-// KTX2 output for engines: an uncompressed RGBA16F or RGBA32F cube with every level, a basic data
-// format descriptor (RGBSDA, BT.709 primaries, linear), and key/value metadata.
+// KTX2 output for engines: an uncompressed RGBA16F, RGBA32F or shared-exponent RGB9E5 cube with
+// every level, a basic data format descriptor (RGBSDA, BT.709 primaries, linear), and key/value
+// metadata.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -11,13 +14,20 @@
 
 namespace probe {
 
-enum class Ktx2PixelFormat { rgba16f, rgba32f };
+// rgb9e5: VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, 4 bytes a texel with no alpha, which every Vulkan
+// device samples: three 9-bit mantissas sharing a 5-bit exponent (about 3 significant digits of the
+// brightest channel), values 0 to 65408.
+enum class Ktx2PixelFormat { rgba16f, rgba32f, rgb9e5 };
+
+// "rgba16f", "rgba32f", "rgb9e5"; and back (nullopt for any other name).
+std::string_view ktx2FormatName(Ktx2PixelFormat format);
+std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name);
 
 using KeyValues = std::vector<std::pair<std::string, std::string>>;
 
-// Writes levels[0..] (face size halving each level, alpha 1) as one cube map. RGBA16F clamps
-// values above the half-float range to 65504; returns how many values were clamped. Throws
-// ProbeError naming the file on failure.
+// Writes levels[0..] (face size halving each level, alpha 1) as one cube map. Values outside the
+// format's range are clamped to it (RGBA16F above 65504; RGB9E5 above 65408 or below 0); returns
+// how many were. Throws ProbeError naming the file on failure.
 std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata);
 
 // Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata).

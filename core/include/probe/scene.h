@@ -24,6 +24,7 @@
 #include <glm/vec3.hpp>
 
 #include "probe/filter_method.h"
+#include "probe/ktx2.h"
 #include "probe/roughness.h"
 
 namespace probe {
@@ -54,11 +55,9 @@ struct SceneMaterial {
     bool hasDiffuse() const { return metallic < 1.0 && (baseColor.r > 0.0 || baseColor.g > 0.0 || baseColor.b > 0.0); }
 };
 
-enum class Ktx2Format { none, rgba16f, rgba32f };
-
 struct SceneOutputs {
     bool exr = true;
-    Ktx2Format ktx2 = Ktx2Format::none;
+    std::optional<Ktx2PixelFormat> ktx2; // none: no probe.ktx2
     bool spheres = false;
     // The Lambertian irradiance of a probe that a diffuse material reads: "sh" (the default), "cube"
     // or "both" (probe/irradiance.h). The spheres shade diffuse with the SH, so they ask for it too.
