@@ -52,6 +52,7 @@ struct FilterOptions {
     bool validate = false;
     bool repairPixels = false;
     std::string ktx2 = "none";
+    bool ktx2Zstd = false;
     std::string irradiance = "none";
     std::optional<int> slices; // time slicing: the update in this many slices, one submission each
     std::string out;
@@ -163,7 +164,7 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
 
 void runFilter(const FilterOptions& o) {
     // The options that need nothing else first; then the settings, which may look for a table.
-    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
+    const std::optional<probe::Ktx2Settings> ktx2 = ktx2Options(o.ktx2, o.ktx2Zstd);
     const IrradianceOutput irradiance = parseIrradianceOutput(o.irradiance);
     probe::checkRepeat(o.repeat);
     if (o.slices && (*o.slices < 1 || *o.slices > kMaxSlices))
@@ -281,6 +282,7 @@ void addFilterCommand(CLI::App& app) {
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)")
         ->capture_default_str();
+    cmd->add_flag("--ktx2-zstd", o->ktx2Zstd, "Store probe.ktx2's levels compressed with Zstandard (KTX2 supercompression)");
     cmd->add_option("--irradiance", o->irradiance,
                     "Also write the Lambertian irradiance: none, sh (9 coefficients, on the device; irradiance_sh.exr), cube (the "
                     "exact cosine convolution, 32^2, on the CPU; irradiance.exr) or both (and SH's error against the cube)")

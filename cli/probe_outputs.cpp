@@ -1,5 +1,7 @@
 #include "probe_outputs.h"
 
+#include <filesystem>
+
 #include <fmt/format.h>
 
 #include "preview.h"
@@ -7,14 +9,18 @@
 
 namespace probefilter {
 
-std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name) {
-    if (name == "none") return std::nullopt;
-    if (const std::optional<probe::Ktx2PixelFormat> format = probe::parseKtx2PixelFormat(name)) return format;
-    throw probe::ProbeError(fmt::format("--ktx2: unknown format '{}' (expected none, rgba16f, rgba32f or rgb9e5)", name));
+std::optional<probe::Ktx2Settings> ktx2Options(const std::string& format, bool zstd) {
+    if (format == "none") {
+        if (zstd) throw probe::ProbeError("--ktx2-zstd: needs --ktx2 FORMAT (there is no probe.ktx2 to compress)");
+        return std::nullopt;
+    }
+    const std::optional<probe::Ktx2PixelFormat> f = probe::parseKtx2PixelFormat(format);
+    if (!f) throw probe::ProbeError(fmt::format("--ktx2: unknown format '{}' (expected none, rgba16f, rgba32f or rgb9e5)", format));
+    return probe::Ktx2Settings{*f, zstd ? probe::Ktx2Supercompression::zstd : probe::Ktx2Supercompression::none};
 }
 
 nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
-                              probe::RoughnessMapping mapping, probe::Ktx2PixelFormat format) {
+                              probe::RoughnessMapping mapping, probe::Ktx2Settings settings) {
     const int levelCount = static_cast<int>(levels.size());
     int faceSize = 0;
     for (int m = levelCount; m-- > 0;)
@@ -35,17 +41,22 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
                               {"probefilter.mapping", probe::describeRoughnessMapping(mapping)},
                               {"probefilter.roughness", roughness}};
     if (partial) metadata.push_back({"probefilter.computed_levels", computed});
-    const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, format, metadata);
+    const std::size_t clamped = probe::writeKtx2Cube(output.file(name), filled, settings.format, metadata, settings.supercompression);
     if (clamped)
         probe::printToStderr(fmt::format("probefilter: warning: {} value(s) outside the {} range clamped to it in {}\n", clamped,
-                                         probe::ktx2FormatName(format), name));
-    nlohmann::json report = {{"file", name}, {"format", probe::ktx2FormatName(format)}, {"clamped_values", clamped}};
+                                         probe::ktx2FormatName(settings.format), name));
+    const bool zstd = settings.supercompression == probe::Ktx2Supercompression::zstd;
+    nlohmann::json report = {{"file", name},
+                             {"format", probe::ktx2FormatName(settings.format)},
+                             {"supercompression", zstd ? "zstd" : "none"},
+                             {"bytes", std::filesystem::file_size(output.file(name))},
+                             {"clamped_values", clamped}};
     if (partial) report["computed_levels"] = computed;
     return report;
 }
 
 void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
-                        std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report) {
+                        std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report) {
     const int levelCount = static_cast<int>(levels.size());
     for (int m = 0; m < levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
     if (ktx2) report["ktx2"] = writeProbeKtx2(output, "probe.ktx2", levels, mapping, *ktx2);

@@ -14,18 +14,19 @@
 
 namespace probefilter {
 
-// "none", "rgba16f" or "rgba32f" (ProbeError otherwise).
-std::optional<probe::Ktx2PixelFormat> parseKtx2Option(const std::string& name);
+// --ktx2 FORMAT ("none", "rgba16f", "rgba32f" or "rgb9e5") and --ktx2-zstd (which needs a format);
+// ProbeError otherwise.
+std::optional<probe::Ktx2Settings> ktx2Options(const std::string& format, bool zstd);
 
 // Writes `name` (a KTX2 cube of every level; a level not computed, empty in `levels`, is black and
 // the metadata key probefilter.computed_levels lists the others) and returns its report entry.
-// Clamping to the half range is counted and warned about on stderr.
+// Clamping to the format's range is counted and warned about on stderr.
 nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
-                              probe::RoughnessMapping mapping, probe::Ktx2PixelFormat format);
+                              probe::RoughnessMapping mapping, probe::Ktx2Settings settings);
 
-// level_<m>.exr for every level, probe.ktx2 when asked (clamping to the half range is counted in
+// level_<m>.exr for every level, probe.ktx2 when asked (clamping to the format's range is counted in
 // the report and warned about on stderr), preview.png.
 void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
-                        std::optional<probe::Ktx2PixelFormat> ktx2, nlohmann::json& report);
+                        std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report);
 
 } // namespace probefilter

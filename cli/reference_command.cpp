@@ -27,12 +27,13 @@ struct ReferenceOptions {
     bool repairPixels = false;
     bool allowLong = false;
     std::string ktx2 = "none";
+    bool ktx2Zstd = false;
 };
 
 void runReference(const ReferenceOptions& o) {
     const probe::RoughnessMapping mapping = probe::mappingFromOptions(o.mapping, o.roughness);
     const int levelCount = probe::chooseLevelCount(o.size, o.levels, mapping);
-    const std::optional<probe::Ktx2PixelFormat> ktx2 = parseKtx2Option(o.ktx2);
+    const std::optional<probe::Ktx2Settings> ktx2 = ktx2Options(o.ktx2, o.ktx2Zstd);
     probe::StagedOutput output(o.out, {o.input}, o.force);
     checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
 
@@ -87,6 +88,7 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_flag("--force", options->force, kForceHelp);
     cmd->add_flag("--allow-long", options->allowLong, kAllowLongHelp);
     cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)");
+    cmd->add_flag("--ktx2-zstd", options->ktx2Zstd, "Store probe.ktx2's levels compressed with Zstandard (KTX2 supercompression)");
     cmd->add_flag("--repair-pixels", options->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
     cmd->callback([options] { runReference(*options); });

@@ -2,8 +2,10 @@
 // an uncompressed RGBA16F/RGBA32F/RGB9E5 cube with every level, a linear RGBSDA descriptor (four float
 // samples, or RGB9E5's mantissas and shared exponent as KTX-Software describes them), the roughness
 // metadata, finite non-negative texels, and half and RGB9E5 (decoded here by the Vulkan
-// specification's formula) == float within their precision.
-// Usage: node ktx2_check.mjs HALF.ktx2 FLOAT.ktx2 E5.ktx2 REPORT.json
+// specification's formula) == float within their precision; and a Zstandard-supercompressed copy of
+// HALF whose levels the zstd command decompresses to HALF's bytes.
+// Usage: node ktx2_check.mjs HALF.ktx2 FLOAT.ktx2 E5.ktx2 HALF_ZSTD.ktx2 REPORT.json
+import { execFileSync } from "node:child_process";
 import { readFileSync } from "node:fs";
 import { createRequire } from "node:module";
 import { pathToFileURL } from "node:url";
@@ -14,7 +16,7 @@ const resolve = createRequire(process.env.KTX_PARSE_DIR + "/").resolve;
 const { read, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, KHR_DF_MODEL_RGBSDA,
         KHR_DF_TRANSFER_LINEAR, KHR_DF_SAMPLE_DATATYPE_FLOAT } = await import(pathToFileURL(resolve("ktx-parse")).href);
 
-const [halfPath, floatPath, e5Path, reportPath] = process.argv.slice(2);
+const [halfPath, floatPath, e5Path, zstdPath, reportPath] = process.argv.slice(2);
 const VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 = 123, KHR_DF_SAMPLE_DATATYPE_EXPONENT = 0x20;
 const report = JSON.parse(readFileSync(reportPath, "utf8"));
 let failures = 0;
@@ -108,6 +110,16 @@ floats.forEach((level, m) => {
       if (!(Math.abs(d - f) <= step)) check(false, `level ${m} texel ${t}: rgb9e5 ${d} float ${f}`);
     });
   }
+});
+// Supercompression scheme 2: each level, decompressed by the zstd command, is HALF's level.
+const plain = read(new Uint8Array(readFileSync(halfPath))), packed = read(new Uint8Array(readFileSync(zstdPath)));
+check(packed.supercompressionScheme === 2 && plain.supercompressionScheme === 0, `${zstdPath}: scheme ${packed.supercompressionScheme}`);
+check(packed.levels.length === plain.levels.length, `${zstdPath}: ${packed.levels.length} levels`);
+packed.levels.forEach((level, m) => {
+  const unpacked = execFileSync("zstd", ["-d", "-c"], { input: level.levelData });
+  check(level.uncompressedByteLength === unpacked.length && Buffer.compare(unpacked, Buffer.from(plain.levels[m].levelData)) === 0,
+        `${zstdPath}: level ${m} does not decompress to the uncompressed file's`);
+  check(level.levelData.byteLength < unpacked.length || unpacked.length < 64, `${zstdPath}: level ${m} is not smaller`);
 });
 console.log(`ktx-parse: ${floats.length} levels, ${texels} values checked, ${failures} failure(s)`);
 process.exit(failures ? 1 : 0);

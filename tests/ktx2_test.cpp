@@ -1,5 +1,6 @@
 // KTX2 output: read back equal (RGBA32F exactly, RGBA16F to half precision, RGB9E5 to its shared
-// exponent's), clamping to each format's range counted, metadata kept.
+// exponent's), clamping to each format's range counted, metadata kept; Zstandard supercompression
+// gives the same levels back.
 #include <algorithm>
 #include <filesystem>
 
@@ -64,5 +65,25 @@ TEST(Ktx2, SharedExponentRoundTrip) {
         }
     EXPECT_EQ(e5.levels[0].texel(1), glm::vec3(0.0f));
     EXPECT_EQ(e5.levels[0].texel(2).r, 65408.0f);
+    fs::remove_all(dir);
+}
+
+// Zstandard supercompression: the same levels back, in a smaller file (a filtered probe's levels are
+// smooth); every format.
+TEST(Ktx2, ZstdSupercompressionRoundTrip) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_zstd_test_{}", ::getpid());
+    fs::create_directories(dir);
+    const CubeLevels levels = referenceFilter(sunSkyProbe(32), 6, RoughnessMapping::gltf);
+    for (const Ktx2PixelFormat format : {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5}) {
+        writeKtx2Cube(dir / "plain.ktx2", levels, format, {{"KTXwriter", "probefilter"}});
+        writeKtx2Cube(dir / "zstd.ktx2", levels, format, {{"KTXwriter", "probefilter"}}, Ktx2Supercompression::zstd);
+        const Ktx2Cube plain = readKtx2Cube(dir / "plain.ktx2"), zstd = readKtx2Cube(dir / "zstd.ktx2");
+        EXPECT_EQ(plain.supercompression, Ktx2Supercompression::none);
+        EXPECT_EQ(zstd.supercompression, Ktx2Supercompression::zstd);
+        ASSERT_EQ(zstd.levels.size(), levels.size());
+        for (std::size_t m = 0; m < levels.size(); ++m) EXPECT_EQ(zstd.levels[m].rgb, plain.levels[m].rgb) << ktx2FormatName(format);
+        EXPECT_EQ(zstd.metadata, plain.metadata);
+        EXPECT_LT(fs::file_size(dir / "zstd.ktx2"), fs::file_size(dir / "plain.ktx2")) << ktx2FormatName(format);
+    }
     fs::remove_all(dir);
 }

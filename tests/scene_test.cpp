@@ -103,18 +103,23 @@ TEST_F(SceneTest, IrradianceCubeOnlyWhenAsked) {
     expectRefused(withOutputs(chalk, R"("irradiance": "lambert")"), "outputs.irradiance");
 }
 
-// outputs.ktx2 names a format (true is RGBA16F); another value is refused naming the field.
+// outputs.ktx2 names a format (true is RGBA16F) and ktx2_zstd its supercompression; another value,
+// or Zstandard without a file, is refused naming the field.
 TEST_F(SceneTest, Ktx2OutputNamesItsFormat) {
     const auto withKtx2 = [](const std::string& ktx2) {
         return fmt::format(R"({{"probes": [{{"name": "sky", "image": "sky.exr", "face_size": 16}}],
                                "materials": [{{"name": "chrome", "roughness": 0, "metallic": 1}}], "outputs": {{"ktx2": {}}}}})",
                            ktx2);
     };
-    EXPECT_EQ(readScene(write(withKtx2(R"("rgb9e5")"))).outputs.ktx2, Ktx2PixelFormat::rgb9e5);
-    EXPECT_EQ(readScene(write(withKtx2(R"("rgba32f")"))).outputs.ktx2, Ktx2PixelFormat::rgba32f);
-    EXPECT_EQ(readScene(write(withKtx2("true"))).outputs.ktx2, Ktx2PixelFormat::rgba16f);
-    EXPECT_FALSE(readScene(write(withKtx2("false"))).outputs.ktx2.has_value());
+    const auto ktx2Of = [&](const std::string& ktx2) { return readScene(write(withKtx2(ktx2))).outputs.ktx2; };
+    EXPECT_EQ(ktx2Of(R"("rgb9e5")")->format, Ktx2PixelFormat::rgb9e5);
+    EXPECT_EQ(ktx2Of(R"("rgba32f")")->format, Ktx2PixelFormat::rgba32f);
+    EXPECT_EQ(ktx2Of("true")->format, Ktx2PixelFormat::rgba16f);
+    EXPECT_EQ(ktx2Of("true")->supercompression, Ktx2Supercompression::none);
+    EXPECT_EQ(ktx2Of(R"("rgb9e5", "ktx2_zstd": true)")->supercompression, Ktx2Supercompression::zstd);
+    EXPECT_FALSE(ktx2Of("false").has_value());
     expectRefused(withKtx2(R"("bc6h")"), "outputs.ktx2");
+    expectRefused(withKtx2(R"(false, "ktx2_zstd": true)"), "outputs.ktx2_zstd");
 }
 
 TEST_F(SceneTest, Mixed) {

@@ -9,8 +9,10 @@
 
 #include <Imath/half.h>
 #include <fmt/format.h>
+#include <zstd.h>
 
 #include "probe/error.h"
+#include "probe/limits.h"
 #include "probe/output_file.h"
 #include "probe/shared_constants.h"
 
@@ -181,6 +183,30 @@ T readAt(const std::vector<std::uint8_t>& bytes, std::size_t offset, const std::
     return value;
 }
 
+// KTX2's supercompression scheme 2, each level compressed on its own at this Zstandard level (a
+// filtered probe gains little beyond it, and a 1024^2 RGBA32F chain stays within seconds).
+constexpr std::uint32_t kZstdScheme = 2;
+constexpr int kZstdLevel = 9;
+
+std::vector<std::uint8_t> zstdCompress(const std::vector<std::uint8_t>& data, const std::filesystem::path& path) {
+    std::vector<std::uint8_t> out(ZSTD_compressBound(data.size()));
+    const std::size_t size = ZSTD_compress(out.data(), out.size(), data.data(), data.size(), kZstdLevel);
+    if (ZSTD_isError(size)) throw ProbeError(fmt::format("{}: Zstandard: {}", path.string(), ZSTD_getErrorName(size)));
+    out.resize(size);
+    return out;
+}
+
+std::vector<std::uint8_t> zstdDecompress(const std::vector<std::uint8_t>& data, std::uint64_t size, const std::filesystem::path& path) {
+    // A level holds at most a kMaxFaceSize^2 RGBA32F cube: a larger size is a bad file, not an allocation.
+    if (size > std::uint64_t{6} * kMaxFaceSize * kMaxFaceSize * 16)
+        throw ProbeError(fmt::format("{}: a level of {} bytes", path.string(), size));
+    std::vector<std::uint8_t> out(size);
+    const std::size_t got = ZSTD_decompress(out.data(), out.size(), data.data(), data.size());
+    if (ZSTD_isError(got) || got != size)
+        throw ProbeError(fmt::format("{}: a level's Zstandard data does not give its {} bytes", path.string(), size));
+    return out;
+}
+
 } // namespace
 
 std::string_view ktx2FormatName(Ktx2PixelFormat format) {
@@ -198,29 +224,34 @@ std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name) {
     return std::nullopt;
 }
 
-std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata) {
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata,
+                          Ktx2Supercompression supercompression) {
+    const bool zstd = supercompression == Ktx2Supercompression::zstd;
     const std::uint32_t texelBytes = texelBytesOf(format);
     const auto levelCount = static_cast<std::uint32_t>(levels.size());
     const std::vector<std::uint8_t> dfd = format == Ktx2PixelFormat::rgb9e5 ? rgb9e5Descriptor() : dataFormatDescriptor(typeSizeOf(format)),
                                     kvd = keyValueData(metadata);
 
     std::size_t clamped = 0;
-    std::vector<std::vector<std::uint8_t>> data;
-    for (const CubeImage& level : levels) data.push_back(levelData(level, format, clamped));
+    std::vector<std::vector<std::uint8_t>> data, stored;
+    for (const CubeImage& level : levels) {
+        data.push_back(levelData(level, format, clamped));
+        stored.push_back(zstd ? zstdCompress(data.back(), path) : data.back());
+    }
 
     const std::size_t dfdOffset = 80 + 24 * levelCount, kvdOffset = dfdOffset + dfd.size();
-    // Level data, smallest level first, each aligned to lcm(texel size, 4).
+    // Level data, smallest level first, each aligned to lcm(texel size, 4) (supercompressed: to 1).
     std::vector<std::size_t> offsets(levelCount);
     std::size_t end = kvdOffset + kvd.size();
     for (std::uint32_t m = levelCount; m-- > 0;) {
-        offsets[m] = align(end, std::lcm<std::size_t>(texelBytes, 4));
-        end = offsets[m] + data[m].size();
+        offsets[m] = align(end, zstd ? 1 : std::lcm<std::size_t>(texelBytes, 4));
+        end = offsets[m] + stored[m].size();
     }
 
     ByteWriter w;
     w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
     for (std::uint32_t v : {vkFormatOf(format), typeSizeOf(format), std::uint32_t(levels[0].size), std::uint32_t(levels[0].size),
-                            0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, 0u /*no supercompression*/})
+                            0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, zstd ? kZstdScheme : 0u})
         w.put<std::uint32_t>(v);
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
@@ -230,14 +261,14 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
     w.put<std::uint64_t>(0);
     for (std::uint32_t m = 0; m < levelCount; ++m) {
         w.put<std::uint64_t>(offsets[m]);
-        w.put<std::uint64_t>(data[m].size());
+        w.put<std::uint64_t>(stored[m].size());
         w.put<std::uint64_t>(data[m].size());
     }
     w.bytes.insert(w.bytes.end(), dfd.begin(), dfd.end());
     w.bytes.insert(w.bytes.end(), kvd.begin(), kvd.end());
     for (std::uint32_t m = levelCount; m-- > 0;) {
         w.bytes.resize(offsets[m], 0);
-        w.bytes.insert(w.bytes.end(), data[m].begin(), data[m].end());
+        w.bytes.insert(w.bytes.end(), stored[m].begin(), stored[m].end());
     }
 
     writeFile(path, std::string_view(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size()));
@@ -254,25 +285,35 @@ Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
     const auto width = readAt<std::uint32_t>(bytes, 20, path);
     const auto faces = readAt<std::uint32_t>(bytes, 36, path);
     const auto levelCount = readAt<std::uint32_t>(bytes, 40, path);
+    const auto scheme = readAt<std::uint32_t>(bytes, 44, path);
+    if (scheme != 0 && scheme != kZstdScheme)
+        throw ProbeError(fmt::format("{}: supercompression scheme {} (probefilter reads none and Zstandard)", path.string(), scheme));
     if ((vkFormat != kVkFormatRgba16f && vkFormat != kVkFormatRgba32f && vkFormat != kVkFormatRgb9e5) || faces != 6)
         throw ProbeError(fmt::format("{}: not an RGBA16F, RGBA32F or RGB9E5 cube", path.string()));
     Ktx2Cube cube;
     cube.format = vkFormat == kVkFormatRgba16f   ? Ktx2PixelFormat::rgba16f
                   : vkFormat == kVkFormatRgba32f ? Ktx2PixelFormat::rgba32f
                                                  : Ktx2PixelFormat::rgb9e5;
+    cube.supercompression = scheme == kZstdScheme ? Ktx2Supercompression::zstd : Ktx2Supercompression::none;
     for (std::uint32_t m = 0; m < levelCount; ++m) {
-        const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path);
+        const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path), length = readAt<std::uint64_t>(bytes, 88 + 24 * m, path),
+                   uncompressed = readAt<std::uint64_t>(bytes, 96 + 24 * m, path);
+        if (offset > bytes.size() || length > bytes.size() - offset)
+            throw ProbeError(fmt::format("{}: level {} lies beyond the file", path.string(), m));
+        const std::vector<std::uint8_t> stored(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
+                                               bytes.begin() + static_cast<std::ptrdiff_t>(offset + length));
+        const std::vector<std::uint8_t> data = scheme == kZstdScheme ? zstdDecompress(stored, uncompressed, path) : stored;
         CubeImage level(static_cast<int>(std::max(1u, width >> m)));
         for (std::size_t t = 0; t < texelCount(level.size); ++t) {
             if (cube.format == Ktx2PixelFormat::rgb9e5) {
-                level.set(t, decodeRgb9e5(readAt<std::uint32_t>(bytes, offset + 4 * t, path)));
+                level.set(t, decodeRgb9e5(readAt<std::uint32_t>(data, 4 * t, path)));
                 continue;
             }
             for (int k = 0; k < 3; ++k) {
                 const std::size_t channel = 4 * t + k;
                 level.rgb[3 * t + k] = cube.format == Ktx2PixelFormat::rgba32f
-                                           ? readAt<float>(bytes, offset + 4 * channel, path)
-                                           : halfBitsToFloat(readAt<std::uint16_t>(bytes, offset + 2 * channel, path));
+                                           ? readAt<float>(data, 4 * channel, path)
+                                           : halfBitsToFloat(readAt<std::uint16_t>(data, 2 * channel, path));
             }
         }
         cube.levels.push_back(std::move(level));

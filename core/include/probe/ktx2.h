@@ -23,16 +23,28 @@ enum class Ktx2PixelFormat { rgba16f, rgba32f, rgb9e5 };
 std::string_view ktx2FormatName(Ktx2PixelFormat format);
 std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name);
 
+// How the levels are stored: as they are, or each compressed with Zstandard (KTX2 supercompression
+// scheme 2), which a loader undoes before the upload.
+enum class Ktx2Supercompression { none, zstd };
+
+// What a tool writes: the texel format and how the levels are stored.
+struct Ktx2Settings {
+    Ktx2PixelFormat format = Ktx2PixelFormat::rgba16f;
+    Ktx2Supercompression supercompression = Ktx2Supercompression::none;
+};
+
 using KeyValues = std::vector<std::pair<std::string, std::string>>;
 
 // Writes levels[0..] (face size halving each level, alpha 1) as one cube map. Values outside the
 // format's range are clamped to it (RGBA16F above 65504; RGB9E5 above 65408 or below 0); returns
 // how many were. Throws ProbeError naming the file on failure.
-std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata);
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata,
+                          Ktx2Supercompression supercompression = Ktx2Supercompression::none);
 
 // Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata).
 struct Ktx2Cube {
     Ktx2PixelFormat format = Ktx2PixelFormat::rgba16f;
+    Ktx2Supercompression supercompression = Ktx2Supercompression::none;
     CubeLevels levels;
     KeyValues metadata;
 };

@@ -7,7 +7,7 @@
 //               "mapping": "gltf", "method": "table", "samples": 32, "table": "t.json"}],
 //   "materials": [{"name": "chrome", "probe": "sunset", "roughness": 0.05, "metallic": 1,
 //                  "base_color": [0.95, 0.93, 0.88], "specular": 1}],
-//   "outputs": {"exr": true, "ktx2": "rgba16f", "spheres": true, "irradiance": "sh"}
+//   "outputs": {"exr": true, "ktx2": "rgba16f", "ktx2_zstd": false, "spheres": true, "irradiance": "sh"}
 // }
 // A probe's "roughness" (a list, one perceptual roughness per level, increasing) replaces "mapping".
 // A probe's name names its output folder (no slashes). Only "name" and "image" of a probe and
@@ -57,7 +57,7 @@ struct SceneMaterial {
 
 struct SceneOutputs {
     bool exr = true;
-    std::optional<Ktx2PixelFormat> ktx2; // none: no probe.ktx2
+    std::optional<Ktx2Settings> ktx2; // none: no probe.ktx2
     bool spheres = false;
     // The Lambertian irradiance of a probe that a diffuse material reads: "sh" (the default), "cube"
     // or "both" (probe/irradiance.h). The spheres shade diffuse with the SH, so they ask for it too.
