@@ -1,7 +1,6 @@
 #include "dense_passes.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 namespace probefit {
@@ -19,8 +18,16 @@ double addSlots(double sum, const std::uint32_t* index, const double* weight, co
     return sum;
 }
 
-// A lobe's values over the base are computed this many texels at a time (ReferenceLobe::values).
-constexpr std::size_t kLobeBlock = 256;
+// The kernel the L1 is measured against: its values in floats (the fit's texels, which hold every
+// one), or a lobe evaluated in the pass (measured texels: no vector of the whole cube to fill).
+struct KernelValues {
+    const float* values;
+    double operator()(std::size_t t) const { return static_cast<double>(values[t]); }
+};
+struct KernelLobe {
+    const ReferenceLobe& lobe;
+    double operator()(std::size_t t) const { return lobe(t); }
+};
 
 } // namespace
 
@@ -51,51 +58,24 @@ DensePasses::DensePasses(const std::vector<DownsampleOperator>& operators) {
 double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
                             const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                             double* tailError) const {
-    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, kernel, tail, adjoint, tailError);
-    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, kernel, tail, adjoint, tailError);
-    return measureWith<0, 0>(operators, weights, top, kernel, tail, adjoint, tailError);
+    const KernelValues values{kernel.data()};
+    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, values, tail, adjoint, tailError);
+    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, values, tail, adjoint, tailError);
+    return measureWith<0, 0>(operators, weights, top, values, tail, adjoint, tailError);
 }
 
 double DensePasses::measure(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
                             const ReferenceLobe& lobe) const {
-    if (parentSlots_ == 4) return measureLobe<4>(operators, weights, top, lobe);
-    if (parentSlots_ == 1) return measureLobe<1>(operators, weights, top, lobe);
-    return measureLobe<0>(operators, weights, top, lobe);
+    const KernelLobe kernel{lobe};
+    double tailError = 0.0;
+    if (parentSlots_ == 4 && rowSlots_ == 16) return measureWith<4, 16>(operators, weights, top, kernel, {}, nullptr, &tailError);
+    if (parentSlots_ == 1 && rowSlots_ == 4) return measureWith<1, 4>(operators, weights, top, kernel, {}, nullptr, &tailError);
+    return measureWith<0, 0>(operators, weights, top, kernel, {}, nullptr, &tailError);
 }
 
-template <int ParentSlots>
-double DensePasses::baseWeight(std::vector<double>& base, const double* coarse, std::size_t t) const {
-    double w = base[t];
-    base[t] = 0.0;
-    // The transposed operator skips rows whose weight is zero, and the padded slots add zeros:
-    // either changes at most the sign of a zero w, which neither |w - k| nor the slope sees.
-    if (coarse) {
-        const std::size_t first = t * static_cast<std::size_t>(parentSlots_);
-        w = addSlots<ParentSlots>(w, &parentRow_[first], &parentWeight_[first], coarse, parentSlots_);
-    }
-    return w;
-}
-
-template <int ParentSlots>
-double DensePasses::measureLobe(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                                const ReferenceLobe& lobe) const {
-    for (int k = top; k > 1; --k) operators[k - 1].applyTranspose(weights[k], weights[k - 1]);
-    std::vector<double>& base = weights[0];
-    const double* coarse = top >= 1 ? weights[1].data() : nullptr;
-    std::array<double, kLobeBlock> kernel;
-    double sum = 0.0;
-    for (std::size_t first = 0; first < base.size(); first += kLobeBlock) {
-        const std::size_t count = std::min(kLobeBlock, base.size() - first);
-        lobe.values(first, count, kernel.data());
-        for (std::size_t n = 0; n < count; ++n) sum += std::abs(baseWeight<ParentSlots>(base, coarse, first + n) - kernel[n]);
-    }
-    for (int k = 1; k <= top; ++k) std::fill(weights[k].begin(), weights[k].end(), 0.0);
-    return sum;
-}
-
-template <int ParentSlots, int RowSlots>
+template <int ParentSlots, int RowSlots, typename Kernel>
 double DensePasses::measureWith(const std::vector<DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                                const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
+                                const Kernel& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                                 double* tailError) const {
     for (int k = top; k > 1; --k) operators[k - 1].applyTranspose(weights[k], weights[k - 1]);
     std::vector<double>& base = weights[0];
@@ -103,8 +83,15 @@ double DensePasses::measureWith(const std::vector<DownsampleOperator>& operators
     double* slope = adjoint ? (*adjoint)[0].data() : nullptr;
     double sum = 0.0, tailMass = 0.0;
     for (std::size_t t = 0; t < base.size(); ++t) {
-        const double w = baseWeight<ParentSlots>(base, coarse, t);
-        const double d = w - static_cast<double>(kernel[t]);
+        double w = base[t];
+        base[t] = 0.0;
+        // The transposed operator skips rows whose weight is zero, and the padded slots add zeros:
+        // either changes at most the sign of a zero w, which neither |w - k| nor the slope sees.
+        if (coarse) {
+            const std::size_t first = t * static_cast<std::size_t>(parentSlots_);
+            w = addSlots<ParentSlots>(w, &parentRow_[first], &parentWeight_[first], coarse, parentSlots_);
+        }
+        const double d = w - kernel(t);
         sum += std::abs(d);
         if (tail.contains(t)) tailMass += w;
         if (slope) slope[t] = d > 0.0 ? 1.0 : (d < 0.0 ? -1.0 : 0.0);

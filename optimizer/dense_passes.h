@@ -39,22 +39,15 @@ public:
                    const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
                    double* tailError) const;
 
-    // The L1 alone against a lobe evaluated in the pass, a block of texels at a time: for measuring,
-    // where no slope or tail is needed.
+    // The L1 alone against a lobe evaluated texel by texel in the pass: for measuring, where no slope
+    // or tail is needed.
     double measure(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
                    const probe::ReferenceLobe& lobe) const;
 
 private:
-    template <int ParentSlots, int RowSlots>
+    template <int ParentSlots, int RowSlots, typename Kernel>
     double measureWith(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                       const std::vector<float>& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint,
-                       double* tailError) const;
-    template <int ParentSlots>
-    double measureLobe(const std::vector<probe::DownsampleOperator>& operators, std::vector<std::vector<double>>& weights, int top,
-                       const probe::ReferenceLobe& lobe) const;
-    // Base texel t's weight: its own (left 0) plus its parents' (level 1, `coarse`; null: none).
-    template <int ParentSlots>
-    double baseWeight(std::vector<double>& base, const double* coarse, std::size_t t) const;
+                       const Kernel& kernel, const TailTerm& tail, std::vector<std::vector<double>>* adjoint, double* tailError) const;
 
     // The transpose of operators[0]: base texel t's parents (level-1 rows) and their weights in slots
     // [t * parentSlots_, (t + 1) * parentSlots_), rows ascending and in entry order within a row.

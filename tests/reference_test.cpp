@@ -123,21 +123,6 @@ TEST(Reference, LobeNormalizationIsTheLobesSumAndSymmetric) {
         }
 }
 
-// The lobe a block at a time (vectorized, on AVX2 where the machine has it) gives the same values,
-// bit for bit, as texel by texel: blocks of any length and start, alpha 0 (one texel) included.
-TEST(Reference, LobeValuesInBlocksAreTheTexelByTexelValues) {
-    const int size = 16;
-    const CubeGeometry geometry(size);
-    for (double alpha : {0.0, 0.003, 0.25, 1.0})
-        for (const Texel& at : {Texel{2, 8, 8}, Texel{0, 15, 0}, Texel{5, 3, 11}}) {
-            const ReferenceLobe lobe(texelDirection(at, size), geometry, alpha);
-            std::vector<double> values(geometry.directions.size());
-            for (std::size_t first = 0, count = 1; first < values.size(); first += count, count = count * 3 % 97 + 1)
-                lobe.values(first, std::min(count, values.size() - first), &values[first]);
-            for (std::size_t t = 0; t < values.size(); ++t) ASSERT_EQ(values[t], lobe(t)) << "alpha " << alpha << " texel " << t;
-        }
-}
-
 TEST(Reference, PeakAndHalfMaximumWidthMatchTheAnalyticLobe) {
     // The kernel's density k / dOmega against the continuous lobe K / integral(K).
     const int size = 256;

@@ -199,34 +199,6 @@ ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, do
     inverseNormalization_ = 1.0 / sum;
 }
 
-namespace {
-
-// ReferenceLobe's values over a block of texels: every texel computed, max(k, 0) then dropping
-// what R.l <= 0 gave, so that the loop has no branch and vectorizes; also built for AVX2, which
-// the machine picks at run time where it has it. The operations and their order are those of
-// ReferenceLobe::operator(), lane by lane, so the values are the same.
-__attribute__((target_clones("avx2", "default"))) void lobeValues(const glm::dvec3* directions, const double* solidAngles,
-                                                                  std::size_t count, glm::dvec3 r, double alpha2, double scale,
-                                                                  double* out) {
-    for (std::size_t n = 0; n < count; ++n) {
-        const glm::dvec3 l = directions[n];
-        const double cosRL = r.x * l.x + r.y * l.y + r.z * l.z;
-        const double dx = r.x - l.x, dy = r.y - l.y, dz = r.z - l.z;
-        // k has the sign of R.l (D > 0): max(k, 0) is the kernel's max(R.l, 0).
-        out[n] = std::max(ggxD(cosRL, dx * dx + dy * dy + dz * dz, alpha2) * cosRL * solidAngles[n] * scale, 0.0);
-    }
-}
-
-} // namespace
-
-void ReferenceLobe::values(std::size_t first, std::size_t count, double* out) const {
-    if (alpha2_ <= 0.0) {
-        for (std::size_t n = 0; n < count; ++n) out[n] = first + n == mirrorTexel_ ? 1.0 : 0.0;
-        return;
-    }
-    lobeValues(&source_->directions[first], &source_->solidAngles[first], count, r_, alpha2_, inverseNormalization_, out);
-}
-
 ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha, double normalization)
     : source_(&source), r_(glm::normalize(R)), alpha2_(alpha > 0.0 ? alpha * alpha : 0.0),
       mirrorTexel_(alpha > 0.0 ? 0 : texelIndex(directionToTexel(r_, source.size), source.size)), normalization_(normalization),

@@ -40,7 +40,7 @@ std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& sou
 
 // The same response texel by texel, for measuring without a vector over the whole cube:
 // k(R, t) = K(R, l_t) dOmega_t / Z with Z = sum_s K(R, l_s) dOmega_s. Z costs one pass over the
-// source texels in front of R (K vanishes behind it); a caller that knows it passes it.
+// source texels (faces wholly behind R skipped, where K vanishes); a caller that knows it passes it.
 // The source texels are symmetric under the cube's 48 symmetries, so Z is too: Z(g R) = Z(R).
 class ReferenceLobe {
 public:
@@ -54,9 +54,6 @@ public:
         const glm::dvec3 d = r_ - l;
         return ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source_->solidAngles[t] * inverseNormalization_;
     }
-    // k(R, t) of texels first .. first + count - 1 into out: the same values, computed so that they
-    // vectorize (where every texel is read, this is most of the cost).
-    void values(std::size_t first, std::size_t count, double* out) const;
 
 private:
     const CubeGeometry* source_;
