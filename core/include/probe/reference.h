@@ -40,7 +40,7 @@ std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& sou
 
 // The same response texel by texel, for measuring without a vector over the whole cube:
 // k(R, t) = K(R, l_t) dOmega_t / Z with Z = sum_s K(R, l_s) dOmega_s. Z costs one pass over the
-// source texels (faces wholly behind R skipped, where K vanishes); a caller that knows it passes it.
+// source texels in front of R (K vanishes behind it); a caller that knows it passes it.
 // The source texels are symmetric under the cube's 48 symmetries, so Z is too: Z(g R) = Z(R).
 class ReferenceLobe {
 public:
