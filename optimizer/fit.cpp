@@ -106,7 +106,8 @@ public:
         const std::size_t count = texels_.size(), p = static_cast<std::size_t>(parameterCount());
         terms.assign(termCount(), Term{});
         const auto start = Clock::now();
-        // (the level's other work after this evaluation uses as many)
+        // The chain's share of the threads now (ThreadShare): this evaluation's team, and that of the
+        // level's parallel work after it.
         omp_set_num_threads(share_.now());
         // One workspace per thread, kept between evaluations: at 1024^2 each is a quarter of a GiB.
         while (workspaces_.size() < static_cast<std::size_t>(omp_get_max_threads())) workspaces_.push_back(model_.workspace());
