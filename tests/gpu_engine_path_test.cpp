@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/packing.hpp>
 
+#include "engine_caller.h"
 #include "gpu_test_support.h"
 #include "probe/error.h"
 #include "probe/range_scale.h"
@@ -17,125 +18,9 @@
 
 using namespace probe;
 using probetest::GpuTest;
+using namespace probetest;
 
 namespace {
-
-// Minimal caller-side Vulkan: what an engine already has.
-struct Caller {
-    VkDevice device;
-    VkPhysicalDevice physical;
-    uint32_t queueFamily;
-    VkQueue queue;
-
-    uint32_t memoryType(uint32_t bits, VkMemoryPropertyFlags flags) const {
-        VkPhysicalDeviceMemoryProperties memory;
-        vkGetPhysicalDeviceMemoryProperties(physical, &memory);
-        for (uint32_t t = 0; t < memory.memoryTypeCount; ++t)
-            if ((bits & (1u << t)) && (memory.memoryTypes[t].propertyFlags & flags) == flags) return t;
-        ADD_FAILURE() << "no memory type";
-        return 0;
-    }
-    VkDeviceMemory allocate(VkMemoryRequirements r, VkMemoryPropertyFlags flags) const {
-        VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, nullptr, r.size, memoryType(r.memoryTypeBits, flags)};
-        VkDeviceMemory memory = VK_NULL_HANDLE;
-        EXPECT_EQ(vkAllocateMemory(device, &info, nullptr, &memory), VK_SUCCESS);
-        return memory;
-    }
-};
-
-struct HostBuffer {
-    VkBuffer buffer = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    float* data = nullptr;
-};
-
-HostBuffer hostBuffer(const Caller& c, VkDeviceSize bytes) {
-    HostBuffer b;
-    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    info.size = bytes;
-    info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    EXPECT_EQ(vkCreateBuffer(c.device, &info, nullptr, &b.buffer), VK_SUCCESS);
-    VkMemoryRequirements r;
-    vkGetBufferMemoryRequirements(c.device, b.buffer, &r);
-    b.memory = c.allocate(r, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    vkBindBufferMemory(c.device, b.buffer, b.memory, 0);
-    void* mapped = nullptr;
-    vkMapMemory(c.device, b.memory, 0, VK_WHOLE_SIZE, 0, &mapped);
-    b.data = static_cast<float*>(mapped);
-    return b;
-}
-
-struct CubeTexture {
-    VkImage image = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-};
-
-CubeTexture cubeTexture(const Caller& c, VkFormat format, int size, int mips, VkImageUsageFlags usage) {
-    CubeTexture t;
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent = {uint32_t(size), uint32_t(size), 1};
-    info.mipLevels = uint32_t(mips);
-    info.arrayLayers = 6;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    EXPECT_EQ(vkCreateImage(c.device, &info, nullptr, &t.image), VK_SUCCESS);
-    VkMemoryRequirements r;
-    vkGetImageMemoryRequirements(c.device, t.image, &r);
-    t.memory = c.allocate(r, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    vkBindImageMemory(c.device, t.image, t.memory, 0);
-    return t;
-}
-
-void transition(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags srcAccess,
-                VkAccessFlags dstAccess) {
-    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    barrier.srcAccessMask = srcAccess;
-    barrier.dstAccessMask = dstAccess;
-    barrier.oldLayout = from;
-    barrier.newLayout = to;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 6};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0, nullptr, 1,
-                         &barrier);
-}
-
-// The probe as the caller's RGBA16F texels hold it.
-CubeImage halfRounded(const CubeImage& probe) {
-    CubeImage rounded = probe;
-    for (float& v : rounded.rgb) v = glm::unpackHalf1x16(glm::packHalf1x16(v));
-    return rounded;
-}
-
-// Bytes per texel of the caller's cubes: RGBA16F or RGBA32F.
-std::size_t texelBytes(VkFormat format) { return format == VK_FORMAT_R16G16B16A16_SFLOAT ? 4 * sizeof(uint16_t) : 4 * sizeof(float); }
-
-void storeTexel(unsigned char* at, VkFormat format, glm::vec3 v) {
-    if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
-        const uint16_t rgba[4] = {glm::packHalf1x16(v.r), glm::packHalf1x16(v.g), glm::packHalf1x16(v.b), glm::packHalf1x16(1.0f)};
-        std::memcpy(at, rgba, sizeof(rgba));
-    } else {
-        const float rgba[4] = {v.r, v.g, v.b, 1.0f};
-        std::memcpy(at, rgba, sizeof(rgba));
-    }
-}
-
-glm::vec3 loadTexel(const unsigned char* at, VkFormat format) {
-    if (format == VK_FORMAT_R16G16B16A16_SFLOAT) {
-        uint16_t rgba[4];
-        std::memcpy(rgba, at, sizeof(rgba));
-        return {glm::unpackHalf1x16(rgba[0]), glm::unpackHalf1x16(rgba[1]), glm::unpackHalf1x16(rgba[2])};
-    }
-    float rgba[4];
-    std::memcpy(rgba, at, sizeof(rgba));
-    return {rgba[0], rgba[1], rgba[2]};
-}
 
 // What an engine does around Filter::record: its source cube (of `sourceFormat`, holding `source`)
 // uploaded and made readable by compute shaders, its output cube (of the filter's output format,
@@ -187,21 +72,18 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
     const gpu::OutputCube outputCube{
         out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
     // What has been recorded, submitted and waited for; the command buffer begins again.
-    const auto submitAndWait = [&] {
+    const auto submit = [&](const gpu::Completion& done) {
         vkEndCommandBuffer(cmd);
-        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        submit.commandBufferCount = 1;
-        submit.pCommandBuffers = &cmd;
-        EXPECT_EQ(vkQueueSubmit(c.queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
-        EXPECT_EQ(vkQueueWaitIdle(c.queue), VK_SUCCESS);
+        submitAndWait(c.queue, cmd, done);
         vkBeginCommandBuffer(cmd, &begin);
     };
-    if (!slices) engine.record(cmd, sourceCube, outputCube, timestamps);
+    gpu::Completion done;
+    if (!slices) done = engine.record(cmd, sourceCube, outputCube, timestamps);
     // One submission per slice, as frames would run them.
     for (const gpu::Slice& slice : slices ? *slices : std::vector<gpu::Slice>{}) {
-        engine.record(cmd, sourceCube, outputCube, slice);
+        const gpu::Completion sliceDone = engine.record(cmd, sourceCube, outputCube, slice);
         EXPECT_EQ(engine.dispatches().size(), slice.dispatches) << "the slice's dispatches, known before it was recorded";
-        submitAndWait();
+        submit(sliceDone);
     }
 
     transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
@@ -210,7 +92,7 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
     vkCmdCopyImageToBuffer(cmd, out.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, uint32_t(back.size()), back.data());
     VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
-    submitAndWait();
+    submit(done);
 
     CubeLevels result;
     for (int m = 0; m < levels; ++m) {
@@ -393,14 +275,14 @@ TEST_F(GpuTest, RecordRefusesCubesThatDoNotMatch) {
     withOutput("output.usage", [](gpu::OutputCube& o) { o.usage = VK_IMAGE_USAGE_SAMPLED_BIT; });
     for (const Case& c : cases) {
         try {
-            filter.record(cmd, c.source, c.output);
+            (void)filter.record(cmd, c.source, c.output);
             ADD_FAILURE() << c.field << ": not refused";
         } catch (const ProbeError& e) {
             EXPECT_NE(std::string(e.what()).find(c.field), std::string::npos) << e.what();
         }
     }
     try {
-        filter.record(VK_NULL_HANDLE, source, output);
+        (void)filter.record(VK_NULL_HANDLE, source, output);
         ADD_FAILURE() << "a null command buffer: not refused";
     } catch (const ProbeError& e) {
         EXPECT_NE(std::string(e.what()).find("commandBuffer"), std::string::npos) << e.what();

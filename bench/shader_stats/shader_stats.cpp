@@ -192,7 +192,7 @@ StatisticsDevice::StatisticsDevice() : impl_(std::make_unique<Impl>()) {
         vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutableInternalRepresentationsKHR"));
     // The Filter's pipeline layout: its bindings 0-4 are shaders/buffers.glsl's, which the SH projector
     // and the sphere renderer bind too, so one layout serves every shader.
-    d.layout = std::make_unique<gpu::FilterDescriptors>(d.device, 1);
+    d.layout = std::make_unique<gpu::FilterDescriptors>(d.device);
 }
 
 StatisticsDevice::~StatisticsDevice() {

@@ -24,20 +24,20 @@ void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage
     std::vector<VkImageCopy> copies;
     for (int m : levels) {
         const int size = impl.settings.faceSize >> m;
-        impl.descriptors->bind(commandBuffer, impl.convertSets[m]);
+        impl.descriptors->bind(commandBuffer, impl.current->convertSets[m]);
         dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size}, groupsFor(texelCount(size)));
         VkImageCopy copy{};
         copy.srcSubresource = copy.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
         copy.extent = {uint32_t(size), uint32_t(size), 1};
         copies.push_back(copy);
     }
-    const auto mips = uint32_t(impl.packed.mips());
-    imageBarrier(commandBuffer, impl.packed.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    const auto mips = uint32_t(impl.current->packed.mips());
+    imageBarrier(commandBuffer, impl.current->packed.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyImage(commandBuffer, impl.packed.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                   uint32_t(copies.size()), copies.data());
-    imageBarrier(commandBuffer, impl.packed.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    vkCmdCopyImage(commandBuffer, impl.current->packed.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(copies.size()), copies.data());
+    imageBarrier(commandBuffer, impl.current->packed.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT);
 }

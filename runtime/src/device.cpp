@@ -33,6 +33,9 @@ VkInstance createInstance(bool validation) {
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
     const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+    // Hazards between the passes, and against the engine's work, are errors too.
+    const VkValidationFeatureEnableEXT enabled = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    const VkValidationFeaturesEXT synchronization{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT, nullptr, 1, &enabled, 0, nullptr};
     if (validation) {
         uint32_t count = 0;
         vkEnumerateInstanceLayerProperties(&count, nullptr);
@@ -46,6 +49,7 @@ VkInstance createInstance(bool validation) {
         info.ppEnabledLayerNames = &kValidationLayer;
         info.enabledExtensionCount = 1;
         info.ppEnabledExtensionNames = &extension;
+        info.pNext = &synchronization;
     }
     VkInstance instance = VK_NULL_HANDLE;
     const VkResult result = vkCreateInstance(&info, nullptr, &instance);
@@ -200,6 +204,17 @@ uint32_t Device::Impl::memoryType(uint32_t typeBits, VkMemoryPropertyFlags requi
     return static_cast<uint32_t>(fallback);
 }
 
+void Device::Impl::retire(std::shared_ptr<void> resources, VkSemaphore semaphore, uint64_t value) {
+    retired.push_back({std::move(resources), semaphore, value});
+}
+
+void Device::Impl::releaseRetired() {
+    std::erase_if(retired, [&](const Retired& r) {
+        uint64_t value = 0;
+        return vkGetSemaphoreCounterValue(device, r.semaphore, &value) == VK_SUCCESS && value >= r.value;
+    });
+}
+
 std::vector<DeviceInfo> listDevices() {
     const VkInstance instance = createInstance(false);
     std::vector<DeviceInfo> infos;
@@ -225,7 +240,9 @@ Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
         queueInfo.queueFamilyIndex = d.queueFamily;
         queueInfo.queueCount = 1;
         queueInfo.pQueuePriorities = &priority;
-        VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+        features12.timelineSemaphore = VK_TRUE; // a Filter's Completion
+        VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features12};
         deviceInfo.queueCreateInfoCount = 1;
         deviceInfo.pQueueCreateInfos = &queueInfo;
         vkCheck(vkCreateDevice(d.physical, &deviceInfo, nullptr, &d.device), "vkCreateDevice");
@@ -252,11 +269,17 @@ Device::Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice de
     d.queue = queue;
     d.info = describePhysicalDevice(physicalDevice, -1);
     if (d.info.apiVersion < VK_API_VERSION_1_2) throw ProbeError(fmt::format("Vulkan: {} is not a Vulkan 1.2 device", d.info.name));
+    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
+    vkGetPhysicalDeviceFeatures2(physicalDevice, &features);
+    if (!features12.timelineSemaphore)
+        throw ProbeError(fmt::format("Vulkan: {} has no timeline semaphores, which a Filter's Completion is", d.info.name));
     readProperties(d);
 }
 
 Device::~Device() {
     Impl& d = *impl_;
+    d.retired.clear(); // the engine has idled the device before destroying this
     if (!d.owned) return;
     vkDestroyDevice(d.device, nullptr);
     if (d.messenger) {

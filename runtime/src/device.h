@@ -2,6 +2,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -34,6 +35,17 @@ struct Device::Impl {
 
     mutable std::mutex messagesMutex;
     std::vector<std::string> messages;
+
+    // What destroyed Filters' recordings in flight read, each kept until `semaphore` reaches `value`.
+    struct Retired {
+        std::shared_ptr<void> resources;
+        VkSemaphore semaphore;
+        uint64_t value;
+    };
+    std::vector<Retired> retired;
+    void retire(std::shared_ptr<void> resources, VkSemaphore semaphore, uint64_t value);
+    // Releases the retired resources whose recordings have completed.
+    void releaseRetired();
 
     // A memory type allowed by `typeBits` with all of `required`, preferring one with `preferred` too.
     uint32_t memoryType(uint32_t typeBits, VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred) const;

@@ -178,6 +178,8 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     validateSizeAndLevels(s.faceSize, s.levelCount);
     validateMappingLevels(s.mapping, s.levelCount);
     validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
+    if (s.inFlight < 1 || s.inFlight > 64)
+        throw ParameterError("inFlight", fmt::format("{}: recordings in flight are 1 to 64", s.inFlight));
     FilterShape shape;
     shape.pyramidLevels = pyramidLevelCount(s.faceSize);
     shape.pyramidDepth = s.pyramidDepth < 0 ? shape.pyramidLevels - 1 : s.pyramidDepth;
@@ -241,6 +243,50 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     return shape;
 }
 
+// A set of what one recording writes, for the Filter's shape.
+void makeRecording(const Filter::Impl& f, Recording& r, const FilterShape& shape) {
+    const FilterSettings& s = f.settings;
+    const Device& d = f.device;
+    const VkDevice vk = d.device();
+    r.pyramidBuffer = Buffer(d, shape.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    r.accumulator = Buffer(d, shape.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
+    r.pyramidView = BufferView(vk, r.pyramidBuffer);
+    if (f.buildsPyramid && f.sampling == Sampling::hardware) {
+        const int mips = f.pyramidDepth + 1;
+        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, f.pyramidFormat,
+                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
+        for (int k = 0; k < mips; ++k) {
+            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
+            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
+        }
+    }
+    if (f.convertOutput) {
+        r.intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        r.packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
+                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        for (int m = 0; m < s.levelCount; ++m) {
+            r.intermediateMips.emplace_back(vk, r.intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                            uint32_t(m), 1);
+            r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+        }
+    }
+    r.pool = f.descriptors->makePool(uint32_t(f.pyramidLevels + 2 * s.levelCount));
+
+    const auto segments = [&](std::size_t pass2Segments) {
+        std::vector<std::string> passes;
+        if (f.pass1) passes.emplace_back("pyramid");
+        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(s.method.kind)));
+        if (f.convertOutput) passes.emplace_back("convert");
+        return passes;
+    };
+    r.passTimer = std::make_unique<GpuTimer>(d, segments(1));
+    r.levelTimer = std::make_unique<GpuTimer>(d, segments(f.computedLevels.size()));
+    r.sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
+    r.timer = r.passTimer.get();
+}
+
 } // namespace
 
 void Filter::checkLimits(const Device& device, const FilterSettings& settings) { shapeOf(device, settings); }
@@ -268,47 +314,25 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         tableData = fisBufferData(s, sampleOffsets);
     }
     const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
-    pyramidBuffer = Buffer(d, shape.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
-    accumulator = Buffer(d, shape.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
     if (table.bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
         throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}", d.info().name,
                                      d.impl().limits.maxTexelBufferElements, table.bytes() / kTexelBytes));
     tableView = BufferView(d.device(), table);
-    pyramidView = BufferView(d.device(), pyramidBuffer);
 
     const VkDevice vk = d.device();
     if (buildsPyramid && sampling == Sampling::hardware) {
         pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
-        const int mips = pyramidDepth + 1;
-        pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
-                                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        pyramidAll = ImageView(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
-        for (int k = 0; k < mips; ++k) {
-            pyramidMipCubes.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
-            pyramidMipArrays.emplace_back(vk, pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
-        }
         // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
         pyramidTailLevel = std::max(1, pyramidLevels - kPyramidTailMipCount);
-    }
-    if (convertOutput) {
-        intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                         VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-        packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
-                                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        for (int m = 0; m < s.levelCount; ++m) {
-            intermediateMips.emplace_back(vk, intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                                          uint32_t(m), 1);
-            packedMips.emplace_back(vk, packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
-        }
     }
     placeholder = CubeImageResource(d, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
     placeholderCube = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
     placeholderArray = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
     linear = std::make_unique<Sampler>(vk, true);
     nearest = std::make_unique<Sampler>(vk, false);
-    descriptors = std::make_unique<FilterDescriptors>(vk, uint32_t(pyramidLevels + 2 * s.levelCount));
+    descriptors = std::make_unique<FilterDescriptors>(vk);
 
     if (buildsPyramid || (kind == MethodKind::reference && filters)) makePyramidPipelines(*this);
     switch (kind) {
@@ -320,17 +344,13 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         copy = makeCopyLevelPipeline(*this);
     if (convertOutput) convert = makeConvertPipeline(*this);
 
-    const auto segments = [&](std::size_t pass2Segments) {
-        std::vector<std::string> passes;
-        if (pass1) passes.emplace_back("pyramid");
-        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(kind)));
-        if (convertOutput) passes.emplace_back("convert");
-        return passes;
-    };
-    passTimer = std::make_unique<GpuTimer>(d, segments(1));
-    levelTimer = std::make_unique<GpuTimer>(d, segments(computedLevels.size()));
-    sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
-    timer = passTimer.get();
+    recordings.resize(std::size_t(s.inFlight));
+    for (Recording& r : recordings) makeRecording(*this, r, shape);
+    current = &recordings.front();
+    VkSemaphoreTypeCreateInfo timeline{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
+    timeline.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+    VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline};
+    vkCheck(vkCreateSemaphore(vk, &semaphoreInfo, nullptr, &completed), "vkCreateSemaphore");
 
     submission = std::make_unique<Submission>(d);
     // The one-time initialization: the tables' uploads through staging buffers, kept until it has
@@ -342,7 +362,9 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         const VkBufferCopy region{0, 0, to->bytes()};
         vkCmdCopyBuffer(commandBuffer, staging.handle(), to->handle(), 1, &region);
     }
-    for (const CubeImageResource* image : {&pyramidImage, &intermediate, &packed, &placeholder})
+    std::vector<const CubeImageResource*> images{&placeholder};
+    for (const Recording& r : recordings) images.insert(images.end(), {&r.pyramidImage, &r.intermediate, &r.packed});
+    for (const CubeImageResource* image : images)
         if (image->handle())
             imageBarrier(commandBuffer, image->handle(), 0, uint32_t(image->mips()), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                          VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -354,6 +376,33 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     initStaging.clear();
 }
 
+Filter::Impl::~Impl() {
+    recordings.clear(); // their views, before the images they view
+    vkDestroySemaphore(device.device(), completed, nullptr);
+}
+
+uint64_t Filter::Impl::completedValue() const {
+    uint64_t value = 0;
+    vkCheck(vkGetSemaphoreCounterValue(device.device(), completed, &value), "vkGetSemaphoreCounterValue");
+    return value;
+}
+
+void Filter::Impl::acquire() {
+    const uint64_t done = completedValue();
+    if (done >= 1) initStaging.clear();
+    // The least recently used set first, so that sets are used in turn.
+    Recording* free = nullptr;
+    for (Recording& r : recordings)
+        if (r.completion <= done && (!free || r.completion < free->completion)) free = &r;
+    if (!free)
+        throw ProbeError(fmt::format("Filter::record: {} recordings are in flight (FilterSettings::inFlight), recording {} has not "
+                                     "completed: submit each recording signalling the Completion that record() returned, or raise "
+                                     "inFlight",
+                                     recordings.size(), done + 1));
+    current = free;
+    if (slicedUpdate == free) slicedUpdate = nullptr;
+}
+
 std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
     return std::make_unique<ComputePipeline>(device.device(), descriptors->pipelineLayout(), spirv, specialization, 0,
                                              settings.pipelineCache);
@@ -362,65 +411,67 @@ std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t
 // Every time, not only when the handles change: an image destroyed and another created may reuse a
 // handle, and the views of the first would remain.
 void Filter::Impl::bindImages(VkImageView source, VkImage output) {
-    descriptors->reset();
-    outputMips.clear();
-    outputMips.resize(settings.levelCount);
+    Recording& r = *current;
+    r.pool->reset();
+    r.outputMips.clear();
+    r.outputMips.resize(settings.levelCount);
     const VkDevice vk = device.device();
     const auto common = [&](VkDescriptorSet set) {
-        descriptors->writeBuffer(set, kPyramidBuffer, pyramidBuffer.handle());
-        descriptors->writeBuffer(set, kAccumulator, accumulator.handle());
+        descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle());
+        descriptors->writeBuffer(set, kAccumulator, r.accumulator.handle());
         descriptors->writeBuffer(set, kGeometry, geometry.handle());
         descriptors->writeTexelBuffer(set, kTableTexels, tableView.handle());
         descriptors->writeBuffer(set, kTableBuffer, table.handle());
-        descriptors->writeTexelBuffer(set, kPyramidTexels, pyramidView.handle());
+        descriptors->writeTexelBuffer(set, kPyramidTexels, r.pyramidView.handle());
         descriptors->writeSampled(set, kSourceCube, source, nearest->handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         // Nearest: a device need not filter the placeholder's RGBA32F linearly.
         descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
         descriptors->writeMips(set, std::array{placeholderArray.handle()});
     };
     const bool hardware = buildsPyramid && sampling == Sampling::hardware;
-    pyramidSets.clear();
+    r.pyramidSets.clear();
     if (pass1)
         for (int k = 0; k <= pyramidDepth; ++k) {
-            const VkDescriptorSet set = descriptors->allocate();
+            const VkDescriptorSet set = r.pool->allocate();
             common(set);
             if (hardware) {
                 if (k > 0)
-                    descriptors->writeSampled(set, kPyramidCube, pyramidMipCubes[k - 1].handle(), linear->handle(),
+                    descriptors->writeSampled(set, kPyramidCube, r.pyramidMipCubes[k - 1].handle(), linear->handle(),
                                               VK_IMAGE_LAYOUT_GENERAL);
                 // The tail writes its mips (down to the depth); any other dispatch its one mip.
-                std::vector<VkImageView> mips{pyramidMipArrays[k].handle()};
+                std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
                 if (k == pyramidTailLevel)
                     for (int e = k + 1; e <= pyramidDepth && e < k + kPyramidTailMipCount; ++e)
-                        mips.push_back(pyramidMipArrays[e].handle());
+                        mips.push_back(r.pyramidMipArrays[e].handle());
                 descriptors->writeMips(set, mips);
             }
-            pyramidSets.push_back(set);
+            r.pyramidSets.push_back(set);
         }
-    levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
-    convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
+    r.levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
+    r.convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
     for (int m : computedLevels) {
         VkImageView target = VK_NULL_HANDLE;
         if (convertOutput) {
-            target = intermediateMips[m].handle();
+            target = r.intermediateMips[m].handle();
         } else {
-            outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
-            target = outputMips[m].handle();
+            r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+            target = r.outputMips[m].handle();
         }
-        const VkDescriptorSet set = descriptors->allocate();
+        const VkDescriptorSet set = r.pool->allocate();
         common(set);
-        if (hardware) descriptors->writeSampled(set, kPyramidCube, pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
+        if (hardware) descriptors->writeSampled(set, kPyramidCube, r.pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
         descriptors->writeMips(set, std::array{target});
-        levelSets[m] = set;
+        r.levelSets[m] = set;
         if (convertOutput) {
-            const VkDescriptorSet c = descriptors->allocate();
+            const VkDescriptorSet c = r.pool->allocate();
             common(c);
-            descriptors->writeSampled(c, kPyramidCube, intermediateMips[m].handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
-            descriptors->writeMips(c, std::array{packedMips[m].handle()});
-            convertSets[m] = c;
+            descriptors->writeSampled(c, kPyramidCube, r.intermediateMips[m].handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
+            descriptors->writeMips(c, std::array{r.packedMips[m].handle()});
+            r.convertSets[m] = c;
         }
     }
-    boundOutput = output;
+    r.boundSource = source;
+    r.boundOutput = output;
 }
 
 void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
@@ -429,7 +480,7 @@ void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
 }
 
 void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
-    descriptors->bind(commandBuffer, levelSets[m]);
+    descriptors->bind(commandBuffer, current->levelSets[m]);
     if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
     else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
     else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
@@ -439,14 +490,15 @@ void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
     dispatches.clear();
     barriers = 0;
+    Recording& r = *current;
     const bool perLevel = timestamps == Timestamps::levels;
-    timed = timestamps != Timestamps::none;
-    timer = perLevel ? levelTimer.get() : passTimer.get();
+    r.timed = timestamps != Timestamps::none;
+    r.timer = perLevel ? r.levelTimer.get() : r.passTimer.get();
     uint32_t boundary = 0;
     const auto mark = [&] {
-        if (timed) timer->boundary(commandBuffer, boundary++);
+        if (r.timed) r.timer->boundary(commandBuffer, boundary++);
     };
-    if (timed) timer->reset(commandBuffer);
+    if (r.timed) r.timer->reset(commandBuffer);
     barrier(commandBuffer); // the Filter's resources, against a previous recording's use
     mark();
     if (pass1) {
@@ -460,7 +512,7 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
     }
     if (!perLevel) mark();
     if (convertOutput) {
-        recordConversion(*this, commandBuffer, boundOutput, computedLevels);
+        recordConversion(*this, commandBuffer, r.boundOutput, computedLevels);
         mark();
     }
 }
@@ -468,26 +520,40 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
 void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps) {
     dispatches.clear();
     barriers = 0;
-    timed = timestamps;
-    timer = sliceTimer.get();
-    if (timed) timer->reset(commandBuffer);
+    Recording& r = *current;
+    r.timed = timestamps;
+    r.timer = r.sliceTimer.get();
+    if (r.timed) r.timer->reset(commandBuffer);
     barrier(commandBuffer); // the Filter's resources, against the previous slice's use
-    if (timed) timer->boundary(commandBuffer, 0);
+    if (r.timed) r.timer->boundary(commandBuffer, 0);
     if (pyramid && pass1) {
         recordPyramidPass(*this, commandBuffer);
         barrier(commandBuffer);
     }
     for (int m : levels) recordLevel(commandBuffer, m);
-    if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, boundOutput, levels);
-    if (timed) timer->boundary(commandBuffer, 1);
+    if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, r.boundOutput, levels);
+    if (r.timed) r.timer->boundary(commandBuffer, 1);
 }
 
-Filter::Filter(const Device& device, const FilterSettings& settings) : impl_(std::make_unique<Impl>(device, settings, VK_NULL_HANDLE)) {}
+Filter::Filter(const Device& device, const FilterSettings& settings) {
+    device.impl().releaseRetired();
+    impl_ = std::make_unique<Impl>(device, settings, VK_NULL_HANDLE);
+}
 Filter::Filter(const Device& device, const FilterSettings& settings, VkCommandBuffer initialization) {
     if (initialization == VK_NULL_HANDLE) throw ProbeError("Filter: the initialization command buffer is VK_NULL_HANDLE");
+    device.impl().releaseRetired();
     impl_ = std::make_unique<Impl>(device, settings, initialization);
 }
-Filter::~Filter() = default;
+
+// A recording still in flight keeps every resource it reads: the Device releases them once it has
+// completed, rather than this waiting on the queue.
+Filter::~Filter() {
+    if (!impl_ || impl_->completedValue() >= impl_->recorded) return;
+    const VkSemaphore semaphore = impl_->completed;
+    const uint64_t value = impl_->recorded;
+    Device::Impl& device = impl_->device.impl();
+    device.retire(std::shared_ptr<void>(std::move(impl_)), semaphore, value);
+}
 
 namespace {
 
@@ -574,6 +640,7 @@ int startRun(Filter::Impl& f, const CubeImage& source) {
         throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
     makeRunImages(f);
     const int shift = uploadRunSource(f, source);
+    f.acquire();
     f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
     return shift;
 }
@@ -614,10 +681,11 @@ CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamp
     f.recordPasses(passes, timestamps);
     runOutputAfterPasses(f, passes);
     vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
-    f.timer->clear();
+    Recording& r = *f.current;
+    r.timer->clear();
     for (int k = 0; k < repeat; ++k) {
         f.submission->submitAndWait(passes, false);
-        if (f.timed) f.timer->collect();
+        if (r.timed) r.timer->collect();
     }
     f.submission->release(passes);
     return finishRun(f, shift);
@@ -635,12 +703,13 @@ CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices
         f.recordSlice(commandBuffer, slices[k].pyramid, slices[k].levels, true);
         if (k + 1 == slices.size()) runOutputAfterPasses(f, commandBuffer);
         vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
-        f.timer->clear();
+        Recording& r = *f.current;
+        r.timer->clear();
         f.submission->submitAndWait(commandBuffer, false);
         f.submission->release(commandBuffer);
-        if (!f.timed) continue;
-        f.timer->collect();
-        for (const PassTime& t : f.timer->timings())
+        if (!r.timed) continue;
+        r.timer->collect();
+        for (const PassTime& t : r.timer->timings())
             if (t.name == "slice") sliceMs.push_back(t.medianMs);
     }
     return finishRun(f, shift);
@@ -697,16 +766,29 @@ uint32_t levelDispatchCount(const Filter::Impl& f, int m) {
     return (!copy && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u) + (f.convertOutput ? 1u : 0u);
 }
 
+// A set for a recording from `source` to `output`, bound; its descriptor sets and views are the
+// recording's until it completes.
+void startRecording(Filter::Impl& f, const SourceCube& source, const OutputCube& output) {
+    f.device.impl().releaseRetired();
+    f.acquire();
+    f.bindImages(source.view, output.image);
+}
+
+// The recording's number, which its completion signals.
+Completion finishRecording(Filter::Impl& f) {
+    f.current->timer->clear();
+    f.current->completion = ++f.recorded;
+    return {f.completed, f.recorded};
+}
+
 } // namespace
 
-void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, Timestamps timestamps) {
+Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, Timestamps timestamps) {
     Impl& f = *impl_;
     checkRecordArguments(f, commandBuffer, source, output);
-    // One recording at a time: by the second, the first has run, and the initialization before it.
-    if (++f.recordings == 2) f.initStaging.clear();
-    f.bindImages(source.view, output.image);
+    startRecording(f, source, output);
     f.recordPasses(commandBuffer, timestamps);
-    f.timer->clear();
+    return finishRecording(f);
 }
 
 std::vector<Slice> Filter::slices(int count) const {
@@ -739,8 +821,8 @@ std::vector<Slice> Filter::slices(int count) const {
     return out;
 }
 
-void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
-                    Timestamps timestamps) {
+Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
+                          Timestamps timestamps) {
     Impl& f = *impl_;
     checkRecordArguments(f, commandBuffer, source, output);
     for (std::size_t k = 0; k < slice.levels.size(); ++k)
@@ -748,10 +830,24 @@ void Filter::record(VkCommandBuffer commandBuffer, const SourceCube& source, con
             (k > 0 && slice.levels[k] <= slice.levels[k - 1]))
             throw ProbeError(fmt::format(
                 "Filter::record: slice.levels: {} is not one of the levels the filter computes, in ascending order", slice.levels[k]));
-    if (++f.recordings == 2) f.initStaging.clear();
-    f.bindImages(source.view, output.image);
+    if (slice.pyramid || !f.pass1) {
+        startRecording(f, source, output);
+        f.slicedUpdate = f.pass1 ? f.current : nullptr;
+    } else {
+        // The levels read the pyramid that the update's first slice built, in that slice's set: its
+        // descriptor sets are read again, not rewritten, so the earlier slices may still be pending.
+        Recording* update = f.slicedUpdate;
+        if (!update)
+            throw ProbeError("Filter::record: slice: a slice of levels before its update's pyramid slice (record the slices of "
+                             "Filter::slices in order)");
+        if (update->boundSource != source.view || update->boundOutput != output.image)
+            throw ProbeError("Filter::record: slice: the source or output cube differs from the one its update's pyramid slice "
+                             "recorded");
+        f.device.impl().releaseRetired();
+        f.current = update;
+    }
     f.recordSlice(commandBuffer, slice.pyramid, slice.levels, timestamps != Timestamps::none);
-    f.timer->clear();
+    return finishRecording(f);
 }
 
 Sampling Filter::sampling() const { return impl_->sampling; }
@@ -762,18 +858,20 @@ bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
 
 std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.
-    if (!impl_->timed) return {};
-    if (impl_->timer->timings().empty()) impl_->timer->collect();
-    return impl_->timer->timings();
+    const Recording& r = *impl_->current;
+    if (!r.timed) return {};
+    if (r.timer->timings().empty()) r.timer->collect();
+    return r.timer->timings();
 }
 
 std::vector<PassTime> Filter::levelTimings() const {
-    if (!impl_->timed || impl_->timer != impl_->levelTimer.get()) return {};
+    const Recording& r = *impl_->current;
+    if (!r.timed || r.timer != r.levelTimer.get()) return {};
     std::vector<std::string> names;
     if (impl_->pass1) names.push_back("pass 1");
     for (int m : impl_->computedLevels) names.push_back(fmt::format("level {}", m));
     if (impl_->convertOutput) names.push_back("convert");
-    std::vector<PassTime> segments = impl_->timer->segmentTimings(names);
+    std::vector<PassTime> segments = r.timer->segmentTimings(names);
     std::erase_if(segments, [](const PassTime& p) { return p.name == "pass 1" || p.name == "convert"; });
     return segments;
 }
@@ -784,9 +882,10 @@ int Filter::barriers() const { return impl_->barriers; }
 CubeLevels Filter::downloadPyramid() const {
     Impl& f = *impl_;
     if (!f.buildsPyramid) return {};
+    const Recording& r = *f.current;
     if (f.sampling == Sampling::exact) {
-        std::vector<float> texels(f.pyramidBuffer.bytes() / sizeof(float));
-        f.submission->download(f.pyramidBuffer, texels.data(), f.pyramidBuffer.bytes());
+        std::vector<float> texels(r.pyramidBuffer.bytes() / sizeof(float));
+        f.submission->download(r.pyramidBuffer, texels.data(), r.pyramidBuffer.bytes());
         return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
     }
     const uint32_t bytesPerTexel = texelBytes(f.pyramidFormat);
@@ -802,13 +901,13 @@ CubeLevels Filter::downloadPyramid() const {
     }
     Buffer readBack(f.device, offset, Buffer::Kind::staging);
     VkCommandBuffer download = f.submission->begin();
-    const auto mips = uint32_t(f.pyramidImage.mips());
-    imageBarrier(download, f.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    const auto mips = uint32_t(r.pyramidImage.mips());
+    imageBarrier(download, r.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyImageToBuffer(download, f.pyramidImage.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
+    vkCmdCopyImageToBuffer(download, r.pyramidImage.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
                            uint32_t(regions.size()), regions.data());
-    imageBarrier(download, f.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    imageBarrier(download, r.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     hostReadBarrier(download);

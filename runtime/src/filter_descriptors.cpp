@@ -8,7 +8,34 @@
 
 namespace probe::gpu {
 
-FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device_(device) {
+DescriptorPool::DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets) : device_(device), layout_(layout) {
+    std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
+                                               {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0},
+                                               {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 0},
+                                               {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 0}}};
+    for (VkDescriptorPoolSize& size : sizes) size.descriptorCount = filterDescriptorCount(size.type) * maxSets;
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = maxSets;
+    poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    poolInfo.pPoolSizes = sizes.data();
+    vkCheck(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool_), "vkCreateDescriptorPool");
+}
+
+DescriptorPool::~DescriptorPool() { vkDestroyDescriptorPool(device_, pool_, nullptr); }
+
+VkDescriptorSet DescriptorPool::allocate() {
+    VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    info.descriptorPool = pool_;
+    info.descriptorSetCount = 1;
+    info.pSetLayouts = &layout_;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    vkCheck(vkAllocateDescriptorSets(device_, &info, &set), "vkAllocateDescriptorSets");
+    return set;
+}
+
+void DescriptorPool::reset() { vkCheck(vkResetDescriptorPool(device_, pool_, 0), "vkResetDescriptorPool"); }
+
+FilterDescriptors::FilterDescriptors(VkDevice device) : device_(device) {
     std::array<VkDescriptorSetLayoutBinding, kFilterBindingCount> bindings{};
     for (uint32_t b = 0; b < kFilterBindingCount; ++b)
         bindings[b] = {b, kFilterBindings[b].type, kFilterBindings[b].count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
@@ -24,36 +51,16 @@ FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t maxSets) : device
     layoutInfo.pushConstantRangeCount = 1;
     layoutInfo.pPushConstantRanges = &range;
     vkCheck(vkCreatePipelineLayout(device_, &layoutInfo, nullptr, &pipelineLayout_), "vkCreatePipelineLayout");
-
-    std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
-                                               {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0},
-                                               {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 0},
-                                               {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 0}}};
-    for (VkDescriptorPoolSize& size : sizes) size.descriptorCount = filterDescriptorCount(size.type) * maxSets;
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = maxSets;
-    poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
-    poolInfo.pPoolSizes = sizes.data();
-    vkCheck(vkCreateDescriptorPool(device_, &poolInfo, nullptr, &pool_), "vkCreateDescriptorPool");
 }
 
 FilterDescriptors::~FilterDescriptors() {
-    vkDestroyDescriptorPool(device_, pool_, nullptr);
     vkDestroyPipelineLayout(device_, pipelineLayout_, nullptr);
     vkDestroyDescriptorSetLayout(device_, setLayout_, nullptr);
 }
 
-VkDescriptorSet FilterDescriptors::allocate() {
-    VkDescriptorSetAllocateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    info.descriptorPool = pool_;
-    info.descriptorSetCount = 1;
-    info.pSetLayouts = &setLayout_;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    vkCheck(vkAllocateDescriptorSets(device_, &info, &set), "vkAllocateDescriptorSets");
-    return set;
+std::unique_ptr<DescriptorPool> FilterDescriptors::makePool(uint32_t maxSets) const {
+    return std::make_unique<DescriptorPool>(device_, setLayout_, maxSets);
 }
-
-void FilterDescriptors::reset() { vkCheck(vkResetDescriptorPool(device_, pool_, 0), "vkResetDescriptorPool"); }
 
 void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const {
     const VkDescriptorBufferInfo info{buffer, 0, VK_WHOLE_SIZE};

@@ -1,11 +1,13 @@
 // The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 8 and shaders/images.glsl's
-// 5-7 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and sets
-// from one pool, each written with the resources of the dispatches that bind it.
+// 5-7 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and pools
+// of sets (one per recording in flight), each set written with the resources of the dispatches that
+// bind it.
 #pragma once
 
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <span>
 
 #include <vulkan/vulkan.h>
@@ -60,18 +62,34 @@ constexpr uint32_t filterDescriptorCount(VkDescriptorType type) {
     return count;
 }
 
+// Sets of the Filter's layout from one pool: a recording's, rewritten at each recording.
+class DescriptorPool {
+public:
+    DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets);
+    ~DescriptorPool();
+    DescriptorPool(const DescriptorPool&) = delete;
+    DescriptorPool& operator=(const DescriptorPool&) = delete;
+
+    // A set from the pool (at most maxSets until reset()); write the bindings its dispatches read.
+    VkDescriptorSet allocate();
+    // Returns every set to the pool.
+    void reset();
+
+private:
+    VkDevice device_;
+    VkDescriptorSetLayout layout_;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+};
+
 class FilterDescriptors {
 public:
-    FilterDescriptors(VkDevice device, uint32_t maxSets);
+    explicit FilterDescriptors(VkDevice device);
     ~FilterDescriptors();
     FilterDescriptors(const FilterDescriptors&) = delete;
     FilterDescriptors& operator=(const FilterDescriptors&) = delete;
 
     VkPipelineLayout pipelineLayout() const { return pipelineLayout_; }
-    // A set from the pool (at most maxSets until reset()); write the bindings its dispatches read.
-    VkDescriptorSet allocate();
-    // Returns every set to the pool.
-    void reset();
+    std::unique_ptr<DescriptorPool> makePool(uint32_t maxSets) const;
 
     void writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const;
     void writeTexelBuffer(VkDescriptorSet set, FilterBinding binding, VkBufferView view) const;
@@ -88,7 +106,6 @@ private:
     VkDevice device_;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;
-    VkDescriptorPool pool_ = VK_NULL_HANDLE;
 };
 
 } // namespace probe::gpu

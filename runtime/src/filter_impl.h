@@ -18,6 +18,37 @@
 
 namespace probe::gpu {
 
+// What one recording writes, and the views and descriptor sets it binds: the Filter keeps
+// FilterSettings::inFlight of them, so that so many recordings may be pending at once.
+struct Recording {
+    Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
+    Buffer accumulator;   // the reference's running sums, or the paraboloid map (one vec4 when unused)
+    BufferView pyramidView;
+    CubeImageResource pyramidImage;          // hardware sampling: mips 0..pyramidDepth
+    ImageView pyramidAll;                    // cube, every mip: pass 2 reads
+    std::vector<ImageView> pyramidMipCubes;  // cube, mip k alone: pass 1 reads it for level k + 1
+    std::vector<ImageView> pyramidMipArrays; // 2D array, mip k: pass 1 writes
+    CubeImageResource intermediate, packed;  // conversion: pass 2's RGBA32F output and the R32_UINT words
+    std::vector<ImageView> intermediateMips, packedMips;
+
+    // The source and output that the descriptor sets refer to: the caller's (or run()'s).
+    VkImageView boundSource = VK_NULL_HANDLE;
+    VkImage boundOutput = VK_NULL_HANDLE;
+    std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
+    std::unique_ptr<DescriptorPool> pool;
+    std::vector<VkDescriptorSet> pyramidSets; // per pyramid level 0..pyramidDepth
+    std::vector<VkDescriptorSet> levelSets;   // per output level
+    std::vector<VkDescriptorSet> convertSets; // per output level
+
+    std::unique_ptr<GpuTimer> passTimer;  // a segment per pass
+    std::unique_ptr<GpuTimer> levelTimer; // pass 2 in a segment per output level
+    std::unique_ptr<GpuTimer> sliceTimer; // a slice in one segment
+    GpuTimer* timer = nullptr;            // the one the last recording wrote
+    bool timed = true;                    // the last recording wrote timestamp queries
+
+    uint64_t completion = 0; // the semaphore value that ends its last recording; 0: none pending
+};
+
 struct Filter::Impl {
     const Device& device;
     FilterSettings settings;
@@ -34,19 +65,10 @@ struct Filter::Impl {
     bool buildsPyramid = false;           // pass 1 runs (table or fis with a filtered level computed)
     bool paraboloid = false;              // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
 
-    // Buffers (shaders/buffers.glsl).
-    Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
-    Buffer accumulator;   // the reference's running sums, or the paraboloid map (one vec4 when unused)
-    Buffer geometry;      // per pyramid level, (texel direction, solid angle)
-    Buffer table;         // tap table or FIS samples (one vec4 when unused)
-    BufferView tableView, pyramidView;
-    // Images (shaders/images.glsl).
-    CubeImageResource pyramidImage;          // hardware sampling: mips 0..pyramidDepth
-    ImageView pyramidAll;                    // cube, every mip: pass 2 reads
-    std::vector<ImageView> pyramidMipCubes;  // cube, mip k alone: pass 1 reads it for level k + 1
-    std::vector<ImageView> pyramidMipArrays; // 2D array, mip k: pass 1 writes
-    CubeImageResource intermediate, packed;  // conversion: pass 2's RGBA32F output and the R32_UINT words
-    std::vector<ImageView> intermediateMips, packedMips;
+    // Buffers (shaders/buffers.glsl) that every recording reads and none writes.
+    Buffer geometry; // per pyramid level, (texel direction, solid angle)
+    Buffer table;    // tap table or FIS samples (one vec4 when unused)
+    BufferView tableView;
     std::unique_ptr<Sampler> linear, nearest;
     // A 1x1 cube for the image bindings that a set's dispatches do not read: every binding of a set
     // holds a valid descriptor (Mesa's lavapipe reads them all when a set is bound).
@@ -57,13 +79,15 @@ struct Filter::Impl {
     CubeImageResource runSource, runOutput;
     ImageView runSourceView;
 
-    // The output image that the descriptor sets refer to: the caller's last one (or run()'s).
-    VkImage boundOutput = VK_NULL_HANDLE;
-    std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
     std::unique_ptr<FilterDescriptors> descriptors;
-    std::vector<VkDescriptorSet> pyramidSets; // per pyramid level 0..pyramidDepth
-    std::vector<VkDescriptorSet> levelSets;   // per output level
-    std::vector<VkDescriptorSet> convertSets; // per output level
+    // FilterSettings::inFlight sets of what one recording writes, used in turn; `current` is the last
+    // recording's.
+    std::vector<Recording> recordings;
+    Recording* current = nullptr;
+    Recording* slicedUpdate = nullptr; // the set of the last pyramid slice, until another recording takes it
+    // The Filter's timeline semaphore: recording n (from 1) has completed once it reaches n.
+    VkSemaphore completed = VK_NULL_HANDLE;
+    uint64_t recorded = 0; // recordings so far
 
     std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
     std::unique_ptr<ComputePipeline> pass1Tail;     // hardware sampling: the mips from pyramidTailLevel down, in one workgroup
@@ -72,13 +96,7 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> pass2;         // table, fis or reference
     std::unique_ptr<ComputePipeline> copy;          // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
-    std::unique_ptr<GpuTimer> passTimer;            // a segment per pass
-    std::unique_ptr<GpuTimer> levelTimer;           // pass 2 in a segment per output level
-    std::unique_ptr<GpuTimer> sliceTimer;           // a slice in one segment
-    GpuTimer* timer = nullptr;                      // the one the last recording wrote
-    bool timed = true;                              // the last recording wrote timestamp queries
-    std::vector<Buffer> initStaging;                // the initialization's uploads, until it has run
-    int recordings = 0;                             // record() calls
+    std::vector<Buffer> initStaging;                // the initialization's uploads, until recording 1 has completed
     std::vector<Dispatch> dispatches;
     int barriers = 0;                    // the pipeline barriers between the dispatches of the last recording
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
@@ -89,9 +107,16 @@ struct Filter::Impl {
     // `initialization`: the engine's command buffer to record the one-time initialization into, or
     // VK_NULL_HANDLE to submit it here and wait.
     Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization);
+    ~Impl();
 
-    // Makes the output views and every descriptor set for this source and output, unless they are
-    // the ones bound already.
+    // The semaphore's value: every recording up to it has completed.
+    uint64_t completedValue() const;
+    // A set whose last recording has completed, made `current` for recording number `recorded` + 1;
+    // ProbeError when all FilterSettings::inFlight are in flight. Releases the initialization's
+    // uploads once recording 1 has completed.
+    void acquire();
+
+    // Makes the current set's output views and every descriptor set for this source and output.
     void bindImages(VkImageView source, VkImage output);
     // A pipeline of the Filter's layout, through the settings' pipeline cache.
     std::unique_ptr<ComputePipeline> pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {}) const;

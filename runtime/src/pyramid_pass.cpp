@@ -88,7 +88,7 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
     for (int level = 0; level <= lastSingle; ++level) {
         if (level > 0) impl.barrier(commandBuffer);
-        impl.descriptors->bind(commandBuffer, impl.pyramidSets[level]);
+        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
         const int size = s.faceSize >> level;
         // Hardware: every texel of the mip; exact: every texel of each face with its border.
@@ -100,7 +100,7 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     }
     if (impl.pass1Tail) {
         impl.barrier(commandBuffer);
-        impl.descriptors->bind(commandBuffer, impl.pyramidSets[impl.pyramidTailLevel]);
+        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.pyramidTailLevel]);
         const PyramidTailConstants constants{s.faceSize, impl.pyramidTailLevel, depth};
         dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.pyramidTailLevel, constants, 1);
     }

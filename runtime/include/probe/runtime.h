@@ -64,9 +64,10 @@ public:
     explicit Device(const DeviceOptions& options = {});
     // Wraps the caller's device; the caller keeps ownership and must keep it alive. The device must
     // be Vulkan 1.2+, and so must the instance's apiVersion (the runtime's SPIR-V is 1.5); `queue`
-    // belongs to `queueFamily`, which must support compute. The runtime needs no device feature or
-    // extension beyond Vulkan 1.2 core (the exact sampling mode's table shader uses subgroup vote, a
-    // core operation that every desktop driver has). The Filter's constructor (unless given an
+    // belongs to `queueFamily`, which must support compute. The runtime needs one device feature,
+    // timelineSemaphore (Vulkan 1.2 core, which every 1.2 device has: enable it in
+    // VkPhysicalDeviceVulkan12Features), and no extension (the exact sampling mode's table shader uses
+    // subgroup vote, a core operation that every desktop driver has). The Filter's constructor (unless given an
     // initialization command buffer), run() and downloadPyramid(), the SH projector and the sphere
     // renderer submit to `queue` and wait: Vulkan has the caller keep other threads from submitting
     // to it meanwhile.
@@ -134,6 +135,11 @@ struct FilterSettings {
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
     // of every level.
     std::vector<int> computedLevels;
+    // Recordings that may be in flight at once (K, at least 1): the Filter keeps K sets of what one
+    // recording writes and binds (its pyramid, descriptor sets, views and timestamp queries) and uses
+    // them in turn, so that K probes may be recorded into one submission, or K frames' recordings be
+    // pending, before record() refuses another (Filter::record).
+    int inFlight = 2;
     // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis); none
     // of it when every level computed is a copy (alpha = 0). The levels computed must read no deeper:
     // probe::deepestPyramidLevelRead of their taps (probe/plan.h) is the depth they need.
@@ -188,6 +194,17 @@ struct OutputCube {
     VkImageUsageFlags usage = 0; // as created
 };
 
+// How the engine tells a Filter that a recording has completed: the submission of the command buffer
+// signals `semaphore`, the Filter's timeline semaphore, to `value` (VkTimelineSemaphoreSubmitInfo).
+// Values rise by one per recording, and a value signalled covers every recording before it, so a
+// submission that holds several recordings of one Filter signals the last one's value. Recordings
+// of one Filter are submitted in the order they were recorded, to the device's queue. A recording
+// never submitted is let go by signalling its value from the host (vkSignalSemaphore).
+struct Completion {
+    VkSemaphore semaphore = VK_NULL_HANDLE;
+    uint64_t value = 0;
+};
+
 // A part of one probe's update, for spreading it over frames (Filter::slices, Filter::record): pass 1,
 // which builds the Filter's pyramid from the source, and some output levels, which read the pyramid
 // that an earlier slice (or this one) built.
@@ -208,7 +225,8 @@ public:
     // Filter's images' layouts) is recorded into `initialization`, the engine's command buffer in the
     // recording state for a queue of the device's family (a loading thread may build the Filter). The
     // engine submits it before, or in the same command buffer ahead of, the first record(); the
-    // Filter keeps the uploads' staging memory until its second record().
+    // Filter keeps the uploads' staging memory until the first recording has completed, and is not
+    // destroyed before the initialization has run.
     Filter(const Device& device, const FilterSettings& settings, VkCommandBuffer initialization);
     ~Filter();
     // The constructor's checks alone, allocating nothing: a tool calls it before it reads a probe,
@@ -243,13 +261,19 @@ public:
     // Device::queueFamily(), whose resources the Filter's are, outside a render pass. record() binds
     // its own compute pipelines, descriptor set and push constants, and resets and writes its
     // timestamp queries: rebind yours after it.
-    // One probe at a time: record() writes the Filter's descriptor sets and views for this source and
-    // output (keeping the views until the next record() or the Filter's end) and uses its one pyramid,
-    // so the command buffer of the previous record() must have completed. An engine that filters
-    // several probes at once keeps a Filter for each. Throws ProbeError naming the format and usage
-    // the device lacks.
-    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output,
-                Timestamps timestamps = Timestamps::passes);
+    // In flight: each recording takes one of the FilterSettings::inFlight sets of the Filter's
+    // per-recording resources whose last recording has completed, writes its descriptor sets and views
+    // for this source and output, and returns the Completion that the engine's submission signals.
+    // With every set in flight, record() throws ProbeError (nothing is recorded): it never waits, and
+    // never reuses what a pending command buffer reads. Destroying the Filter while recordings are in
+    // flight is allowed: the Device keeps their resources and releases them once the Completion is
+    // signalled (at the Device's next Filter construction or record(), or at its end, which the engine
+    // brings about after vkDeviceWaitIdle, as for any Vulkan object). The device must have the
+    // timelineSemaphore feature enabled (Vulkan 1.2 core; Device(instance, ...) checks that it exists).
+    // Throws ProbeError naming a field of the cubes that does not match, or the format and usage the
+    // device lacks.
+    [[nodiscard]] Completion record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output,
+                                    Timestamps timestamps = Timestamps::passes);
 
     // Time slicing: the update cut into at most `count` slices (pass 1 alone first, then the levels
     // in order, grouped so that their texel-taps come out about even; one slice: the whole update,
@@ -266,8 +290,8 @@ public:
     // slice into a second output cube of the same shape leaves the first, with the old levels,
     // readable until the last slice completes; the engine then swaps them. The same checks as
     // record(), and the slice's levels must be the Filter's.
-    void record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
-                Timestamps timestamps = Timestamps::none);
+    [[nodiscard]] Completion record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
+                                    Timestamps timestamps = Timestamps::none);
     // Tools: uploads `source`, runs `slices` in order, one submission each and timed, and returns the
     // output levels as run() does; sliceMs gets each slice's GPU time (empty without timestamps).
     CubeLevels run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs);

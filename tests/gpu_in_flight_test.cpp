@@ -1,0 +1,293 @@
+// Recordings in flight (FilterSettings::inFlight, Completion): several probes recorded with one
+// Filter into one submission each get their own levels; a recording beyond the sets in flight is
+// refused, not recorded; a Filter destroyed before its recordings complete leaves their resources to
+// the Device, which releases them once the Completion is signalled; slices keep their update's set.
+// Every case runs under the validation layer with synchronization validation on (gpu_test_support.h).
+#include <fmt/format.h>
+
+#include "device.h"
+#include "engine_caller.h"
+#include "gpu_test_support.h"
+#include "probe/error.h"
+
+using namespace probe;
+using namespace probetest;
+
+namespace {
+
+// An engine's probe: its RGBA32F source cube (uploaded by upload()) and output cube (read back by
+// readBack()), with the staging memory for both.
+class EngineProbe {
+public:
+    EngineProbe(const Caller& c, const CubeImage& source, int levels) : c_(c), size_(source.size), levels_(levels) {
+        const VkFormat format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        in_ = cubeTexture(c, format, size_, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        out_ = cubeTexture(c, format, size_, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        viewInfo.image = in_.image;
+        viewInfo.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
+        viewInfo.format = format;
+        viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
+        EXPECT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &view_), VK_SUCCESS);
+        regions_ = levelRegions(size_, levels, 4 * sizeof(float));
+        const VkDeviceSize last =
+            regions_.back().bufferOffset + 6 * 4 * sizeof(float) * std::size_t(size_ >> (levels - 1)) * (size_ >> (levels - 1));
+        staging_ = hostBuffer(c, std::max<VkDeviceSize>(last, texelCount(size_) * 4 * sizeof(float)));
+        for (std::size_t t = 0; t < texelCount(size_); ++t) {
+            const glm::vec3 v = source.texel(t);
+            std::copy_n(&v.x, 3, staging_.data + 4 * t);
+            staging_.data[4 * t + 3] = 1.0f;
+        }
+    }
+    ~EngineProbe() {
+        vkDestroyImageView(c_.device, view_, nullptr);
+        vkDestroyBuffer(c_.device, staging_.buffer, nullptr);
+        vkFreeMemory(c_.device, staging_.memory, nullptr);
+        for (const CubeTexture& t : {in_, out_}) {
+            vkDestroyImage(c_.device, t.image, nullptr);
+            vkFreeMemory(c_.device, t.memory, nullptr);
+        }
+    }
+    EngineProbe(const EngineProbe&) = delete;
+    EngineProbe& operator=(const EngineProbe&) = delete;
+
+    gpu::SourceCube source() const { return {view_, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size_)}; }
+    gpu::OutputCube output() const {
+        return {out_.image,
+                VK_FORMAT_R32G32B32A32_SFLOAT,
+                uint32_t(size_),
+                uint32_t(levels_),
+                6,
+                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+    }
+
+    // The source from staging, readable by compute; the output in GENERAL for the filter's writes.
+    void upload(VkCommandBuffer cmd) const {
+        transition(cmd, in_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
+        VkBufferImageCopy whole{};
+        whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 6};
+        whole.imageExtent = {uint32_t(size_), uint32_t(size_), 1};
+        vkCmdCopyBufferToImage(cmd, staging_.buffer, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
+        transition(cmd, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT);
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
+    }
+    // The output's levels into staging, for the host (after the upload's texels were consumed); the
+    // output back in GENERAL for the next recording.
+    void readBack(VkCommandBuffer cmd) const {
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+        vkCmdCopyImageToBuffer(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging_.buffer, uint32_t(regions_.size()),
+                               regions_.data());
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_READ_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT);
+        VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
+    }
+    CubeLevels levels() const {
+        CubeLevels result;
+        for (int m = 0; m < levels_; ++m) {
+            CubeImage level(size_ >> m);
+            const float* first = staging_.data + regions_[m].bufferOffset / sizeof(float);
+            for (std::size_t t = 0; t < texelCount(level.size); ++t) level.set(t, {first[4 * t], first[4 * t + 1], first[4 * t + 2]});
+            result.push_back(std::move(level));
+        }
+        return result;
+    }
+
+private:
+    const Caller& c_;
+    int size_, levels_;
+    CubeTexture in_, out_;
+    VkImageView view_ = VK_NULL_HANDLE;
+    HostBuffer staging_;
+    std::vector<VkBufferImageCopy> regions_;
+};
+
+// One command buffer of the engine's, begun.
+class EngineCommands {
+public:
+    explicit EngineCommands(const Caller& c) : c_(c) {
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = c.queueFamily;
+        EXPECT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool_), VK_SUCCESS);
+        VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool_,
+                                             VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
+        EXPECT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &cmd), VK_SUCCESS);
+        begin();
+    }
+    ~EngineCommands() { vkDestroyCommandPool(c_.device, pool_, nullptr); }
+    EngineCommands(const EngineCommands&) = delete;
+    EngineCommands& operator=(const EngineCommands&) = delete;
+
+    void begin() {
+        VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        vkBeginCommandBuffer(cmd, &info);
+    }
+    // Ends, submits signalling `done`, waits, and begins again.
+    void submit(const gpu::Completion& done) {
+        vkEndCommandBuffer(cmd);
+        submitAndWait(c_.queue, cmd, done);
+        begin();
+    }
+
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+
+private:
+    const Caller& c_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+};
+
+Caller callerOf(const gpu::Device& device) { return {device.device(), device.physicalDevice(), device.queueFamily(), device.queue()}; }
+
+gpu::FilterSettings fisSettings(gpu::Sampling sampling, int inFlight) {
+    gpu::FilterSettings s;
+    s.method.kind = MethodKind::fis;
+    s.faceSize = 16;
+    s.levelCount = 4;
+    s.sampling = sampling;
+    s.inFlight = inFlight;
+    return s;
+}
+
+} // namespace
+
+// As many probes as recordings in flight, recorded with one Filter into one command buffer and one
+// submission (which signals the last Completion): each output holds its own probe's levels, bit for
+// bit those of run(), in both sampling modes.
+TEST_F(GpuTest, ProbesRecordedIntoOneSubmissionKeepTheirOwnLevels) {
+    const gpu::Device& device = testDevice();
+    const Caller c = callerOf(device);
+    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware})
+        for (int inFlight : {2, 3}) {
+            const gpu::FilterSettings settings = fisSettings(sampling, inFlight);
+            gpu::Filter filter(device, settings);
+            std::vector<CubeImage> sources;
+            std::vector<std::unique_ptr<EngineProbe>> probes;
+            for (int p = 0; p < inFlight; ++p) {
+                sources.push_back(randomProbe(settings.faceSize, 40 + p));
+                probes.push_back(std::make_unique<EngineProbe>(c, sources.back(), settings.levelCount));
+            }
+            EngineCommands commands(c);
+            for (const auto& probe : probes) probe->upload(commands.cmd);
+            gpu::Completion last;
+            for (const auto& probe : probes) last = filter.record(commands.cmd, probe->source(), probe->output());
+            EXPECT_EQ(last.value, uint64_t(inFlight));
+            for (const auto& probe : probes) probe->readBack(commands.cmd);
+            commands.submit(last);
+            for (int p = 0; p < inFlight; ++p) {
+                const CubeLevels expected = filter.run(sources[p]);
+                const CubeLevels recorded = probes[p]->levels();
+                for (int m = 0; m < settings.levelCount; ++m)
+                    EXPECT_EQ(recorded[m].rgb, expected[m].rgb)
+                        << gpu::samplingName(sampling) << ", " << inFlight << " in flight, probe " << p << ", level " << m;
+            }
+        }
+}
+
+// With every set in flight, record() refuses (and records nothing) until a Completion is signalled:
+// by the submission, or from the host for recordings never submitted. The refusal names the setting.
+TEST_F(GpuTest, RecordingBeyondInFlightIsRefused) {
+    const gpu::Device& device = testDevice();
+    const Caller c = callerOf(device);
+    const gpu::FilterSettings settings = fisSettings(gpu::Sampling::exact, 2);
+    gpu::Filter filter(device, settings);
+    const CubeImage source = randomProbe(settings.faceSize, 50);
+    EngineProbe probe(c, source, settings.levelCount);
+    EngineCommands commands(c);
+    probe.upload(commands.cmd);
+    const gpu::Completion first = filter.record(commands.cmd, probe.source(), probe.output());
+    const gpu::Completion second = filter.record(commands.cmd, probe.source(), probe.output());
+    EXPECT_EQ(first.semaphore, second.semaphore);
+    EXPECT_EQ(second.value, first.value + 1);
+    try {
+        (void)filter.record(commands.cmd, probe.source(), probe.output());
+        ADD_FAILURE() << "a third recording with two in flight: not refused";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("inFlight"), std::string::npos) << e.what();
+    }
+    probe.readBack(commands.cmd);
+    commands.submit(second); // covers the first too
+    const gpu::Completion third = filter.record(commands.cmd, probe.source(), probe.output());
+    EXPECT_EQ(third.value, second.value + 1);
+    probe.readBack(commands.cmd);
+    commands.submit(third);
+    const CubeLevels expected = filter.run(source);
+    for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(probe.levels()[m].rgb, expected[m].rgb) << "level " << m;
+
+    // Recordings never submitted: the engine lets them go by signalling from the host.
+    const gpu::Completion unsubmitted[2] = {filter.record(commands.cmd, probe.source(), probe.output()),
+                                            filter.record(commands.cmd, probe.source(), probe.output())};
+    EXPECT_THROW((void)filter.record(commands.cmd, probe.source(), probe.output()), ProbeError);
+    vkEndCommandBuffer(commands.cmd);
+    vkResetCommandBuffer(commands.cmd, 0);
+    commands.begin();
+    const VkSemaphoreSignalInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, nullptr, unsubmitted[1].semaphore, unsubmitted[1].value};
+    ASSERT_EQ(vkSignalSemaphore(c.device, &signal), VK_SUCCESS);
+    EXPECT_EQ(filter.record(commands.cmd, probe.source(), probe.output()).value, unsubmitted[1].value + 1);
+    vkEndCommandBuffer(commands.cmd);
+
+    for (int inFlight : {0, -1, 65}) EXPECT_THROW(gpu::Filter(device, fisSettings(gpu::Sampling::exact, inFlight)), ParameterError);
+}
+
+// A Filter destroyed after record() and before the submission: the submission runs (its levels are
+// right, the validation layer sees nothing destroyed in use), and the Device releases what the
+// recording read once its Completion is signalled, at the next Filter it builds.
+TEST_F(GpuTest, FilterDestroyedBeforeItsRecordingCompletes) {
+    const gpu::Device& owner = testDevice();
+    const Caller c = callerOf(owner);
+    const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
+    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+        const gpu::FilterSettings settings = fisSettings(sampling, 2);
+        const CubeImage source = randomProbe(settings.faceSize, 60);
+        const CubeLevels expected = gpu::Filter(owner, settings).run(source);
+        EngineProbe probe(c, source, settings.levelCount);
+        EngineCommands commands(c);
+        probe.upload(commands.cmd);
+        auto filter = std::make_unique<gpu::Filter>(wrapped, settings);
+        const gpu::Completion done = filter->record(commands.cmd, probe.source(), probe.output());
+        probe.readBack(commands.cmd);
+        filter.reset();
+        EXPECT_EQ(wrapped.impl().retired.size(), 1u) << "the recording's resources, kept";
+        commands.submit(done);
+        for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(probe.levels()[m].rgb, expected[m].rgb) << "level " << m;
+        const gpu::Filter next(wrapped, settings);
+        EXPECT_TRUE(wrapped.impl().retired.empty()) << "released once complete";
+    }
+    // A Filter whose recordings have all completed is released at once.
+    gpu::Filter(wrapped, fisSettings(gpu::Sampling::exact, 2)).run(randomProbe(16, 61));
+    EXPECT_TRUE(wrapped.impl().retired.empty());
+}
+
+// Slices keep their update's set: the level slices read the pyramid their pyramid slice built, even
+// with that slice still pending and another recording in between; a level slice before any pyramid
+// slice, or into another output than its update's, is refused.
+TEST_F(GpuTest, SlicesKeepTheirUpdatesSet) {
+    const gpu::Device& device = testDevice();
+    const Caller c = callerOf(device);
+    const gpu::FilterSettings settings = fisSettings(gpu::Sampling::exact, 2);
+    gpu::Filter filter(device, settings);
+    const CubeImage source = randomProbe(settings.faceSize, 70), other = randomProbe(settings.faceSize, 71);
+    const CubeLevels expected = filter.run(source), expectedOther = filter.run(other);
+    EngineProbe probe(c, source, settings.levelCount), otherProbe(c, other, settings.levelCount);
+    const std::vector<gpu::Slice> slices = filter.slices(3);
+    ASSERT_EQ(slices.size(), 3u);
+    EngineCommands commands(c);
+    EXPECT_THROW((void)filter.record(commands.cmd, probe.source(), probe.output(), slices[1]), ProbeError);
+    probe.upload(commands.cmd);
+    otherProbe.upload(commands.cmd);
+    (void)filter.record(commands.cmd, probe.source(), probe.output(), slices[0]);
+    // Another probe's whole update takes the other set; the level slices still find theirs.
+    (void)filter.record(commands.cmd, otherProbe.source(), otherProbe.output());
+    (void)filter.record(commands.cmd, probe.source(), probe.output(), slices[1]);
+    EXPECT_THROW((void)filter.record(commands.cmd, otherProbe.source(), otherProbe.output(), slices[2]), ProbeError);
+    const gpu::Completion done = filter.record(commands.cmd, probe.source(), probe.output(), slices[2]);
+    probe.readBack(commands.cmd);
+    otherProbe.readBack(commands.cmd);
+    commands.submit(done);
+    for (int m = 0; m < settings.levelCount; ++m) {
+        EXPECT_EQ(probe.levels()[m].rgb, expected[m].rgb) << "sliced, level " << m;
+        EXPECT_EQ(otherProbe.levels()[m].rgb, expectedOther[m].rgb) << "whole, level " << m;
+    }
+}
