@@ -1,4 +1,4 @@
-// probefilter filter IN --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
+// probefilter filter IN... --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
 //   [--levels M] [--mapping NAME] [--sampling MODE] [--pyramid-format F] [--format F] [--repeat K] [--level-times]
 //   [--against-reference]
 //   [--device X] --out DIR
@@ -28,7 +28,7 @@ namespace probefilter {
 namespace {
 
 struct FilterOptions {
-    std::string input;
+    std::vector<std::string> inputs; // several: one batch, a sub-folder each
     std::string method = "table";
     std::string table;            // a table file (project JSON or published text) or a compiled-in table's name
     int tableTaps = 0;            // published text layout: taps per frame
@@ -134,7 +134,6 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
                            const probe::gpu::Device& device, const probe::gpu::Filter& filter) {
     nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
     report.update(reportHeader("filter"));
-    report["input"] = o.input;
     report["method"] = std::string(probe::methodKindName(s.method.kind));
     report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
     report["output_format"] = std::string(probe::gpu::formatName(s.outputFormat));
@@ -162,6 +161,46 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
     return report;
 }
 
+// The most probes one command filters as a batch: each holds a set of the Filter's per-recording
+// resources (FilterSettings::inFlight).
+constexpr std::size_t kMaxBatch = 64;
+
+// A batch's sub-folders, one per input, named by the file's stem ("sky/"); refuses two inputs of one
+// stem rather than guess.
+std::vector<std::string> probeFolders(const std::vector<std::string>& inputs) {
+    std::vector<std::string> folders;
+    for (const std::string& input : inputs) {
+        const std::string folder = std::filesystem::path(input).stem().string() + "/";
+        if (std::find(folders.begin(), folders.end(), folder) != folders.end())
+            throw probe::ProbeError(fmt::format("{}: another input has the same name, and each input's levels go into a folder named "
+                                                "after it ({}); rename one",
+                                                input, folder));
+        folders.push_back(folder);
+    }
+    return folders;
+}
+
+// One probe as the command line read it.
+struct LoadedProbe {
+    probe::CubeImage source;
+    nlohmann::json pixels; // what --repair-pixels changed
+};
+
+// The probe's outputs beside its levels, into `folder`: its errors against the CPU reference and
+// its irradiance where asked, added to `report`.
+void writeProbeExtras(const FilterOptions& o, IrradianceOutput irradiance, const probe::gpu::FilterSettings& s, probe::StagedOutput& output,
+                      const std::string& folder, probe::gpu::Device& device, const probe::CubeImage& source,
+                      const probe::CubeLevels& levels, nlohmann::json& report) {
+    if (o.againstReference) {
+        const probe::CubeLevels reference = probe::referenceFilter(
+            source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
+        nlohmann::json errors = nlohmann::json::array();
+        for (int m = 0; m < s.levelCount; ++m) errors.push_back({{"level", m}, {"image_l1", probe::imageL1(levels[m], reference[m])}});
+        report["errors_against_reference"] = errors;
+    }
+    if (irradiance != IrradianceOutput::none) report["irradiance"] = writeIrradiance(output, folder, irradiance, device, source).report;
+}
+
 void runFilter(const FilterOptions& o) {
     // The options that need nothing else first; then the settings, which may look for a table.
     const std::optional<probe::Ktx2Settings> ktx2 = ktx2Options(o.ktx2, o.ktx2Zstd);
@@ -171,51 +210,75 @@ void runFilter(const FilterOptions& o) {
         throw probe::ProbeError(fmt::format("--slices {}: must be 1 to {}", *o.slices, kMaxSlices));
     if (o.slices && (o.repeat != 1 || o.levelTimes))
         throw probe::ProbeError("--slices runs each slice once and times it alone: it takes neither --repeat nor --level-times");
+    const bool batch = o.inputs.size() > 1;
+    if (o.inputs.size() > kMaxBatch)
+        throw probe::ProbeError(fmt::format("{} inputs: one command filters at most {} probes as a batch", o.inputs.size(), kMaxBatch));
+    if (batch && (o.slices || o.levelTimes))
+        throw probe::ProbeError("several inputs run as one batch, timed as a whole: --slices and --level-times take one input");
+    const std::vector<std::string> folders = batch ? probeFolders(o.inputs) : std::vector<std::string>{""};
     const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     probe::TapTable table;
-    const probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
-    std::vector<std::filesystem::path> inputs{o.input};
+    probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
+    if (batch) s.inFlight = int(o.inputs.size());
+    std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
-    if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, 1, o.allowLong);
+    if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, o.inputs.size(), o.allowLong);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
     probe::gpu::Device device(deviceOptions);
-    probe::gpu::Filter::checkLimits(device, s); // before the probe is read: at the pixel limit that takes 25 s and 1.5 GiB
-    probe::PixelRepairs repairs;
-    const probe::CubeImage source =
-        probe::loadProbe(o.input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
-    const nlohmann::json pixels = reportPixelRepairs(o.input, repairs);
+    probe::gpu::Filter::checkLimits(device, s); // before the probes are read: at the pixel limit that takes 25 s and 1.5 GiB
+    std::vector<LoadedProbe> probes;
+    for (const std::string& input : o.inputs) {
+        probe::PixelRepairs repairs;
+        probe::CubeImage source =
+            probe::loadProbe(input, o.size, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse, repairs);
+        probes.push_back({std::move(source), reportPixelRepairs(input, repairs)});
+    }
     probe::gpu::Filter filter(device, s);
     const std::vector<probe::gpu::Slice> slices = o.slices ? filter.slices(*o.slices) : std::vector<probe::gpu::Slice>{};
     std::vector<double> sliceMs;
-    const probe::CubeLevels levels =
-        o.slices ? filter.run(source, slices, sliceMs)
-                 : filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes);
+    std::vector<probe::CubeLevels> levels;
+    if (batch) {
+        std::vector<probe::CubeImage> sources;
+        for (const LoadedProbe& p : probes) sources.push_back(p.source);
+        levels = filter.run(sources, o.repeat);
+    } else {
+        const probe::CubeImage& source = probes.front().source;
+        levels.push_back(
+            o.slices ? filter.run(source, slices, sliceMs)
+                     : filter.run(source, o.repeat, o.levelTimes ? probe::gpu::Timestamps::levels : probe::gpu::Timestamps::passes));
+    }
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
         throw probe::ProbeError(
             fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
     nlohmann::json report = describeRun(o, s, pyramid, device, filter);
-    report["input_pixels"] = pixels;
     if (o.slices) {
         report.erase("passes");
         report.erase("dispatches");
         report.erase("barriers");
         report["slices"] = describeSlices(slices, sliceMs);
     }
-    if (o.againstReference) {
-        const probe::CubeLevels reference = probe::referenceFilter(
-            source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
-        nlohmann::json errors = nlohmann::json::array();
-        for (int m = 0; m < s.levelCount; ++m) errors.push_back({{"level", m}, {"image_l1", probe::imageL1(levels[m], reference[m])}});
-        report["errors_against_reference"] = errors;
+    if (batch) {
+        // The dispatches of the whole batch, counted: their list is every probe's in turn.
+        report.erase("dispatches");
+        report["batch"] = {{"probes", probes.size()},
+                           {"dispatches", filter.dispatches().size()},
+                           {"dispatches_per_probe", filter.dispatches().size() / probes.size()},
+                           {"barriers", filter.barriers()}};
+        report["probes"] = nlohmann::json::array();
     }
-
-    if (irradiance != IrradianceOutput::none) report["irradiance"] = writeIrradiance(output, "", irradiance, device, source).report;
-    writeFilteredProbe(output, levels, s.mapping, ktx2, report);
+    for (std::size_t p = 0; p < probes.size(); ++p) {
+        nlohmann::json entry = {{"input", o.inputs[p]}, {"input_pixels", probes[p].pixels}};
+        if (batch) entry["folder"] = folders[p];
+        writeProbeExtras(o, irradiance, s, output, folders[p], device, probes[p].source, levels[p], entry);
+        writeFilteredProbe(output, folders[p], levels[p], s.mapping, ktx2, entry);
+        if (batch) report["probes"].push_back(entry);
+        else report.update(entry);
+    }
     writeJson(output.file("report.json"), report);
     output.commit();
 
@@ -224,7 +287,9 @@ void runFilter(const FilterOptions& o) {
         if (p.name == "total") total = p.medianMs;
     if (o.slices) total = std::accumulate(sliceMs.begin(), sliceMs.end(), 0.0);
     const probe::gpu::DeviceInfo& info = device.info();
-    const std::string timing = o.slices ? fmt::format("{} slices", slices.size()) : fmt::format("median of {}", o.repeat);
+    const std::string timing = o.slices ? fmt::format("{} slices", slices.size())
+                               : batch  ? fmt::format("{} probes in one submission, median of {}", probes.size(), o.repeat)
+                                        : fmt::format("median of {}", o.repeat);
     fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms ({}) -> {}\n", o.method,
                probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, timing, o.out);
 }
@@ -235,7 +300,11 @@ void addFilterCommand(CLI::App& app) {
     auto o = std::make_shared<FilterOptions>();
     CLI::App* cmd =
         app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
-    cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
+    cmd->add_option("inputs", o->inputs,
+                    fmt::format("Probe images: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip; several (at most {}) are "
+                                "filtered as one batch, one submission, each into a folder of --out named after the file",
+                                kMaxBatch))
+        ->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
     cmd->add_option(
         "--table", o->table,
@@ -291,7 +360,10 @@ void addFilterCommand(CLI::App& app) {
                     fmt::format("Time slicing: run the update as N slices (1 to {}), one submission each, and report each "
                                 "slice's dispatches, texel-taps and GPU time",
                                 kMaxSlices));
-    cmd->add_option("--out", o->out, "Output folder: level_<m>.exr, preview.png and report.json")->required();
+    cmd->add_option("--out", o->out,
+                    "Output folder: level_<m>.exr, preview.png and report.json (a batch: <input>/level_<m>.exr and <input>/preview.png "
+                    "for each input, and one report.json)")
+        ->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_flag("--allow-long", o->allowLong, "With --against-reference: " + std::string(kAllowLongHelp));
     cmd->callback([o] { runFilter(*o); });

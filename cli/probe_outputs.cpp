@@ -55,12 +55,12 @@ nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& na
     return report;
 }
 
-void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
-                        std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report) {
+void writeFilteredProbe(probe::StagedOutput& output, const std::string& folder, const probe::CubeLevels& levels,
+                        const probe::RoughnessMapping& mapping, std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report) {
     const int levelCount = static_cast<int>(levels.size());
-    for (int m = 0; m < levelCount; ++m) probe::writeExr(output.file(probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
-    if (ktx2) report["ktx2"] = writeProbeKtx2(output, "probe.ktx2", levels, mapping, *ktx2);
-    writeLevelsPreview(output.file("preview.png"), levels);
+    for (int m = 0; m < levelCount; ++m) probe::writeExr(output.file(folder + probe::levelFileName(m)), probe::cubeToStrip(levels[m]));
+    if (ktx2) report["ktx2"] = writeProbeKtx2(output, folder + "probe.ktx2", levels, mapping, *ktx2);
+    writeLevelsPreview(output.file(folder + "preview.png"), levels);
 }
 
 } // namespace probefilter

@@ -24,9 +24,10 @@ std::optional<probe::Ktx2Settings> ktx2Options(const std::string& format, bool z
 nlohmann::json writeProbeKtx2(probe::StagedOutput& output, const std::string& name, const probe::CubeLevels& levels,
                               probe::RoughnessMapping mapping, probe::Ktx2Settings settings);
 
-// level_<m>.exr for every level, probe.ktx2 when asked (clamping to the format's range is counted in
-// the report and warned about on stderr), preview.png.
-void writeFilteredProbe(probe::StagedOutput& output, const probe::CubeLevels& levels, const probe::RoughnessMapping& mapping,
-                        std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report);
+// Into `folder` (empty, or ending in '/') of the output: level_<m>.exr for every level, probe.ktx2
+// when asked (clamping to the format's range is counted in the report and warned about on stderr),
+// preview.png.
+void writeFilteredProbe(probe::StagedOutput& output, const std::string& folder, const probe::CubeLevels& levels,
+                        const probe::RoughnessMapping& mapping, std::optional<probe::Ktx2Settings> ktx2, nlohmann::json& report);
 
 } // namespace probefilter

@@ -60,7 +60,7 @@ void runReference(const ReferenceOptions& o) {
     const double filterSeconds = filterTime.seconds();
 
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
-    writeFilteredProbe(output, levels, mapping, ktx2, report);
+    writeFilteredProbe(output, "", levels, mapping, ktx2, report);
     report.update(reportHeader("reference"));
     report["input"] = input;
     report["input_pixels"] = pixels;

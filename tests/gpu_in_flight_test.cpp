@@ -291,3 +291,31 @@ TEST_F(GpuTest, SlicesKeepTheirUpdatesSet) {
         EXPECT_EQ(otherProbe.levels()[m].rgb, expectedOther[m].rgb) << "whole, level " << m;
     }
 }
+
+// The tools' batch: every probe in its own set, one submission, each probe's levels those of its own
+// run(), its dispatches and barriers the sum of the probes', timed as a whole; more probes than sets
+// are refused.
+TEST_F(GpuTest, BatchRunEqualsRunsOneByOne) {
+    const gpu::Device& device = testDevice();
+    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+        const gpu::FilterSettings settings = fisSettings(sampling, 3);
+        gpu::Filter filter(device, settings);
+        const std::vector<CubeImage> sources{randomProbe(16, 80), randomProbe(16, 81), randomProbe(16, 82)};
+        const std::vector<CubeLevels> batch = filter.run(sources);
+        const std::size_t batchDispatches = filter.dispatches().size();
+        const int batchBarriers = filter.barriers();
+        ASSERT_EQ(batch.size(), sources.size());
+        const std::vector<gpu::PassTime> timings = filter.timings();
+        ASSERT_FALSE(timings.empty());
+        EXPECT_EQ(timings.front().name, "batch");
+        for (std::size_t p = 0; p < sources.size(); ++p) {
+            const CubeLevels alone = filter.run(sources[p]);
+            for (int m = 0; m < settings.levelCount; ++m)
+                EXPECT_EQ(batch[p][m].rgb, alone[m].rgb) << gpu::samplingName(sampling) << ", probe " << p << ", level " << m;
+        }
+        EXPECT_EQ(batchDispatches, sources.size() * filter.dispatches().size());
+        EXPECT_EQ(batchBarriers, int(sources.size()) * filter.barriers());
+        EXPECT_THROW(filter.run(std::vector<CubeImage>(4, sources[0])), ParameterError);
+        EXPECT_THROW(filter.run(std::vector<CubeImage>{}), ParameterError);
+    }
+}

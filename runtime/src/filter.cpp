@@ -1,5 +1,5 @@
-// Filter: resources, formats and pipelines of a setting, the order of the passes, the tools' upload
-// and read-back, the engine path.
+// Filter: resources, formats and pipelines of a setting, the sets of what a recording writes, the
+// order of the passes, the engine path (filter_run.cpp has the tools' path).
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -9,9 +9,7 @@
 #include "device.h"
 #include "filter_impl.h"
 #include "probe/error.h"
-#include "probe/limits.h"
 #include "probe/paraboloid.h"
-#include "probe/range_scale.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
@@ -44,23 +42,6 @@ std::vector<float> geometryTexels(int faceSize, int levels) {
                 texels.push_back(static_cast<float>(value));
     }
     return texels;
-}
-
-// The levels 0..depth of the pyramid buffer, inside the faces.
-CubeLevels unpackPyramid(const float* texels, const std::vector<uint32_t>& offsets, int faceSize, int depth) {
-    CubeLevels result;
-    for (int m = 0; m <= depth; ++m) {
-        CubeImage level(faceSize >> m);
-        const float* first = texels + 4 * std::size_t(offsets[m]);
-        for (int f = 0; f < kFaceCount; ++f)
-            for (int j = 0; j < level.size; ++j)
-                for (int i = 0; i < level.size; ++i) {
-                    const float* c = first + 4 * pyramidTexelIndex(f, i, j, level.size);
-                    level.set(texelIndex({f, i, j}, level.size), {c[0], c[1], c[2]});
-                }
-        result.push_back(std::move(level));
-    }
-    return result;
 }
 
 bool has(const Device& device, VkFormat format, VkFormatFeatureFlags needed) { return (device.impl().features(format) & needed) == needed; }
@@ -347,6 +328,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     recordings.resize(std::size_t(s.inFlight));
     for (Recording& r : recordings) makeRecording(*this, r, shape);
     current = &recordings.front();
+    batchTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"batch"});
     VkSemaphoreTypeCreateInfo timeline{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
     timeline.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
     VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline};
@@ -557,166 +539,6 @@ Filter::~Filter() {
 
 namespace {
 
-// The run's own source and output cubes, made on the first run.
-void makeRunImages(Filter::Impl& f) {
-    if (f.runSource.handle()) return;
-    const FilterSettings& s = f.settings;
-    const Device& d = f.device;
-    f.runSource =
-        CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
-    f.runSourceView = ImageView(d.device(), f.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
-    const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
-    f.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-}
-
-// The source of a run, uploaded into the run's own cube image, beyond the range the filter keeps
-// scaled down by a power of two; returns that power, by which the output is scaled back up once read
-// (probe/range_scale.h). The range is an RGBA16F pyramid's 65504, else 2^64 for a float32 output; a
-// 16-bit output saturates at 65504 anyway, so with a float32 pyramid its source goes as it is (the
-// shaders clamp what they read of it to 2^64).
-int uploadRunSource(Filter::Impl& f, const CubeImage& source) {
-    const FilterSettings& s = f.settings;
-    const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-    const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
-    const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
-    const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
-    Buffer staging(f.device, texels.size() * sizeof(float), Buffer::Kind::staging);
-    std::copy(texels.begin(), texels.end(), static_cast<float*>(staging.mapped()));
-    VkCommandBuffer upload = f.submission->begin();
-    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
-    VkBufferImageCopy whole{};
-    whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, kFaceCount};
-    whole.imageExtent = {uint32_t(s.faceSize), uint32_t(s.faceSize), 1};
-    vkCmdCopyBufferToImage(upload, staging.handle(), f.runSource.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
-    imageBarrier(upload, f.runSource.handle(), 0, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_SHADER_READ_BIT);
-    f.submission->submitAndWait(upload);
-    f.submission->release(upload);
-    return shift;
-}
-
-// The computed levels of the run's output cube, read back in the output format (the others empty).
-CubeLevels readBackRunOutput(Filter::Impl& f) {
-    const FilterSettings& s = f.settings;
-    const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
-    std::vector<VkBufferImageCopy> regions;
-    VkDeviceSize offset = 0;
-    for (int m : f.computedLevels) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
-        region.imageExtent = {uint32_t(s.faceSize >> m), uint32_t(s.faceSize >> m), 1};
-        regions.push_back(region);
-        offset += texelCount(s.faceSize >> m) * bytesPerTexel;
-    }
-    Buffer readBack(f.device, offset, Buffer::Kind::staging);
-    VkCommandBuffer download = f.submission->begin();
-    vkCmdCopyImageToBuffer(download, f.runOutput.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
-                           uint32_t(regions.size()), regions.data());
-    hostReadBarrier(download);
-    f.submission->submitAndWait(download);
-    f.submission->release(download);
-    CubeLevels result(s.levelCount);
-    for (std::size_t k = 0; k < f.computedLevels.size(); ++k) {
-        CubeImage& level = result[f.computedLevels[k]];
-        level.size = s.faceSize >> f.computedLevels[k];
-        level.rgb.clear();
-        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
-                     level.rgb);
-    }
-    return result;
-}
-
-} // namespace
-
-namespace {
-
-// Checks the probe, makes the run's images, uploads the probe and binds them; returns the shift
-// uploadRunSource applied.
-int startRun(Filter::Impl& f, const CubeImage& source) {
-    if (source.size != f.settings.faceSize)
-        throw ProbeError(fmt::format("filter: the probe has face size {}, the filter was built for {}", source.size, f.settings.faceSize));
-    makeRunImages(f);
-    const int shift = uploadRunSource(f, source);
-    f.acquire();
-    f.bindImages(f.runSourceView.handle(), f.runOutput.handle());
-    return shift;
-}
-
-// The run's output cube as an engine's would be laid out: made writable by the passes before them,
-// and readable by the read-back after them.
-VkImageLayout runOutputLayout(const Filter::Impl& f) {
-    return f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
-}
-void runOutputBeforePasses(const Filter::Impl& f, VkCommandBuffer commandBuffer) {
-    imageBarrier(commandBuffer, f.runOutput.handle(), 0, uint32_t(f.settings.levelCount), VK_IMAGE_LAYOUT_UNDEFINED, runOutputLayout(f),
-                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-}
-void runOutputAfterPasses(const Filter::Impl& f, VkCommandBuffer commandBuffer) {
-    imageBarrier(commandBuffer, f.runOutput.handle(), 0, uint32_t(f.settings.levelCount), runOutputLayout(f),
-                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-}
-
-// The levels read back and scaled back up by the run's shift.
-CubeLevels finishRun(Filter::Impl& f, int shift) {
-    CubeLevels result = readBackRunOutput(f);
-    shiftLevels(result, shift);
-    if (shift != 0 && f.settings.outputFormat != VK_FORMAT_R32G32B32A32_SFLOAT) saturateTexels(result, f.settings.outputFormat);
-    return result;
-}
-
-} // namespace
-
-CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
-    Impl& f = *impl_;
-    checkRepeat(repeat);
-    const int shift = startRun(f, source);
-    // The passes, recorded once and submitted `repeat` times.
-    VkCommandBuffer passes = f.submission->begin();
-    runOutputBeforePasses(f, passes);
-    f.recordPasses(passes, timestamps);
-    runOutputAfterPasses(f, passes);
-    vkCheck(vkEndCommandBuffer(passes), "vkEndCommandBuffer");
-    Recording& r = *f.current;
-    r.timer->clear();
-    for (int k = 0; k < repeat; ++k) {
-        f.submission->submitAndWait(passes, false);
-        if (r.timed) r.timer->collect();
-    }
-    f.submission->release(passes);
-    return finishRun(f, shift);
-}
-
-CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs) {
-    Impl& f = *impl_;
-    if (slices.empty()) throw ProbeError("filter: no slices to run");
-    const int shift = startRun(f, source);
-    sliceMs.clear();
-    // One submission a slice, as frames would run them.
-    for (std::size_t k = 0; k < slices.size(); ++k) {
-        VkCommandBuffer commandBuffer = f.submission->begin();
-        if (k == 0) runOutputBeforePasses(f, commandBuffer);
-        f.recordSlice(commandBuffer, slices[k].pyramid, slices[k].levels, true);
-        if (k + 1 == slices.size()) runOutputAfterPasses(f, commandBuffer);
-        vkCheck(vkEndCommandBuffer(commandBuffer), "vkEndCommandBuffer");
-        Recording& r = *f.current;
-        r.timer->clear();
-        f.submission->submitAndWait(commandBuffer, false);
-        f.submission->release(commandBuffer);
-        if (!r.timed) continue;
-        r.timer->collect();
-        for (const PassTime& t : r.timer->timings())
-            if (t.name == "slice") sliceMs.push_back(t.medianMs);
-    }
-    return finishRun(f, shift);
-}
-
-namespace {
-
 // record()'s checks of what the engine gives it, each naming the field.
 void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output) {
     const auto refuse = [](const std::string& field, const std::string& problem) {
@@ -771,6 +593,7 @@ uint32_t levelDispatchCount(const Filter::Impl& f, int m) {
 void startRecording(Filter::Impl& f, const SourceCube& source, const OutputCube& output) {
     f.device.impl().releaseRetired();
     f.acquire();
+    f.batched = false;
     f.bindImages(source.view, output.image);
 }
 
@@ -857,6 +680,7 @@ VkFormat Filter::pyramidFormat() const {
 bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
 
 std::vector<PassTime> Filter::timings() const {
+    if (impl_->batched) return impl_->batchTimer->timings();
     // After record(), the caller's submission has completed when this is called.
     const Recording& r = *impl_->current;
     if (!r.timed) return {};
@@ -878,49 +702,6 @@ std::vector<PassTime> Filter::levelTimings() const {
 
 const std::vector<Dispatch>& Filter::dispatches() const { return impl_->dispatches; }
 int Filter::barriers() const { return impl_->barriers; }
-
-CubeLevels Filter::downloadPyramid() const {
-    Impl& f = *impl_;
-    if (!f.buildsPyramid) return {};
-    const Recording& r = *f.current;
-    if (f.sampling == Sampling::exact) {
-        std::vector<float> texels(r.pyramidBuffer.bytes() / sizeof(float));
-        f.submission->download(r.pyramidBuffer, texels.data(), r.pyramidBuffer.bytes());
-        return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
-    }
-    const uint32_t bytesPerTexel = texelBytes(f.pyramidFormat);
-    std::vector<VkBufferImageCopy> regions;
-    VkDeviceSize offset = 0;
-    for (int k = 0; k <= f.pyramidDepth; ++k) {
-        VkBufferImageCopy region{};
-        region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(k), 0, kFaceCount};
-        region.imageExtent = {uint32_t(f.settings.faceSize >> k), uint32_t(f.settings.faceSize >> k), 1};
-        regions.push_back(region);
-        offset += texelCount(f.settings.faceSize >> k) * bytesPerTexel;
-    }
-    Buffer readBack(f.device, offset, Buffer::Kind::staging);
-    VkCommandBuffer download = f.submission->begin();
-    const auto mips = uint32_t(r.pyramidImage.mips());
-    imageBarrier(download, r.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyImageToBuffer(download, r.pyramidImage.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.handle(),
-                           uint32_t(regions.size()), regions.data());
-    imageBarrier(download, r.pyramidImage.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    hostReadBarrier(download);
-    f.submission->submitAndWait(download);
-    f.submission->release(download);
-    CubeLevels result(f.pyramidDepth + 1);
-    for (int k = 0; k <= f.pyramidDepth; ++k) {
-        result[k].size = f.settings.faceSize >> k;
-        unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(result[k].size),
-                     f.pyramidFormat, result[k].rgb);
-    }
-    return result;
-}
 
 CubeLevels filterProbe(const Device& device, const FilterSettings& settings, const CubeImage& source) {
     Filter filter(device, settings);

@@ -47,6 +47,10 @@ struct Recording {
     bool timed = true;                    // the last recording wrote timestamp queries
 
     uint64_t completion = 0; // the semaphore value that ends its last recording; 0: none pending
+
+    // The tools' own source and output cubes (run()), made at the set's first run().
+    CubeImageResource runSource, runOutput;
+    ImageView runSourceView;
 };
 
 struct Filter::Impl {
@@ -75,10 +79,6 @@ struct Filter::Impl {
     CubeImageResource placeholder;
     ImageView placeholderCube, placeholderArray;
 
-    // The tools' own source and output cubes (run()), made at the first run().
-    CubeImageResource runSource, runOutput;
-    ImageView runSourceView;
-
     std::unique_ptr<FilterDescriptors> descriptors;
     // FilterSettings::inFlight sets of what one recording writes, used in turn; `current` is the last
     // recording's.
@@ -87,7 +87,9 @@ struct Filter::Impl {
     Recording* slicedUpdate = nullptr; // the set of the last pyramid slice, until another recording takes it
     // The Filter's timeline semaphore: recording n (from 1) has completed once it reaches n.
     VkSemaphore completed = VK_NULL_HANDLE;
-    uint64_t recorded = 0; // recordings so far
+    uint64_t recorded = 0;                // recordings so far
+    std::unique_ptr<GpuTimer> batchTimer; // a batch run() as a whole
+    bool batched = false;                 // the last run was a batch: timings() are the batch's
 
     std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
     std::unique_ptr<ComputePipeline> pass1Tail;     // hardware sampling: the mips from pyramidTailLevel down, in one workgroup

@@ -296,6 +296,12 @@ public:
     // output levels as run() does; sliceMs gets each slice's GPU time (empty without timestamps).
     CubeLevels run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs);
 
+    // Tools: a batch, every probe in its own set (at most FilterSettings::inFlight of them) recorded
+    // one after another into one command buffer, submitted `repeat` times; returns each probe's levels
+    // as run() does. timings() then gives the batch's GPU time as "batch" and "total", dispatches() and
+    // barriers() the whole batch's.
+    std::vector<CubeLevels> run(const std::vector<CubeImage>& sources, int repeat = 1);
+
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
     // and whether a B10G11R11 output is converted through a copy.
     Sampling sampling() const;

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# probefilter filter with several inputs: one batch, one submission, on lavapipe with the validation
+# layer. Each input's levels, KTX2 and irradiance go into a folder named after it, equal file for
+# file to that input filtered alone; one report.json lists the probes and counts the batch's
+# dispatches (each probe's, in turn). Two inputs of one name, slices or level times with several
+# inputs, and a bad input among good ones are refused (exit 2, the reason on stderr, nothing written).
+set -euo pipefail
+: "${PROBEFILTER:?}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+for name in sky room checker; do "$PROBEFILTER" synth $name --size 16 --out $name.exr >/dev/null; done
+options=(--size 16 --method fis --ktx2 rgba16f --irradiance sh --validate)
+
+"$PROBEFILTER" filter sky.exr room.exr checker.exr "${options[@]}" --out batch >/dev/null 2>&1 || fail "a batch of three"
+for name in sky room checker; do
+    "$PROBEFILTER" filter $name.exr "${options[@]}" --out alone_$name >/dev/null 2>&1 || fail "$name alone"
+    for file in level_0.exr level_1.exr level_2.exr level_3.exr probe.ktx2 irradiance_sh.exr preview.png; do
+        cmp -s batch/$name/$file alone_$name/$file || fail "$name/$file differs from $name filtered alone"
+    done
+done
+[[ ! -e batch/level_0.exr ]] || fail "a batch wrote levels outside the probes' folders"
+python3 - batch/report.json alone_sky/report.json <<'PY' || fail "batch report.json"
+import json, sys
+batch, alone = (json.load(open(p)) for p in sys.argv[1:])
+assert batch["command"] == "filter", batch["command"]
+assert [(p["input"], p["folder"]) for p in batch["probes"]] == [("sky.exr", "sky/"), ("room.exr", "room/"), ("checker.exr", "checker/")]
+assert all(p["ktx2"]["file"] == p["folder"] + "probe.ktx2" for p in batch["probes"]), batch["probes"]
+assert all(p["irradiance"]["sh"]["file"] == p["folder"] + "irradiance_sh.exr" for p in batch["probes"]), batch["probes"]
+b = batch["batch"]
+assert b["probes"] == 3 and b["dispatches"] == 3 * len(alone["dispatches"]), (b, len(alone["dispatches"]))
+assert b["dispatches_per_probe"] == len(alone["dispatches"]) and b["barriers"] == 3 * alone["barriers"], (b, alone["barriers"])
+assert [p["name"] for p in batch["passes"]] == ["batch", "total"] and batch["passes"][0]["gpu_ms_median"] > 0, batch["passes"]
+PY
+
+refused() { # refused NAME EXPECTED-STDERR ARGS...: exit 2, the reason on stderr, no output folder
+    local name="$1" expected="$2"
+    shift 2
+    local status=0
+    "$PROBEFILTER" filter "$@" --out refused_$name >/dev/null 2>$name.err || status=$?
+    [[ $status == 2 ]] || fail "$name: exit $status, not 2"
+    grep -q -- "$expected" $name.err || fail "$name: stderr does not say '$expected': $(cat $name.err)"
+    [[ ! -e refused_$name ]] || fail "$name: wrote refused_$name"
+}
+mkdir other && cp sky.exr other/sky.exr
+refused same_name "same name" sky.exr other/sky.exr --size 16
+refused slices "take one input" sky.exr room.exr --size 16 --slices 2
+refused level_times "take one input" sky.exr room.exr --size 16 --level-times
+head -c 100 sky.exr > broken.exr
+refused bad_input "broken.exr" sky.exr broken.exr --size 16
+echo "cli_batch: ok"
