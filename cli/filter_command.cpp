@@ -275,7 +275,7 @@ void runFilter(const FilterOptions& o) {
         nlohmann::json entry = {{"input", o.inputs[p]}, {"input_pixels", probes[p].pixels}};
         if (batch) entry["folder"] = folders[p];
         writeProbeExtras(o, irradiance, s, output, folders[p], device, probes[p].source, levels[p], entry);
-        writeFilteredProbe(output, folders[p], levels[p], s.mapping, ktx2, entry);
+        writeFilteredProbe(output, folders[p], levels[p], s.mapping, ktx2, &device, entry);
         if (batch) report["probes"].push_back(entry);
         else report.update(entry);
     }
@@ -349,7 +349,10 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_flag("--validate", o->validate, "Enable the Vulkan validation layer; any message is an error");
     cmd->add_flag("--repair-pixels", o->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");
-    cmd->add_option("--ktx2", o->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)")
+    cmd->add_option(
+           "--ktx2", o->ktx2,
+           "Also write probe.ktx2: none, rgba16f, rgba32f, rgb9e5 (shared exponent, 4 bytes a texel) or bc6h (BC6H blocks encoded on "
+           "the Vulkan device, 1 byte a texel)")
         ->capture_default_str();
     cmd->add_flag("--ktx2-zstd", o->ktx2Zstd, "Store probe.ktx2's levels compressed with Zstandard (KTX2 supercompression)");
     cmd->add_option("--irradiance", o->irradiance,

@@ -60,7 +60,7 @@ void runReference(const ReferenceOptions& o) {
     const double filterSeconds = filterTime.seconds();
 
     nlohmann::json report = describeLevels(o.size, levelCount, mapping);
-    writeFilteredProbe(output, "", levels, mapping, ktx2, report);
+    writeFilteredProbe(output, "", levels, mapping, ktx2, nullptr, report);
     report.update(reportHeader("reference"));
     report["input"] = input;
     report["input_pixels"] = pixels;
@@ -87,7 +87,10 @@ void addReferenceCommand(CLI::App& app) {
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_flag("--force", options->force, kForceHelp);
     cmd->add_flag("--allow-long", options->allowLong, kAllowLongHelp);
-    cmd->add_option("--ktx2", options->ktx2, "Also write probe.ktx2: none, rgba16f, rgba32f or rgb9e5 (shared exponent, 4 bytes a texel)");
+    cmd->add_option(
+        "--ktx2", options->ktx2,
+        "Also write probe.ktx2: none, rgba16f, rgba32f, rgb9e5 (shared exponent, 4 bytes a texel) or bc6h (BC6H blocks encoded on "
+        "the Vulkan device, 1 byte a texel)");
     cmd->add_flag("--ktx2-zstd", options->ktx2Zstd, "Store probe.ktx2's levels compressed with Zstandard (KTX2 supercompression)");
     cmd->add_flag("--repair-pixels", options->repairPixels,
                   "Set NaN and Inf pixels to 0 instead of refusing the file (negative pixels are always clamped to 0)");

@@ -76,7 +76,7 @@ public:
         if (!plan.computedLevels.empty()) filterLevels(p, plan, result, entry);
         if (plan.shIrradiance || plan.irradianceCube) writeProbeIrradiance(p, plan, result, entry);
         if (scene_.outputs.ktx2 && !plan.computedLevels.empty())
-            entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping, *scene_.outputs.ktx2);
+            entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping, *scene_.outputs.ktx2, &device_);
         probes_.push_back(std::move(entry));
         // Kept for the spheres alone, so that a scene of many large probes without them holds one
         // probe's images at a time.

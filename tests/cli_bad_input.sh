@@ -79,7 +79,7 @@ expect_refused table-version "$work/table-version3.json: table format version 3"
     filter "$in/good.exr" --method table --table "$work/table-version3.json" --size 16 --out "$work/out"
 expect_refused filter-irradiance "--irradiance lambert" filter "$in/good.exr" --size 8 --irradiance lambert --out "$work/out"
 expect_refused filter-slices "--slices 0" filter "$in/good.exr" --size 8 --slices 0 --out "$work/out"
-expect_refused ktx2-format "--ktx2: unknown format 'bc6h'" reference "$in/good.exr" --size 8 --ktx2 bc6h --out "$work/out"
+expect_refused ktx2-format "--ktx2: unknown format 'bc7'" reference "$in/good.exr" --size 8 --ktx2 bc7 --out "$work/out"
 expect_refused ktx2-zstd-alone "--ktx2-zstd" reference "$in/good.exr" --size 8 --ktx2-zstd --out "$work/out"
 
 expect_refused sweep-size     "face size 12"      sweep --size 12 --out "$work/out"

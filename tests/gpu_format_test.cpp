@@ -11,6 +11,7 @@
 #include "device.h"
 #include "probe/error.h"
 #include "probe/range_scale.h"
+#include "probe/reference.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -200,3 +201,37 @@ TEST_F(GpuTest, UnusableFormatsAreRefusedByName) {
 }
 
 } // namespace
+
+// The BC6H encoder: each level's blocks (six faces of ceil(S / 4)^2, 16 bytes each), none in a
+// reserved mode (which a decoder reads as black), the same bytes every time; a level not computed
+// encodes as black; levels of another size or count are refused. tests/bc6h_independent_decoder.sh
+// decodes the blocks with bcdec.
+TEST_F(GpuTest, Bc6hEncoderWritesEveryLevelsBlocks) {
+    const int size = 16, levelCount = 5;
+    gpu::Bc6hEncoder encoder(probetest::testDevice(), size, levelCount);
+    CubeLevels levels = referenceFilter(sunSkyProbe(size), levelCount, RoughnessMapping::gltf);
+    const std::vector<std::vector<uint8_t>> blocks = encoder.encode(levels);
+    ASSERT_EQ(blocks.size(), std::size_t(levelCount));
+    for (int m = 0; m < levelCount; ++m) {
+        EXPECT_EQ(blocks[m].size(), gpu::bc6hLevelBytes(size >> m)) << "level " << m;
+        for (std::size_t b = 0; b < blocks[m].size(); b += 16) {
+            const unsigned mode = (blocks[m][b] & 3u) < 2 ? blocks[m][b] & 3u : blocks[m][b] & 31u;
+            EXPECT_TRUE(mode != 0x13 && mode != 0x17 && mode != 0x1B && mode != 0x1F) << "level " << m << ", block " << b / 16;
+        }
+    }
+    EXPECT_EQ(gpu::bc6hLevelBytes(2), 6u * 16u);
+    EXPECT_EQ(encoder.encode(levels), blocks);
+    EXPECT_FALSE(encoder.timings().empty());
+
+    CubeLevels partial = levels;
+    partial[2] = CubeImage();
+    CubeLevels black = levels;
+    black[2] = CubeImage(size >> 2);
+    EXPECT_EQ(encoder.encode(partial)[2], encoder.encode(black)[2]);
+
+    CubeLevels wrong = levels;
+    wrong[1] = CubeImage(size);
+    EXPECT_THROW(encoder.encode(wrong), ProbeError);
+    levels.pop_back();
+    EXPECT_THROW(encoder.encode(levels), ProbeError);
+}

@@ -2,13 +2,16 @@
 // exponent's), clamping to each format's range counted, metadata kept; Zstandard supercompression
 // gives the same levels back.
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "probe/error.h"
 #include "probe/ktx2.h"
 #include "probe/reference.h"
 #include "probe/synthetic.h"
@@ -85,5 +88,54 @@ TEST(Ktx2, ZstdSupercompressionRoundTrip) {
         EXPECT_EQ(zstd.metadata, plain.metadata);
         EXPECT_LT(fs::file_size(dir / "zstd.ktx2"), fs::file_size(dir / "plain.ktx2")) << ktx2FormatName(format);
     }
+    fs::remove_all(dir);
+}
+
+// BC6H is written from its blocks: the header names VK_FORMAT_BC6H_UFLOAT_BLOCK with typeSize 1,
+// each level's blocks are stored as given (a level below 4x4 in one block a face), 16-byte aligned;
+// a level whose size is not its blocks' is refused naming the file, and the texel writer refuses the
+// format (its blocks come from an encoder). probefilter's reader does not read BC6H.
+TEST(Ktx2, Bc6hWrittenFromItsBlocks) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_bc6h_test_{}", ::getpid());
+    fs::create_directories(dir);
+    std::vector<std::vector<std::uint8_t>> levels;
+    for (int size : {8, 4, 2, 1}) {
+        const std::size_t across = (std::size_t(size) + 3) / 4;
+        levels.emplace_back(6 * across * across * 16);
+        for (std::size_t k = 0; k < levels.back().size(); ++k) levels.back()[k] = std::uint8_t(k * 7 + size);
+    }
+    writeKtx2Bc6hCube(dir / "bc6h.ktx2", 8, levels, {{"KTXwriter", "probefilter"}});
+    std::ifstream in(dir / "bc6h.ktx2", std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto word = [&](std::size_t offset) {
+        std::uint64_t value = 0;
+        std::memcpy(&value, &bytes[offset], 4);
+        return value;
+    };
+    EXPECT_EQ(word(12), 143u); // vkFormat
+    EXPECT_EQ(word(16), 1u);   // typeSize
+    EXPECT_EQ(word(20), 8u);
+    EXPECT_EQ(word(36), 6u); // faces
+    EXPECT_EQ(word(40), 4u); // levels
+    for (std::size_t m = 0; m < levels.size(); ++m) {
+        std::uint64_t offset = 0, length = 0;
+        std::memcpy(&offset, &bytes[80 + 24 * m], 8);
+        std::memcpy(&length, &bytes[88 + 24 * m], 8);
+        EXPECT_EQ(offset % 16, 0u) << "level " << m;
+        ASSERT_EQ(length, levels[m].size());
+        EXPECT_TRUE(std::equal(levels[m].begin(), levels[m].end(), reinterpret_cast<const std::uint8_t*>(&bytes[offset])));
+    }
+    // The descriptor: colour model BC6H, 4x4 blocks, 16 bytes a plane.
+    const std::uint64_t dfd = word(48);
+    EXPECT_EQ(word(dfd + 12) & 0xFFu, 131u);
+    EXPECT_EQ(word(dfd + 16), 3u | (3u << 8));
+    EXPECT_EQ(word(dfd + 20), 16u);
+
+    levels[1].pop_back();
+    EXPECT_THROW(writeKtx2Bc6hCube(dir / "short.ktx2", 8, levels, {}), ProbeError);
+    EXPECT_THROW(writeKtx2Cube(dir / "texels.ktx2", referenceFilter(sunSkyProbe(8), 3, RoughnessMapping::gltf), Ktx2PixelFormat::bc6h, {}),
+                 ProbeError);
+    EXPECT_THROW(readKtx2Cube(dir / "bc6h.ktx2"), ProbeError);
+    EXPECT_FALSE(fs::exists(dir / "short.ktx2"));
     fs::remove_all(dir);
 }

@@ -117,8 +117,9 @@ TEST_F(SceneTest, Ktx2OutputNamesItsFormat) {
     EXPECT_EQ(ktx2Of("true")->format, Ktx2PixelFormat::rgba16f);
     EXPECT_EQ(ktx2Of("true")->supercompression, Ktx2Supercompression::none);
     EXPECT_EQ(ktx2Of(R"("rgb9e5", "ktx2_zstd": true)")->supercompression, Ktx2Supercompression::zstd);
+    EXPECT_EQ(ktx2Of(R"("bc6h")")->format, Ktx2PixelFormat::bc6h);
     EXPECT_FALSE(ktx2Of("false").has_value());
-    expectRefused(withKtx2(R"("bc6h")"), "outputs.ktx2");
+    expectRefused(withKtx2(R"("bc7")"), "outputs.ktx2");
     expectRefused(withKtx2(R"(false, "ktx2_zstd": true)"), "outputs.ktx2_zstd");
 }
 

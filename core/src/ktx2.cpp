@@ -21,7 +21,7 @@ namespace probe {
 namespace {
 
 constexpr std::array<std::uint8_t, 12> kIdentifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
-constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109, kVkFormatRgb9e5 = 123;
+constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109, kVkFormatRgb9e5 = 123, kVkFormatBc6h = 143;
 constexpr float kHalfMax = float(PROBE_HALF_MAX);
 // RGB9E5 (the Vulkan specification's shared exponent): 9 mantissa bits, exponent bias 15, largest
 // exponent 31, so the largest value is 511 / 512 * 2^16.
@@ -33,15 +33,25 @@ std::uint32_t vkFormatOf(Ktx2PixelFormat format) {
     case Ktx2PixelFormat::rgba16f: return kVkFormatRgba16f;
     case Ktx2PixelFormat::rgba32f: return kVkFormatRgba32f;
     case Ktx2PixelFormat::rgb9e5: return kVkFormatRgb9e5;
+    case Ktx2PixelFormat::bc6h: return kVkFormatBc6h;
     }
     return 0;
 }
 
-// Bytes of one texel (a KTX2 level's texel size) and of the format's components (typeSize).
+// Bytes of one texel block (a KTX2 level's alignment unit) and of the format's components
+// (typeSize: 1 for a block-compressed format).
 std::uint32_t texelBytesOf(Ktx2PixelFormat format) {
-    return format == Ktx2PixelFormat::rgba16f ? 8 : format == Ktx2PixelFormat::rgba32f ? 16 : 4;
+    switch (format) {
+    case Ktx2PixelFormat::rgba16f: return 8;
+    case Ktx2PixelFormat::rgba32f:
+    case Ktx2PixelFormat::bc6h: return 16;
+    case Ktx2PixelFormat::rgb9e5: return 4;
+    }
+    return 0;
 }
-std::uint32_t typeSizeOf(Ktx2PixelFormat format) { return format == Ktx2PixelFormat::rgba16f ? 2 : 4; }
+std::uint32_t typeSizeOf(Ktx2PixelFormat format) {
+    return format == Ktx2PixelFormat::rgba16f ? 2 : format == Ktx2PixelFormat::bc6h ? 1 : 4;
+}
 
 // The Vulkan specification's encoding: the exponent that fits the brightest channel, every channel
 // rounded to nearest on it. c is clamped to [0, kRgb9e5Max] already.
@@ -100,6 +110,25 @@ std::vector<std::uint8_t> rgb9e5Descriptor() {
         w.put<std::uint32_t>(15);
         w.put<std::uint32_t>(31);
     }
+    return w.bytes;
+}
+
+// The basic data format descriptor of BC6H's unsigned blocks (KDFG 1.3, as KTX-Software describes
+// VK_FORMAT_BC6H_UFLOAT_BLOCK): 4x4 texels in 16 bytes, one 128-bit float sample.
+std::vector<std::uint8_t> bc6hDescriptor() {
+    ByteWriter w;
+    const std::uint32_t samples = 1, blockSize = 24 + 16 * samples;
+    w.put<std::uint32_t>(4 + blockSize);
+    w.put<std::uint32_t>(0);
+    w.put<std::uint32_t>(2u | (blockSize << 16));
+    w.put<std::uint32_t>(131u | (1u << 8) | (1u << 16)); // KHR_DF_MODEL_BC6H, BT709, LINEAR
+    w.put<std::uint32_t>(3u | (3u << 8));                // 4x4x1x1
+    w.put<std::uint32_t>(16);                            // bytesPlane0
+    w.put<std::uint32_t>(0);
+    w.put<std::uint32_t>((127u << 16) | (0x80u << 24)); // bits 0 .. 127, BC6H colour, FLOAT (unsigned)
+    w.put<std::uint32_t>(0);
+    w.put<std::uint32_t>(0);          // sampleLower 0.0f
+    w.put<std::uint32_t>(0x3F800000); // sampleUpper 1.0f
     return w.bytes;
 }
 
@@ -214,44 +243,46 @@ std::string_view ktx2FormatName(Ktx2PixelFormat format) {
     case Ktx2PixelFormat::rgba16f: return "rgba16f";
     case Ktx2PixelFormat::rgba32f: return "rgba32f";
     case Ktx2PixelFormat::rgb9e5: return "rgb9e5";
+    case Ktx2PixelFormat::bc6h: return "bc6h";
     }
     return "";
 }
 
 std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name) {
-    for (const Ktx2PixelFormat f : {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5})
+    for (const Ktx2PixelFormat f : {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5, Ktx2PixelFormat::bc6h})
         if (name == ktx2FormatName(f)) return f;
     return std::nullopt;
 }
 
-std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata,
-                          Ktx2Supercompression supercompression) {
-    const bool zstd = supercompression == Ktx2Supercompression::zstd;
-    const std::uint32_t texelBytes = texelBytesOf(format);
-    const auto levelCount = static_cast<std::uint32_t>(levels.size());
-    const std::vector<std::uint8_t> dfd = format == Ktx2PixelFormat::rgb9e5 ? rgb9e5Descriptor() : dataFormatDescriptor(typeSizeOf(format)),
-                                    kvd = keyValueData(metadata);
+namespace {
 
-    std::size_t clamped = 0;
-    std::vector<std::vector<std::uint8_t>> data, stored;
-    for (const CubeImage& level : levels) {
-        data.push_back(levelData(level, format, clamped));
-        stored.push_back(zstd ? zstdCompress(data.back(), path) : data.back());
-    }
+// The container around levels already in the format (each a face after another): the header, the
+// level index, the data format descriptor, the metadata and the levels, smallest first, each
+// compressed with Zstandard where asked.
+void writeContainer(const std::filesystem::path& path, Ktx2PixelFormat format, int faceSize,
+                    const std::vector<std::vector<std::uint8_t>>& data, const KeyValues& metadata, Ktx2Supercompression supercompression) {
+    const bool zstd = supercompression == Ktx2Supercompression::zstd;
+    const auto levelCount = static_cast<std::uint32_t>(data.size());
+    const std::vector<std::uint8_t> dfd = format == Ktx2PixelFormat::rgb9e5 ? rgb9e5Descriptor()
+                                          : format == Ktx2PixelFormat::bc6h ? bc6hDescriptor()
+                                                                            : dataFormatDescriptor(typeSizeOf(format)),
+                                    kvd = keyValueData(metadata);
+    std::vector<std::vector<std::uint8_t>> stored;
+    for (const std::vector<std::uint8_t>& level : data) stored.push_back(zstd ? zstdCompress(level, path) : level);
 
     const std::size_t dfdOffset = 80 + 24 * levelCount, kvdOffset = dfdOffset + dfd.size();
-    // Level data, smallest level first, each aligned to lcm(texel size, 4) (supercompressed: to 1).
+    // Level data, smallest level first, each aligned to lcm(texel block size, 4) (supercompressed: to 1).
     std::vector<std::size_t> offsets(levelCount);
     std::size_t end = kvdOffset + kvd.size();
     for (std::uint32_t m = levelCount; m-- > 0;) {
-        offsets[m] = align(end, zstd ? 1 : std::lcm<std::size_t>(texelBytes, 4));
+        offsets[m] = align(end, zstd ? 1 : std::lcm<std::size_t>(texelBytesOf(format), 4));
         end = offsets[m] + stored[m].size();
     }
 
     ByteWriter w;
     w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
-    for (std::uint32_t v : {vkFormatOf(format), typeSizeOf(format), std::uint32_t(levels[0].size), std::uint32_t(levels[0].size),
-                            0u /*depth*/, 0u /*layers*/, 6u /*faces*/, levelCount, zstd ? kZstdScheme : 0u})
+    for (std::uint32_t v : {vkFormatOf(format), typeSizeOf(format), std::uint32_t(faceSize), std::uint32_t(faceSize), 0u /*depth*/,
+                            0u /*layers*/, 6u /*faces*/, levelCount, zstd ? kZstdScheme : 0u})
         w.put<std::uint32_t>(v);
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
@@ -270,9 +301,31 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
         w.bytes.resize(offsets[m], 0);
         w.bytes.insert(w.bytes.end(), stored[m].begin(), stored[m].end());
     }
-
     writeFile(path, std::string_view(reinterpret_cast<const char*>(w.bytes.data()), w.bytes.size()));
+}
+
+} // namespace
+
+std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata,
+                          Ktx2Supercompression supercompression) {
+    if (format == Ktx2PixelFormat::bc6h)
+        throw ProbeError(fmt::format("{}: BC6H levels are written from their blocks (writeKtx2Bc6hCube)", path.string()));
+    std::size_t clamped = 0;
+    std::vector<std::vector<std::uint8_t>> data;
+    for (const CubeImage& level : levels) data.push_back(levelData(level, format, clamped));
+    writeContainer(path, format, levels[0].size, data, metadata, supercompression);
     return clamped;
+}
+
+void writeKtx2Bc6hCube(const std::filesystem::path& path, int faceSize, const std::vector<std::vector<std::uint8_t>>& levels,
+                       const KeyValues& metadata, Ktx2Supercompression supercompression) {
+    for (std::size_t m = 0; m < levels.size(); ++m) {
+        const std::size_t across = (std::size_t(std::max(faceSize >> m, 1)) + 3) / 4;
+        if (levels[m].size() != 6 * across * across * 16)
+            throw ProbeError(fmt::format("{}: BC6H level {} has {} bytes, not the {} of its blocks", path.string(), m, levels[m].size(),
+                                         6 * across * across * 16));
+    }
+    writeContainer(path, Ktx2PixelFormat::bc6h, faceSize, levels, metadata, supercompression);
 }
 
 Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {

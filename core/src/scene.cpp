@@ -170,7 +170,7 @@ SceneOutputs readOutputs(const std::filesystem::path& scene, const json& object)
     if (ktx2.is_boolean()) format = ktx2.get<bool>() ? std::optional(Ktx2PixelFormat::rgba16f) : std::nullopt;
     else if (ktx2.is_string() && parseKtx2PixelFormat(ktx2.get<std::string>())) format = parseKtx2PixelFormat(ktx2.get<std::string>());
     else if (!(ktx2.is_object() && ktx2.empty()))
-        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f, rgb9e5 or a boolean", describeJson(ktx2)));
+        r.fail("outputs.ktx2", fmt::format("{} is not rgba16f, rgba32f, rgb9e5, bc6h or a boolean", describeJson(ktx2)));
     const bool zstd = r.optional<bool>("ktx2_zstd").value_or(false);
     if (zstd && !format) r.fail("outputs.ktx2_zstd", "true, but outputs.ktx2 writes no probe.ktx2");
     if (format) o.ktx2 = Ktx2Settings{*format, zstd ? Ktx2Supercompression::zstd : Ktx2Supercompression::none};

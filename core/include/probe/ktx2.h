@@ -1,8 +1,9 @@
-// KTX2 output for engines: an uncompressed RGBA16F, RGBA32F or shared-exponent RGB9E5 cube with
-// every level, a basic data format descriptor (RGBSDA, BT.709 primaries, linear), and key/value
-// metadata.
+// KTX2 output for engines: an uncompressed RGBA16F, RGBA32F or shared-exponent RGB9E5 cube, or a
+// BC6H one from its blocks, with every level, a basic data format descriptor (BT.709 primaries,
+// linear), and key/value metadata.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -16,10 +17,12 @@ namespace probe {
 
 // rgb9e5: VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, 4 bytes a texel with no alpha, which every Vulkan
 // device samples: three 9-bit mantissas sharing a 5-bit exponent (about 3 significant digits of the
-// brightest channel), values 0 to 65408.
-enum class Ktx2PixelFormat { rgba16f, rgba32f, rgb9e5 };
+// brightest channel), values 0 to 65408. bc6h: VK_FORMAT_BC6H_UFLOAT_BLOCK, 16 bytes a 4x4 block
+// (1 byte a texel), values 0 to 65504, which desktop GPUs sample; its blocks come from an encoder
+// (probe::gpu::Bc6hEncoder), so writeKtx2Bc6hCube writes it.
+enum class Ktx2PixelFormat { rgba16f, rgba32f, rgb9e5, bc6h };
 
-// "rgba16f", "rgba32f", "rgb9e5"; and back (nullopt for any other name).
+// "rgba16f", "rgba32f", "rgb9e5", "bc6h"; and back (nullopt for any other name).
 std::string_view ktx2FormatName(Ktx2PixelFormat format);
 std::optional<Ktx2PixelFormat> parseKtx2PixelFormat(std::string_view name);
 
@@ -40,6 +43,12 @@ using KeyValues = std::vector<std::pair<std::string, std::string>>;
 // how many were. Throws ProbeError naming the file on failure.
 std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& levels, Ktx2PixelFormat format, const KeyValues& metadata,
                           Ktx2Supercompression supercompression = Ktx2Supercompression::none);
+
+// Writes a BC6H cube from each level's blocks: the faces in order, each face's 4x4 blocks row by row
+// (a level smaller than 4x4 in one block). Throws ProbeError naming the file when a level's size is
+// not its blocks'.
+void writeKtx2Bc6hCube(const std::filesystem::path& path, int faceSize, const std::vector<std::vector<std::uint8_t>>& levels,
+                       const KeyValues& metadata, Ktx2Supercompression supercompression = Ktx2Supercompression::none);
 
 // Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata).
 struct Ktx2Cube {

@@ -360,6 +360,32 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// BC6H (VK_FORMAT_BC6H_UFLOAT_BLOCK) on the GPU (shaders/bc6h_encode.comp), for a filtered cube's
+// levels: per level the six faces in order, each face's 4x4 blocks row by row, 16 bytes a block (a
+// level smaller than 4x4 fills one block), as Vulkan and KTX2 lay them out. Each block takes the best
+// of the one-region modes and, where none comes within one unit in the last place of a half on
+// average, of the two-region modes on all 32 shapes, by the decoder's own arithmetic (docs/
+// output-formats.md). Unsigned: negative values encode as 0, values above 65504 as 65504.
+class Bc6hEncoder {
+public:
+    Bc6hEncoder(const Device& device, int faceSize, int levelCount);
+    ~Bc6hEncoder();
+    Bc6hEncoder(const Bc6hEncoder&) = delete;
+    Bc6hEncoder& operator=(const Bc6hEncoder&) = delete;
+
+    // Each level's blocks; a level left empty (not computed) encodes as black.
+    std::vector<std::vector<uint8_t>> encode(const CubeLevels& levels);
+    // GPU time of the last encode(): "bc6h" and "total". Empty when the queue has no timestamps.
+    std::vector<PassTime> timings() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+// Bytes of one BC6H level of face size `faceSize` (six faces of ceil(S / 4)^2 blocks).
+std::size_t bc6hLevelBytes(int faceSize);
+
 // A material as the sphere renderer shades it.
 struct SphereMaterial {
     glm::vec3 baseColor{0.8f};

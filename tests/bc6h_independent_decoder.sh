@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# BC6H KTX2 from probefilter, checked by what the project did not write: ktx-parse (npm) reads the
+# container and its descriptor, bcdec (PyPI imagecodecs) decodes the blocks, and ISPC texcomp's BC6H
+# (PyPI ispc-texcomp, profile basic) encodes the same RGBA16F levels beside it (bench/scripts/bc6h.py):
+# on four synthetic probes at 32^2, no level of 4x4 or more may fall more than 1 dB of multi-exposure
+# PSNR below ISPC's, and every texel decodes finite. The Python packages go into a virtual
+# environment in the build folder, the npm package beside the other KTX2 test's.
+set -euo pipefail
+: "${PROBEFILTER:?}" "${BC6H_VENV:?}" "${KTX_PARSE_PREFIX:?}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+if ! "$BC6H_VENV/bin/python" -c "import imagecodecs, ispc_texcomp, numpy" 2>/dev/null; then
+    python3 -m venv "$BC6H_VENV"
+    "$BC6H_VENV/bin/pip" install --quiet --disable-pip-version-check imagecodecs==2026.3.6 ispc-texcomp==1.0.1 ||
+        { echo "bc6h_independent_decoder: pip install imagecodecs ispc-texcomp failed (is PyPI reachable?)" >&2; exit 1; }
+fi
+node_dir="$KTX_PARSE_PREFIX/node_modules"
+if [[ ! -d $node_dir/ktx-parse ]]; then
+    npm install --silent --no-audit --no-fund --prefix "$KTX_PARSE_PREFIX" ktx-parse@2.0.0 >/dev/null ||
+        { echo "bc6h_independent_decoder: npm install ktx-parse@2.0.0 failed (is the npm registry reachable?)" >&2; exit 1; }
+fi
+
+pairs=()
+for probe in sunsky sky room checker; do
+    "$PROBEFILTER" synth $probe --size 32 --out "$work/$probe.exr" >/dev/null
+    "$PROBEFILTER" filter "$work/$probe.exr" --size 32 --ktx2 bc6h --validate --out "$work/bc6h_$probe" >/dev/null
+    "$PROBEFILTER" filter "$work/$probe.exr" --size 32 --ktx2 rgba16f --out "$work/half_$probe" >/dev/null
+    KTX_PARSE_DIR="$node_dir" node "$root/tests/ktx2_bc6h_check.mjs" "$work/bc6h_$probe/probe.ktx2" "$work/bc6h_$probe/report.json"
+    pairs+=("$work/bc6h_$probe/probe.ktx2" "$work/half_$probe/probe.ktx2")
+done
+"$BC6H_VENV/bin/python" "$root/bench/scripts/bc6h.py" --min-margin -1 "${pairs[@]}"
