@@ -6,8 +6,10 @@ same levels; beside it, the same RGBA16F levels encoded by ISPC texcomp's BC6H a
 exposures -10 to +10 stops, gamma 2.2, 8 bits), the relative L1 over every texel and over the
 texels along the face edges (where a seam would show).
 
-Usage: bc6h.py [--min-margin DB] [--json FILE] BC6H.ktx2 RGBA16F.ktx2 [BC6H.ktx2 RGBA16F.ktx2 ...]
+Usage: bc6h.py [--min-margin DB] [--sampled RAW]... [--json FILE] BC6H.ktx2 RGBA16F.ktx2 [BC6H.ktx2 RGBA16F.ktx2 ...]
 --min-margin: exit 1 when a level of 4x4 or more has an mPSNR below ISPC's plus DB (e.g. -1).
+--sampled: once per pair, the BC6H file's texels as a Vulkan device sampled them (tests/bc6h_sample):
+exit 1 unless every one is bcdec's decode of the same block.
 """
 import argparse
 import json
@@ -94,16 +96,21 @@ def edge_mask(size):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--min-margin", type=float)
+    parser.add_argument("--sampled", action="append", default=[])
     parser.add_argument("--json")
     parser.add_argument("files", nargs="+")
     args = parser.parse_args()
     if len(args.files) % 2:
         sys.exit("bc6h.py: expected pairs of BC6H.ktx2 RGBA16F.ktx2")
+    if args.sampled and len(args.sampled) != len(args.files) // 2:
+        sys.exit("bc6h.py: --sampled takes one file per pair")
     rows, failures = [], []
     print("| probe | level size | mPSNR dB | ISPC basic mPSNR dB | margin dB | relative L1 | ISPC | edge L1 | ISPC edge L1 |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for bc6h_path, half_path in zip(args.files[::2], args.files[1::2]):
+    for pair, (bc6h_path, half_path) in enumerate(zip(args.files[::2], args.files[1::2])):
         bc6h, half = ktx2_levels(bc6h_path), ktx2_levels(half_path)
+        sampled = np.fromfile(args.sampled[pair], np.float32) if args.sampled else None
+        first = 0
         if bc6h[0][0] != VK_FORMAT_BC6H_UFLOAT_BLOCK or half[0][0] != VK_FORMAT_R16G16B16A16_SFLOAT:
             sys.exit(f"bc6h.py: {bc6h_path} must be BC6H and {half_path} RGBA16F")
         if [level[1] for level in bc6h] != [level[1] for level in half]:
@@ -119,6 +126,12 @@ def main():
             rows.append(row)
             print(f"| {bc6h_path} | {size} | {row['mpsnr']:.2f} | {row['ispc_mpsnr']:.2f} | {row['margin']:+.2f} | "
                   f"{row['relative_l1']:.5f} | {row['ispc_relative_l1']:.5f} | {row['edge_l1']:.5f} | {row['ispc_edge_l1']:.5f} |")
+            if sampled is not None:
+                device = sampled[first:first + ours.size].reshape(ours.shape)
+                first += ours.size
+                differ = int((device.astype(np.float16) != ours.astype(np.float16)).sum())
+                if differ:
+                    failures.append(f"{bc6h_path} level {size}^2: {differ} texel channels sampled by the device differ from bcdec's")
             if not np.isfinite(ours).all():
                 failures.append(f"{bc6h_path} level {size}^2: a texel decodes to a value that is not finite")
             if args.min_margin is not None and size >= 4 and row["margin"] < args.min_margin:
