@@ -224,50 +224,6 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     return shape;
 }
 
-// A set of what one recording writes, for the Filter's shape.
-void makeRecording(const Filter::Impl& f, Recording& r, const FilterShape& shape) {
-    const FilterSettings& s = f.settings;
-    const Device& d = f.device;
-    const VkDevice vk = d.device();
-    r.pyramidBuffer = Buffer(d, shape.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
-    r.accumulator = Buffer(d, shape.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
-    r.pyramidView = BufferView(vk, r.pyramidBuffer);
-    if (f.buildsPyramid && f.sampling == Sampling::hardware) {
-        const int mips = f.pyramidDepth + 1;
-        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, f.pyramidFormat,
-                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
-        for (int k = 0; k < mips; ++k) {
-            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
-            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), f.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
-        }
-    }
-    if (f.convertOutput) {
-        r.intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-        r.packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
-                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        for (int m = 0; m < s.levelCount; ++m) {
-            r.intermediateMips.emplace_back(vk, r.intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                                            uint32_t(m), 1);
-            r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
-        }
-    }
-    r.pool = f.descriptors->makePool(uint32_t(f.pyramidLevels + 2 * s.levelCount));
-
-    const auto segments = [&](std::size_t pass2Segments) {
-        std::vector<std::string> passes;
-        if (f.pass1) passes.emplace_back("pyramid");
-        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(s.method.kind)));
-        if (f.convertOutput) passes.emplace_back("convert");
-        return passes;
-    };
-    r.passTimer = std::make_unique<GpuTimer>(d, segments(1));
-    r.levelTimer = std::make_unique<GpuTimer>(d, segments(f.computedLevels.size()));
-    r.sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
-    r.timer = r.passTimer.get();
-}
-
 } // namespace
 
 void Filter::checkLimits(const Device& device, const FilterSettings& settings) { shapeOf(device, settings); }
@@ -325,9 +281,10 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         copy = makeCopyLevelPipeline(*this);
     if (convertOutput) convert = makeConvertPipeline(*this);
 
-    recordings.resize(std::size_t(s.inFlight));
-    for (Recording& r : recordings) makeRecording(*this, r, shape);
-    current = &recordings.front();
+    pyramidTexels = shape.pyramidTexels;
+    accumulatorTexels = shape.accumulatorTexels;
+    recordings.push_back(makeRecording());
+    current = recordings.front().get();
     batchTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"batch"});
     VkSemaphoreTypeCreateInfo timeline{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
     timeline.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
@@ -336,7 +293,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
 
     submission = std::make_unique<Submission>(d);
     // The one-time initialization: the tables' uploads through staging buffers, kept until it has
-    // run, and the Filter's own images into VK_IMAGE_LAYOUT_GENERAL, where they stay.
+    // run, and the placeholder into VK_IMAGE_LAYOUT_GENERAL, where it stays.
     VkCommandBuffer commandBuffer = initialization != VK_NULL_HANDLE ? initialization : submission->begin();
     for (const auto& [to, data] : {std::pair<const Buffer*, const float*>{&geometry, geometryData.data()}, {&table, tableData.data()}}) {
         Buffer& staging = initStaging.emplace_back(d, to->bytes(), Buffer::Kind::staging);
@@ -344,13 +301,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
         const VkBufferCopy region{0, 0, to->bytes()};
         vkCmdCopyBuffer(commandBuffer, staging.handle(), to->handle(), 1, &region);
     }
-    std::vector<const CubeImageResource*> images{&placeholder};
-    for (const Recording& r : recordings) images.insert(images.end(), {&r.pyramidImage, &r.intermediate, &r.packed});
-    for (const CubeImageResource* image : images)
-        if (image->handle())
-            imageBarrier(commandBuffer, image->handle(), 0, uint32_t(image->mips()), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    imageBarrier(commandBuffer, placeholder.handle(), 0, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     computeBarrier(commandBuffer); // the uploads, before the passes read them
     if (initialization != VK_NULL_HANDLE) return;
     submission->submitAndWait(commandBuffer);
@@ -374,8 +326,9 @@ void Filter::Impl::acquire() {
     if (done >= 1) initStaging.clear();
     // The least recently used set first, so that sets are used in turn.
     Recording* free = nullptr;
-    for (Recording& r : recordings)
-        if (r.completion <= done && (!free || r.completion < free->completion)) free = &r;
+    for (const std::unique_ptr<Recording>& r : recordings)
+        if (r->completion <= done && (!free || r->completion < free->completion)) free = r.get();
+    if (!free && recordings.size() < std::size_t(settings.inFlight)) free = recordings.emplace_back(makeRecording()).get();
     if (!free)
         throw ProbeError(fmt::format("Filter::record: {} recordings are in flight (FilterSettings::inFlight), recording {} has not "
                                      "completed: submit each recording signalling the Completion that record() returned, or raise "
@@ -383,6 +336,74 @@ void Filter::Impl::acquire() {
                                      recordings.size(), done + 1));
     current = free;
     if (slicedUpdate == free) slicedUpdate = nullptr;
+}
+
+std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
+    auto set = std::make_unique<Recording>();
+    Recording& r = *set;
+    const FilterSettings& s = settings;
+    const Device& d = device;
+    const VkDevice vk = d.device();
+    r.pyramidBuffer = Buffer(d, pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    r.accumulator = Buffer(d, accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
+    r.pyramidView = BufferView(vk, r.pyramidBuffer);
+    if (buildsPyramid && sampling == Sampling::hardware) {
+        const int mips = pyramidDepth + 1;
+        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
+                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
+        for (int k = 0; k < mips; ++k) {
+            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
+            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
+        }
+    }
+    if (convertOutput) {
+        r.intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        r.packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
+                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        for (int m = 0; m < s.levelCount; ++m) {
+            r.intermediateMips.emplace_back(vk, r.intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
+                                            uint32_t(m), 1);
+            r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+        }
+    }
+    r.pool = descriptors->makePool(uint32_t(pyramidLevels + 2 * s.levelCount));
+
+    const auto segments = [&](std::size_t pass2Segments) {
+        std::vector<std::string> passes;
+        if (pass1) passes.emplace_back("pyramid");
+        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(s.method.kind)));
+        if (convertOutput) passes.emplace_back("convert");
+        return passes;
+    };
+    r.passTimer = std::make_unique<GpuTimer>(d, segments(1));
+    r.levelTimer = std::make_unique<GpuTimer>(d, segments(computedLevels.size()));
+    r.sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
+    r.timer = r.passTimer.get();
+    return set;
+}
+
+void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
+    VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    std::vector<VkImageMemoryBarrier> images;
+    for (const CubeImageResource* image : {&current->pyramidImage, &current->intermediate, &current->packed}) {
+        if (!discard || !image->handle()) continue;
+        VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        b.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+        b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+        b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        b.image = image->handle();
+        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, uint32_t(image->mips()), 0, kFaceCount};
+        images.push_back(b);
+    }
+    const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(commandBuffer, stages, stages, 0, 1, &memory, 0, nullptr, uint32_t(images.size()), images.data());
+    ++barriers;
 }
 
 std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
@@ -481,7 +502,7 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         if (r.timed) r.timer->boundary(commandBuffer, boundary++);
     };
     if (r.timed) r.timer->reset(commandBuffer);
-    barrier(commandBuffer); // the Filter's resources, against a previous recording's use
+    firstBarrier(commandBuffer, true);
     mark();
     if (pass1) {
         recordPyramidPass(*this, commandBuffer);
@@ -506,7 +527,7 @@ void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, cons
     r.timed = timestamps;
     r.timer = r.sliceTimer.get();
     if (r.timed) r.timer->reset(commandBuffer);
-    barrier(commandBuffer); // the Filter's resources, against the previous slice's use
+    firstBarrier(commandBuffer, pyramid); // a level slice reads the pyramid its update's pyramid slice built
     if (r.timed) r.timer->boundary(commandBuffer, 0);
     if (pyramid && pass1) {
         recordPyramidPass(*this, commandBuffer);

@@ -18,8 +18,10 @@
 
 namespace probe::gpu {
 
-// What one recording writes, and the views and descriptor sets it binds: the Filter keeps
-// FilterSettings::inFlight of them, so that so many recordings may be pending at once.
+// What one recording writes, and the views and descriptor sets it binds: the Filter makes up to
+// FilterSettings::inFlight of them as recordings need them, so that so many may be pending at once.
+// Each recording (each pyramid slice) takes its images from VK_IMAGE_LAYOUT_UNDEFINED, whose
+// contents it makes anew.
 struct Recording {
     Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
     Buffer accumulator;   // the reference's running sums, or the paraboloid map (one vec4 when unused)
@@ -80,9 +82,10 @@ struct Filter::Impl {
     ImageView placeholderCube, placeholderArray;
 
     std::unique_ptr<FilterDescriptors> descriptors;
-    // FilterSettings::inFlight sets of what one recording writes, used in turn; `current` is the last
-    // recording's.
-    std::vector<Recording> recordings;
+    // The sets of what one recording writes (at most FilterSettings::inFlight), used in turn; `current`
+    // is the last recording's.
+    std::vector<std::unique_ptr<Recording>> recordings;
+    std::size_t pyramidTexels = 1, accumulatorTexels = 1; // a set's buffers, in RGBA32F texels
     Recording* current = nullptr;
     Recording* slicedUpdate = nullptr; // the set of the last pyramid slice, until another recording takes it
     // The Filter's timeline semaphore: recording n (from 1) has completed once it reaches n.
@@ -113,10 +116,16 @@ struct Filter::Impl {
 
     // The semaphore's value: every recording up to it has completed.
     uint64_t completedValue() const;
-    // A set whose last recording has completed, made `current` for recording number `recorded` + 1;
-    // ProbeError when all FilterSettings::inFlight are in flight. Releases the initialization's
-    // uploads once recording 1 has completed.
+    // A set whose last recording has completed (the least recently used), or a new one while there are
+    // fewer than FilterSettings::inFlight, made `current` for recording number `recorded` + 1;
+    // ProbeError when all are in flight. Releases the initialization's uploads once recording 1 has
+    // completed.
     void acquire();
+    // A set of what one recording writes, for the Filter's settings.
+    std::unique_ptr<Recording> makeRecording() const;
+    // A recording's first barrier: a compute barrier against earlier use of the Filter's resources,
+    // and with `discard` the current set's images from UNDEFINED to GENERAL; counted in `barriers`.
+    void firstBarrier(VkCommandBuffer commandBuffer, bool discard);
 
     // Makes the current set's output views and every descriptor set for this source and output.
     void bindImages(VkImageView source, VkImage output);

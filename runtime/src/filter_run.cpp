@@ -197,11 +197,12 @@ CubeLevels Filter::run(const CubeImage& source, const std::vector<Slice>& slices
 std::vector<CubeLevels> Filter::run(const std::vector<CubeImage>& sources, int repeat) {
     Impl& f = *impl_;
     checkRepeat(repeat);
-    if (sources.empty() || sources.size() > f.recordings.size())
+    if (sources.empty() || sources.size() > std::size_t(f.settings.inFlight))
         throw ParameterError("inFlight",
-                             fmt::format("a batch of {} probes runs with 1 to inFlight = {} probes", sources.size(), f.recordings.size()));
+                             fmt::format("a batch of {} probes runs with 1 to inFlight = {} probes", sources.size(), f.settings.inFlight));
+    while (f.recordings.size() < sources.size()) f.recordings.push_back(f.makeRecording());
     std::vector<int> shifts;
-    for (std::size_t p = 0; p < sources.size(); ++p) shifts.push_back(startRun(f, f.recordings[p], sources[p]));
+    for (std::size_t p = 0; p < sources.size(); ++p) shifts.push_back(startRun(f, *f.recordings[p], sources[p]));
     // Every probe in its own set, one after another in one command buffer, timed as a whole.
     VkCommandBuffer passes = f.submission->begin();
     f.batchTimer->reset(passes);
@@ -209,7 +210,7 @@ std::vector<CubeLevels> Filter::run(const std::vector<CubeImage>& sources, int r
     std::vector<Dispatch> dispatches;
     int barriers = 0;
     for (std::size_t p = 0; p < sources.size(); ++p) {
-        Recording& r = f.recordings[p];
+        Recording& r = *f.recordings[p];
         f.current = &r;
         runOutputBeforePasses(f, r, passes);
         f.recordPasses(passes, Timestamps::none);
@@ -229,7 +230,7 @@ std::vector<CubeLevels> Filter::run(const std::vector<CubeImage>& sources, int r
     f.barriers = barriers;
     f.batched = true;
     std::vector<CubeLevels> levels;
-    for (std::size_t p = 0; p < sources.size(); ++p) levels.push_back(finishRun(f, f.recordings[p], shifts[p]));
+    for (std::size_t p = 0; p < sources.size(); ++p) levels.push_back(finishRun(f, *f.recordings[p], shifts[p]));
     return levels;
 }
 

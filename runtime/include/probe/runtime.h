@@ -135,10 +135,11 @@ struct FilterSettings {
     // of the caller's cube alone. A level computed here equals, bit for bit, the same level of a run
     // of every level.
     std::vector<int> computedLevels;
-    // Recordings that may be in flight at once (K, at least 1): the Filter keeps K sets of what one
-    // recording writes and binds (its pyramid, descriptor sets, views and timestamp queries) and uses
-    // them in turn, so that K probes may be recorded into one submission, or K frames' recordings be
-    // pending, before record() refuses another (Filter::record).
+    // Recordings that may be in flight at once (K, 1 to 64): the Filter makes up to K sets of what one
+    // recording writes and binds (its pyramid, descriptor sets, views and timestamp queries) as
+    // recordings need them (one while each completes before the next, as run()'s do) and uses them in
+    // turn, so that K probes may be recorded into one submission, or K frames' recordings be pending,
+    // before record() refuses another (Filter::record).
     int inFlight = 2;
     // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis); none
     // of it when every level computed is a copy (alpha = 0). The levels computed must read no deeper:
@@ -261,9 +262,10 @@ public:
     // Device::queueFamily(), whose resources the Filter's are, outside a render pass. record() binds
     // its own compute pipelines, descriptor set and push constants, and resets and writes its
     // timestamp queries: rebind yours after it.
-    // In flight: each recording takes one of the FilterSettings::inFlight sets of the Filter's
-    // per-recording resources whose last recording has completed, writes its descriptor sets and views
-    // for this source and output, and returns the Completion that the engine's submission signals.
+    // In flight: each recording takes a set of the Filter's per-recording resources whose last
+    // recording has completed (or makes one, up to FilterSettings::inFlight), writes its descriptor
+    // sets and views for this source and output, and returns the Completion that the engine's
+    // submission signals.
     // With every set in flight, record() throws ProbeError (nothing is recorded): it never waits, and
     // never reuses what a pending command buffer reads. Destroying the Filter while recordings are in
     // flight is allowed: the Device keeps their resources and releases them once the Completion is
