@@ -12,7 +12,8 @@ const { read, KHR_DF_TRANSFER_LINEAR, KHR_DF_SAMPLE_DATATYPE_FLOAT, KHR_DF_SAMPL
   await import(pathToFileURL(resolve("ktx-parse")).href);
 
 const [path, reportPath] = process.argv.slice(2);
-const VK_FORMAT_BC6H_UFLOAT_BLOCK = 143, KHR_DF_MODEL_BC6H = 131;
+// khr_df.h's model numbers (ktx-parse names only some of them): BC1A 128 .. BC6H 133, BC7 134.
+const VK_FORMAT_BC6H_UFLOAT_BLOCK = 143, KHR_DF_MODEL_BC6H = 133;
 const report = JSON.parse(readFileSync(reportPath, "utf8"));
 let failures = 0;
 const check = (ok, what) => { if (!ok) { console.log(`FAIL ${what}`); failures++; } };

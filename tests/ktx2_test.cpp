@@ -127,7 +127,7 @@ TEST(Ktx2, Bc6hWrittenFromItsBlocks) {
     }
     // The descriptor: colour model BC6H, 4x4 blocks, 16 bytes a plane.
     const std::uint64_t dfd = word(48);
-    EXPECT_EQ(word(dfd + 12) & 0xFFu, 131u);
+    EXPECT_EQ(word(dfd + 12) & 0xFFu, 133u); // KHR_DF_MODEL_BC6H
     EXPECT_EQ(word(dfd + 16), 3u | (3u << 8));
     EXPECT_EQ(word(dfd + 20), 16u);
 

@@ -121,7 +121,7 @@ std::vector<std::uint8_t> bc6hDescriptor() {
     w.put<std::uint32_t>(4 + blockSize);
     w.put<std::uint32_t>(0);
     w.put<std::uint32_t>(2u | (blockSize << 16));
-    w.put<std::uint32_t>(131u | (1u << 8) | (1u << 16)); // KHR_DF_MODEL_BC6H, BT709, LINEAR
+    w.put<std::uint32_t>(133u | (1u << 8) | (1u << 16)); // KHR_DF_MODEL_BC6H, BT709, LINEAR
     w.put<std::uint32_t>(3u | (3u << 8));                // 4x4x1x1
     w.put<std::uint32_t>(16);                            // bytesPlane0
     w.put<std::uint32_t>(0);
