@@ -1,14 +1,17 @@
 // What the engine-path tests do as an engine would, with plain Vulkan around probe::gpu::Filter: its
-// device and queue, host-visible buffers, cube images, layout transitions, texels in its formats, and
-// submissions that signal a Filter's Completion.
+// device and queue, host-visible buffers, cube images, layout transitions, texels in its formats,
+// submissions that signal a Filter's Completion, a probe's source and output cubes, and a command
+// buffer.
 #pragma once
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/gtc/packing.hpp>
 #include <gtest/gtest.h>
 #include <vulkan/vulkan.h>
 
+#include "gpu_test_support.h"
 #include "probe/runtime.h"
 
 namespace probetest {
@@ -35,6 +38,10 @@ struct Caller {
         return memory;
     }
 };
+
+inline Caller callerOf(const probe::gpu::Device& device) {
+    return {device.device(), device.physicalDevice(), device.queueFamily(), device.queue()};
+}
 
 struct HostBuffer {
     VkBuffer buffer = VK_NULL_HANDLE;
@@ -146,5 +153,127 @@ inline void submitAndWait(VkQueue queue, VkCommandBuffer commandBuffer, const pr
     EXPECT_EQ(vkQueueSubmit(queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
     EXPECT_EQ(vkQueueWaitIdle(queue), VK_SUCCESS);
 }
+
+// An engine's probe: its source cube of `sourceFormat` (uploaded by upload()) and output cube of
+// `outputFormat` (read back by readBack()), RGBA16F or RGBA32F, with the staging memory for both.
+class EngineProbe {
+public:
+    EngineProbe(const Caller& c, const probe::CubeImage& source, int levels, VkFormat sourceFormat = VK_FORMAT_R32G32B32A32_SFLOAT,
+                VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT)
+        : c_(c), size_(source.size), levels_(levels), sourceFormat_(sourceFormat), outputFormat_(outputFormat) {
+        in_ = cubeTexture(c, sourceFormat, size_, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        out_ = cubeTexture(c, outputFormat, size_, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        viewInfo.image = in_.image;
+        viewInfo.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
+        viewInfo.format = sourceFormat;
+        viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
+        EXPECT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &view_), VK_SUCCESS);
+        regions_ = levelRegions(size_, levels, texelBytes(outputFormat));
+        std::size_t outputTexels = 0;
+        for (int m = 0; m < levels; ++m) outputTexels += probe::texelCount(size_ >> m);
+        staging_ = hostBuffer(c, std::max(outputTexels * texelBytes(outputFormat), probe::texelCount(size_) * texelBytes(sourceFormat)));
+        auto* bytes = reinterpret_cast<unsigned char*>(staging_.data);
+        for (std::size_t t = 0; t < probe::texelCount(size_); ++t)
+            storeTexel(bytes + t * texelBytes(sourceFormat), sourceFormat, source.texel(t));
+    }
+    ~EngineProbe() {
+        vkDestroyImageView(c_.device, view_, nullptr);
+        vkDestroyBuffer(c_.device, staging_.buffer, nullptr);
+        vkFreeMemory(c_.device, staging_.memory, nullptr);
+        for (const CubeTexture& t : {in_, out_}) {
+            vkDestroyImage(c_.device, t.image, nullptr);
+            vkFreeMemory(c_.device, t.memory, nullptr);
+        }
+    }
+    EngineProbe(const EngineProbe&) = delete;
+    EngineProbe& operator=(const EngineProbe&) = delete;
+
+    probe::gpu::SourceCube source() const { return {view_, sourceFormat_, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size_)}; }
+    probe::gpu::OutputCube output() const {
+        return {
+            out_.image, outputFormat_, uint32_t(size_), uint32_t(levels_), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+    }
+
+    // The source from staging, readable by compute; the output in GENERAL for the filter's writes.
+    void upload(VkCommandBuffer cmd) const {
+        transition(cmd, in_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
+        VkBufferImageCopy whole{};
+        whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 6};
+        whole.imageExtent = {uint32_t(size_), uint32_t(size_), 1};
+        vkCmdCopyBufferToImage(cmd, staging_.buffer, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
+        transition(cmd, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT);
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
+    }
+    // The output's levels into staging, for the host (after the upload's texels were consumed); the
+    // output back in GENERAL for the next recording.
+    void readBack(VkCommandBuffer cmd) const {
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+        vkCmdCopyImageToBuffer(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging_.buffer, uint32_t(regions_.size()),
+                               regions_.data());
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_READ_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT);
+        VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
+    }
+    probe::CubeLevels levels() const {
+        probe::CubeLevels result;
+        const auto* bytes = reinterpret_cast<const unsigned char*>(staging_.data);
+        for (int m = 0; m < levels_; ++m) {
+            probe::CubeImage level(size_ >> m);
+            const unsigned char* first = bytes + regions_[m].bufferOffset;
+            for (std::size_t t = 0; t < probe::texelCount(level.size); ++t)
+                level.set(t, loadTexel(first + t * texelBytes(outputFormat_), outputFormat_));
+            result.push_back(std::move(level));
+        }
+        return result;
+    }
+
+private:
+    const Caller& c_;
+    int size_, levels_;
+    VkFormat sourceFormat_, outputFormat_;
+    CubeTexture in_, out_;
+    VkImageView view_ = VK_NULL_HANDLE;
+    HostBuffer staging_;
+    std::vector<VkBufferImageCopy> regions_;
+};
+
+// One command buffer of the engine's, begun.
+class EngineCommands {
+public:
+    explicit EngineCommands(const Caller& c) : c_(c) {
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = c.queueFamily;
+        EXPECT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool_), VK_SUCCESS);
+        VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool_,
+                                             VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
+        EXPECT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &cmd), VK_SUCCESS);
+        begin();
+    }
+    ~EngineCommands() { vkDestroyCommandPool(c_.device, pool_, nullptr); }
+    EngineCommands(const EngineCommands&) = delete;
+    EngineCommands& operator=(const EngineCommands&) = delete;
+
+    void begin() {
+        VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        vkBeginCommandBuffer(cmd, &info);
+    }
+    // Ends, submits signalling `done`, waits, and begins again.
+    void submit(const probe::gpu::Completion& done) {
+        vkEndCommandBuffer(cmd);
+        submitAndWait(c_.queue, cmd, done);
+        begin();
+    }
+
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+
+private:
+    const Caller& c_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+};
 
 } // namespace probetest

@@ -3,11 +3,9 @@
 // into the caller's RGBA16F output mips, gives the same levels as the tool path (Filter::run) on the
 // same half-float texels, in both sampling modes, and the validation layer stays silent; an RGBA32F
 // source at the largest finite values gives finite levels for every method.
-#include <cstring>
 #include <limits>
 
 #include <fmt/format.h>
-#include <glm/gtc/packing.hpp>
 
 #include "engine_caller.h"
 #include "gpu_test_support.h"
@@ -30,87 +28,20 @@ namespace {
 CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSettings& settings, const CubeImage& source,
                       VkFormat sourceFormat, gpu::Timestamps timestamps = gpu::Timestamps::passes,
                       const std::vector<gpu::Slice>* slices = nullptr) {
-    const int size = settings.faceSize, levels = settings.levelCount;
-    const VkFormat outputFormat = settings.outputFormat;
-    const CubeTexture in = cubeTexture(c, sourceFormat, size, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-    const CubeTexture out = cubeTexture(c, outputFormat, size, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    viewInfo.image = in.image;
-    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
-    viewInfo.format = sourceFormat;
-    viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
-    VkImageView inView = VK_NULL_HANDLE;
-    EXPECT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &inView), VK_SUCCESS);
-    std::size_t outputTexels = 0;
-    for (int m = 0; m < levels; ++m) outputTexels += texelCount(size >> m);
-    const std::size_t bytes = std::max(outputTexels * texelBytes(outputFormat), texelCount(size) * texelBytes(sourceFormat));
-    HostBuffer staging = hostBuffer(c, bytes);
-    auto* data = reinterpret_cast<unsigned char*>(staging.data);
-    for (std::size_t t = 0; t < texelCount(size); ++t) storeTexel(data + t * texelBytes(sourceFormat), sourceFormat, source.texel(t));
-
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = c.queueFamily;
-    VkCommandPool pool = VK_NULL_HANDLE;
-    EXPECT_EQ(vkCreateCommandPool(c.device, &poolInfo, nullptr, &pool), VK_SUCCESS);
-    VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool, VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    EXPECT_EQ(vkAllocateCommandBuffers(c.device, &allocate, &cmd), VK_SUCCESS);
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    vkBeginCommandBuffer(cmd, &begin);
-
-    transition(cmd, in.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
-    VkBufferImageCopy whole{};
-    whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 6};
-    whole.imageExtent = {uint32_t(size), uint32_t(size), 1};
-    vkCmdCopyBufferToImage(cmd, staging.buffer, in.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
-    transition(cmd, in.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-               VK_ACCESS_SHADER_READ_BIT);
-    transition(cmd, out.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
-
-    const gpu::SourceCube sourceCube{inView, sourceFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size)};
-    const gpu::OutputCube outputCube{
-        out.image, outputFormat, uint32_t(size), uint32_t(levels), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
-    // What has been recorded, submitted and waited for; the command buffer begins again.
-    const auto submit = [&](const gpu::Completion& done) {
-        vkEndCommandBuffer(cmd);
-        submitAndWait(c.queue, cmd, done);
-        vkBeginCommandBuffer(cmd, &begin);
-    };
+    const EngineProbe probe(c, source, settings.levelCount, sourceFormat, settings.outputFormat);
+    EngineCommands commands(c);
+    probe.upload(commands.cmd);
     gpu::Completion done;
-    if (!slices) done = engine.record(cmd, sourceCube, outputCube, timestamps);
+    if (!slices) done = engine.record(commands.cmd, probe.source(), probe.output(), timestamps);
     // One submission per slice, as frames would run them.
     for (const gpu::Slice& slice : slices ? *slices : std::vector<gpu::Slice>{}) {
-        const gpu::Completion sliceDone = engine.record(cmd, sourceCube, outputCube, slice);
+        const gpu::Completion sliceDone = engine.record(commands.cmd, probe.source(), probe.output(), slice);
         EXPECT_EQ(engine.dispatches().size(), slice.dispatches) << "the slice's dispatches, known before it was recorded";
-        submit(sliceDone);
+        commands.submit(sliceDone);
     }
-
-    transition(cmd, out.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
-               VK_ACCESS_TRANSFER_READ_BIT);
-    const std::vector<VkBufferImageCopy> back = probetest::levelRegions(size, levels, texelBytes(outputFormat));
-    vkCmdCopyImageToBuffer(cmd, out.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer, uint32_t(back.size()), back.data());
-    VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
-    submit(done);
-
-    CubeLevels result;
-    for (int m = 0; m < levels; ++m) {
-        CubeImage level(size >> m);
-        for (std::size_t t = 0; t < texelCount(level.size); ++t)
-            level.set(t, loadTexel(data + back[m].bufferOffset + t * texelBytes(outputFormat), outputFormat));
-        result.push_back(std::move(level));
-    }
-
-    vkDestroyCommandPool(c.device, pool, nullptr);
-    vkDestroyImageView(c.device, inView, nullptr);
-    vkDestroyBuffer(c.device, staging.buffer, nullptr);
-    vkFreeMemory(c.device, staging.memory, nullptr);
-    for (const CubeTexture& t : {in, out}) {
-        vkDestroyImage(c.device, t.image, nullptr);
-        vkFreeMemory(c.device, t.memory, nullptr);
-    }
-    return result;
+    probe.readBack(commands.cmd);
+    commands.submit(done);
+    return probe.levels();
 }
 
 void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
@@ -140,7 +71,7 @@ void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Devi
 // An engine's shipping path writes no timestamp queries: the same levels, and no timings.
 TEST_F(GpuTest, RecordWithoutTimestamps) {
     const gpu::Device& owner = probetest::testDevice();
-    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const Caller c = callerOf(owner);
     gpu::FilterSettings settings;
     settings.method.kind = MethodKind::fis;
     settings.faceSize = 32;
@@ -157,7 +88,7 @@ TEST_F(GpuTest, RecordWithoutTimestamps) {
 
 TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
     const gpu::Device& owner = probetest::testDevice();
-    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const Caller c = callerOf(owner);
     const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) recordAndCompare(c, owner, wrapped, sampling);
 }
@@ -171,7 +102,7 @@ TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
 // that in magnitude.
 TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
     const gpu::Device& owner = probetest::testDevice();
-    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const Caller c = callerOf(owner);
     const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
     constexpr float largest = std::numeric_limits<float>::max();
@@ -321,7 +252,7 @@ TEST_F(GpuTest, FilterBuildsItsPipelinesThroughTheEnginesCache) {
 // first record and at the second (when it frees the initialization's staging memory).
 TEST_F(GpuTest, FilterInitializedInTheEnginesCommandBuffer) {
     const gpu::Device& owner = probetest::testDevice();
-    const Caller c{owner.device(), owner.physicalDevice(), owner.queueFamily(), owner.queue()};
+    const Caller c = callerOf(owner);
     const gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     gpu::FilterSettings settings;
     settings.method.kind = MethodKind::fis;
@@ -363,7 +294,7 @@ TEST_F(GpuTest, FilterInitializedInTheEnginesCommandBuffer) {
 // known before recording, are what they dispatch, and they cover every level once.
 TEST_F(GpuTest, SlicesEqualTheWholeUpdate) {
     const gpu::Device& device = probetest::testDevice();
-    const Caller c{device.device(), device.physicalDevice(), device.queueFamily(), device.queue()};
+    const Caller c = callerOf(device);
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
     const CubeImage source = probetest::randomProbe(16, 11);
     for (MethodKind method : {MethodKind::table, MethodKind::fis, MethodKind::reference})
