@@ -682,8 +682,8 @@ Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& sourc
         // descriptor sets are read again, not rewritten, so the earlier slices may still be pending.
         Recording* update = f.slicedUpdate;
         if (!update)
-            throw ProbeError("Filter::record: slice: a slice of levels before its update's pyramid slice (record the slices of "
-                             "Filter::slices in order)");
+            throw ProbeError("Filter::record: slice: a slice of levels with no pyramid slice before it whose set is still its "
+                             "update's (record the slices of Filter::slices in order; a later whole recording may take that set)");
         if (update->boundSource != source.view || update->boundOutput != output.image)
             throw ProbeError("Filter::record: slice: the source or output cube differs from the one its update's pyramid slice "
                              "recorded");

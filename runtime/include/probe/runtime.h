@@ -290,8 +290,11 @@ public:
     // slices in order, one frame each (or several in a frame), and keeps the source holding the same
     // probe until the last has run: the pyramid slice and the copy of level 0 read it. Recording a
     // slice into a second output cube of the same shape leaves the first, with the old levels,
-    // readable until the last slice completes; the engine then swaps them. The same checks as
-    // record(), and the slice's levels must be the Filter's.
+    // readable until the last slice completes; the engine then swaps them. A pyramid slice takes a set
+    // as record() does; a slice of levels reads the pyramid in its update's set, whose earlier slices
+    // may still be pending, and is refused when it comes before any pyramid slice, when that set has
+    // since been taken by another recording, or when its source or output differs from the pyramid
+    // slice's. The same checks as record(), and the slice's levels must be the Filter's.
     [[nodiscard]] Completion record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output, const Slice& slice,
                                     Timestamps timestamps = Timestamps::none);
     // Tools: uploads `source`, runs `slices` in order, one submission each and timed, and returns the
