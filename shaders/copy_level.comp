@@ -3,6 +3,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
+#include "cube.glsl"
 #include "images.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
@@ -17,5 +18,8 @@ layout(push_constant) uniform Params {
 void main() {
     uint index = params.firstTexel + invocationIndex();
     if (index >= params.endTexel) return;
-    storeOutput(texelCoordinates(index - params.firstTexel, params.faceSize >> params.level), sourceTexel(geometry[index].xyz));
+    // The source texel that holds the texel's centre (computed: the nearest read needs no more).
+    int size = params.faceSize >> params.level;
+    ivec3 t = texelCoordinates(index - params.firstTexel, size);
+    storeOutput(t, sourceTexel(texelCubePoint(t.z, t.x, t.y, size)));
 }

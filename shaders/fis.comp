@@ -45,7 +45,14 @@ vec3 samplePyramid(vec3 direction, float level) {
 void main() {
     uint index = params.firstTexel + invocationIndex();
     if (index >= params.endTexel) return;
+    ivec3 t = texelCoordinates(index - params.firstTexel, params.faceSize >> params.level);
+    // Hardware sampling computes the texel's direction, so that no buffer grows with the texel count;
+    // exact sampling reads it from the geometry buffer, as probecore computes it in double.
+#ifdef PROBE_HARDWARE_SAMPLING
+    vec3 R = normalize(texelCubePoint(t.z, t.x, t.y, params.faceSize >> params.level));
+#else
     vec3 R = geometry[index].xyz;
+#endif
 
     // probe::fisFrame
     vec3 up = abs(R.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
@@ -60,5 +67,5 @@ void main() {
         sum += s.z * samplePyramid(tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
     } while (++k < sampleCount);
-    storeOutput(texelCoordinates(index - params.firstTexel, params.faceSize >> params.level), finishTapSum(sum, weightSum));
+    storeOutput(t, finishTapSum(sum, weightSum));
 }

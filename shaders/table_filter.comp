@@ -91,15 +91,20 @@ void main() {
     uint invocation = invocationIndex() % faceTexels, face = invocationIndex() / faceTexels;
     if (face >= 6u) return;
 #endif
-    uint texel = face * faceTexels + texelOfInvocation(invocation, size);
+    uint inFace = texelOfInvocation(invocation, size), texel = face * faceTexels + inFace;
     // The two frames about the other axes weigh 1 everywhere on the face (one of their axes is the
     // face's); the frame about the face's own axis only near its edges, so it comes last. Faces are
     // +X, -X, +Y, -Y, +Z, -Z.
     int major = int(face) / 2;
-    // The texel centre on the cube (major component +-1), from its unit direction: no integer
-    // division to find the texel.
+    // The texel centre on the cube (major component +-1). Hardware sampling computes it, so that no
+    // buffer grows with the texel count; exact sampling takes it from its unit direction in the
+    // geometry buffer, as probecore computes it in double.
+#ifdef PROBE_HARDWARE_SAMPLING
+    vec3 d = texelCubePoint(int(face), int(inFace % uint(size)), int(inFace / uint(size)), size);
+#else
     vec3 R = geometry[params.firstTexel + texel].xyz;
     vec3 d = R / abs(R[major]);
+#endif
     levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * kTaps / 4);
     int groupsInUse = kFixedTapGroups > 0 ? kFixedTapGroups : int(tableEntry(params.usageFirst + uint(params.level)).x);
     vec3 sum = vec3(0.0);

@@ -152,7 +152,10 @@ struct FilterShape {
     bool buildsPyramid = false, paraboloid = false, convertOutput = false;
     Sampling sampling = Sampling::exact;
     std::vector<uint32_t> outputOffsets, pyramidOffsets;
-    std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 0;
+    // The geometry buffer holds every pyramid level's directions and solid angles where exact sampling
+    // or the box pyramid reads them (hardware sampling computes its directions), else one texel.
+    bool geometry = false;
+    std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 1;
 };
 
 FilterShape shapeOf(const Device& d, const FilterSettings& s) {
@@ -208,7 +211,11 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     else if (kind == MethodKind::reference && filters) shape.pyramidTexels = shape.pyramidOffsets[1];
     if (kind == MethodKind::reference) shape.accumulatorTexels = shape.outputOffsets.back();
     if (shape.paraboloid) shape.accumulatorTexels = paraboloidMapTexels(s.faceSize);
-    for (int m = 0; m < shape.pyramidLevels; ++m) shape.geometryTexels += texelCount(s.faceSize >> m);
+    shape.geometry = shape.sampling == Sampling::exact || s.method.pyramid().kind == PyramidKind::box;
+    if (shape.geometry) {
+        shape.geometryTexels = 0;
+        for (int m = 0; m < shape.pyramidLevels; ++m) shape.geometryTexels += texelCount(s.faceSize >> m);
+    }
 
     // Every storage buffer within the device's range, and the texel buffers within its element count.
     const VkPhysicalDeviceLimits& limits = d.impl().limits;
@@ -250,7 +257,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     } else if (kind == MethodKind::fis) {
         tableData = fisBufferData(s, sampleOffsets);
     }
-    const std::vector<float> geometryData = geometryTexels(s.faceSize, pyramidLevels);
+    const std::vector<float> geometryData = shape.geometry ? geometryTexels(s.faceSize, pyramidLevels) : std::vector<float>(4, 0.0f);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
     if (table.bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
