@@ -17,7 +17,8 @@ layout(std430, set = 0, binding = 0) writeonly buffer PyramidBuffer { vec4 pyram
 // S_0 >> m), the SH projection's partial sums, the sphere renderer's pixels.
 layout(std430, set = 0, binding = 1) buffer OutputBuffer { vec4 outputTexels[]; };
 // Per level of the pyramid, the texel centre directions (xyz, unit) and exact solid angles (w),
-// computed by probecore's CubeGeometry in double.
+// computed by probecore's CubeGeometry in double, for exact sampling and the box pyramid (hardware
+// sampling computes its directions, and the Filter then binds a single texel here).
 layout(std430, set = 0, binding = 2) readonly buffer GeometryBuffer { vec4 geometry[]; };
 // Pass 2's tap table, or the FIS samples (the sphere renderer's parameters).
 layout(set = 0, binding = 3) uniform samplerBuffer tableTexels;
