@@ -389,9 +389,10 @@ def main():
     if "llvmpipe" in shown:
         huge = path("huge.exr")
         subprocess.run([pf, "synth", "sky", "--equirect", "16384", "--out", huge], check=True, capture_output=True)
-        for sampling in ("exact", "hardware"):
-            expect_refused(f"filter-2048-{sampling}-over-device-range", ["maxStorageBufferRange", "2048^2"], pf, "filter", huge, "--size",
-                           "2048", "--method", "fis", "--sampling", sampling, "--out", path("out"))
+        # Exact sampling's bordered pyramid (hardware sampling has no buffer that grows with the size:
+        # tests/cli_largest_size.sh runs it).
+        expect_refused("filter-2048-exact-over-device-range", ["maxStorageBufferRange", "2048^2"], pf, "filter", huge, "--size", "2048",
+                       "--method", "fis", "--sampling", "exact", "--out", path("out"))
         os.remove(huge)
     else:
         print("skip the device's buffer range refusals: the test device is not lavapipe")
