@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <vector>
 
 #include <bc6h_sample.spv.h>
@@ -16,6 +17,7 @@
 #include "compute_pipeline.h"
 #include "device.h"
 #include "image.h"
+#include "probe/ktx2.h"
 #include "submission.h"
 #include "vulkan_check.h"
 
@@ -24,31 +26,6 @@ using namespace probe::gpu;
 namespace {
 
 constexpr VkFormat kBc6h = VK_FORMAT_BC6H_UFLOAT_BLOCK;
-
-struct Ktx2Blocks {
-    uint32_t faceSize = 0;
-    std::vector<std::vector<uint8_t>> levels;
-};
-
-Ktx2Blocks readBlocks(const char* path) {
-    std::ifstream in(path, std::ios::binary);
-    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const auto at = [&](std::size_t offset, auto value) {
-        if (offset + sizeof(value) > bytes.size()) throw std::runtime_error(fmt::format("{}: truncated", path));
-        std::memcpy(&value, &bytes[offset], sizeof(value));
-        return value;
-    };
-    if (bytes.size() < 80 || at(12, uint32_t{}) != kBc6h || at(36, uint32_t{}) != 6)
-        throw std::runtime_error(fmt::format("{}: not a BC6H cube", path));
-    Ktx2Blocks k;
-    k.faceSize = at(20, uint32_t{});
-    for (uint32_t m = 0; m < at(40, uint32_t{}); ++m) {
-        const uint64_t offset = at(80 + 24 * m, uint64_t{}), length = at(88 + 24 * m, uint64_t{});
-        if (offset + length > bytes.size()) throw std::runtime_error(fmt::format("{}: level {} beyond the file", path, m));
-        k.levels.emplace_back(bytes.begin() + std::ptrdiff_t(offset), bytes.begin() + std::ptrdiff_t(offset + length));
-    }
-    return k;
-}
 
 // One storage buffer (binding 0) and one sampled image (binding 1).
 struct SampleLayout {
@@ -100,7 +77,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        const Ktx2Blocks k = readBlocks(argv[1]);
+        const probe::Ktx2Levels k = probe::readKtx2Levels(argv[1]);
+        if (k.format != probe::Ktx2PixelFormat::bc6h) throw std::runtime_error(fmt::format("{}: not a BC6H cube", argv[1]));
         DeviceOptions options;
         options.validation = true;
         if (argc > 3) options.choice = argv[3];
@@ -108,14 +86,13 @@ int main(int argc, char** argv) {
         if ((device.impl().features(kBc6h) & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) == 0)
             throw std::runtime_error(fmt::format("{} cannot sample BC6H images", device.info().name));
         const auto levelCount = int(k.levels.size());
-        const CubeImageResource image(device, int(k.faceSize), levelCount, kBc6h,
-                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+        const CubeImageResource image(device, k.faceSize, levelCount, kBc6h, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
         const ImageView view(device.device(), image.handle(), kBc6h, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, uint32_t(levelCount));
         const Sampler nearest(device.device(), false);
         std::size_t blockBytes = 0, texelTotal = 0;
         for (int m = 0; m < levelCount; ++m) {
             blockBytes += k.levels[m].size();
-            texelTotal += 6 * std::size_t(std::max(k.faceSize >> m, 1u)) * std::max(k.faceSize >> m, 1u);
+            texelTotal += probe::texelCount(std::max(k.faceSize >> m, 1));
         }
         Buffer staging(device, std::max(blockBytes, texelTotal * 16), Buffer::Kind::staging);
         Buffer texels(device, texelTotal * 16, Buffer::Kind::storage);
@@ -126,7 +103,7 @@ int main(int argc, char** argv) {
             VkBufferImageCopy region{};
             region.bufferOffset = offset;
             region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
-            const uint32_t size = std::max(k.faceSize >> m, 1u);
+            const auto size = uint32_t(std::max(k.faceSize >> m, 1));
             region.imageExtent = {size, size, 1};
             regions.push_back(region);
             offset += k.levels[m].size();
@@ -160,7 +137,7 @@ int main(int argc, char** argv) {
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.pipeline, 0, 1, &layout.descriptors, 0, nullptr);
-        const std::array<int32_t, 3> constants{int32_t(k.faceSize), levelCount, int32_t(texelTotal)};
+        const std::array<int32_t, 3> constants{k.faceSize, levelCount, int32_t(texelTotal)};
         pipeline.dispatch(cmd, std::as_bytes(std::span(constants)), groupsFor(texelTotal));
         computeBarrier(cmd);
         const VkBufferCopy back{0, 0, texelTotal * 16};

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "device.h"
+#include "probe/bc6h.h"
 #include "probe/error.h"
 #include "probe/range_scale.h"
 #include "probe/reference.h"
@@ -213,13 +214,13 @@ TEST_F(GpuTest, Bc6hEncoderWritesEveryLevelsBlocks) {
     const std::vector<std::vector<uint8_t>> blocks = encoder.encode(levels);
     ASSERT_EQ(blocks.size(), std::size_t(levelCount));
     for (int m = 0; m < levelCount; ++m) {
-        EXPECT_EQ(blocks[m].size(), gpu::bc6hLevelBytes(size >> m)) << "level " << m;
+        EXPECT_EQ(blocks[m].size(), bc6hLevelBytes(size >> m)) << "level " << m;
         for (std::size_t b = 0; b < blocks[m].size(); b += 16) {
             const unsigned mode = (blocks[m][b] & 3u) < 2 ? blocks[m][b] & 3u : blocks[m][b] & 31u;
             EXPECT_TRUE(mode != 0x13 && mode != 0x17 && mode != 0x1B && mode != 0x1F) << "level " << m << ", block " << b / 16;
         }
     }
-    EXPECT_EQ(gpu::bc6hLevelBytes(2), 6u * 16u);
+    EXPECT_EQ(bc6hLevelBytes(2), 6u * 16u);
     EXPECT_EQ(encoder.encode(levels), blocks);
     EXPECT_FALSE(encoder.timings().empty());
 

@@ -94,7 +94,8 @@ TEST(Ktx2, ZstdSupercompressionRoundTrip) {
 // BC6H is written from its blocks: the header names VK_FORMAT_BC6H_UFLOAT_BLOCK with typeSize 1,
 // each level's blocks are stored as given (a level below 4x4 in one block a face), 16-byte aligned;
 // a level whose size is not its blocks' is refused naming the file, and the texel writer refuses the
-// format (its blocks come from an encoder). probefilter's reader does not read BC6H.
+// format (its blocks come from an encoder). The levels read back as written; probefilter does not
+// decode their texels.
 TEST(Ktx2, Bc6hWrittenFromItsBlocks) {
     const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_bc6h_test_{}", ::getpid());
     fs::create_directories(dir);
@@ -130,6 +131,11 @@ TEST(Ktx2, Bc6hWrittenFromItsBlocks) {
     EXPECT_EQ(word(dfd + 12) & 0xFFu, 133u); // KHR_DF_MODEL_BC6H
     EXPECT_EQ(word(dfd + 16), 3u | (3u << 8));
     EXPECT_EQ(word(dfd + 20), 16u);
+
+    const Ktx2Levels read = readKtx2Levels(dir / "bc6h.ktx2");
+    EXPECT_EQ(read.format, Ktx2PixelFormat::bc6h);
+    EXPECT_EQ(read.faceSize, 8);
+    EXPECT_EQ(read.levels, levels);
 
     levels[1].pop_back();
     EXPECT_THROW(writeKtx2Bc6hCube(dir / "short.ktx2", 8, levels, {}), ProbeError);

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <zstd.h>
 
+#include "probe/bc6h.h"
 #include "probe/error.h"
 #include "probe/limits.h"
 #include "probe/output_file.h"
@@ -320,15 +321,15 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
 void writeKtx2Bc6hCube(const std::filesystem::path& path, int faceSize, const std::vector<std::vector<std::uint8_t>>& levels,
                        const KeyValues& metadata, Ktx2Supercompression supercompression) {
     for (std::size_t m = 0; m < levels.size(); ++m) {
-        const std::size_t across = (std::size_t(std::max(faceSize >> m, 1)) + 3) / 4;
-        if (levels[m].size() != 6 * across * across * 16)
-            throw ProbeError(fmt::format("{}: BC6H level {} has {} bytes, not the {} of its blocks", path.string(), m, levels[m].size(),
-                                         6 * across * across * 16));
+        const std::size_t bytes = bc6hLevelBytes(std::max(faceSize >> m, 1));
+        if (levels[m].size() != bytes)
+            throw ProbeError(
+                fmt::format("{}: BC6H level {} has {} bytes, not the {} of its blocks", path.string(), m, levels[m].size(), bytes));
     }
     writeContainer(path, Ktx2PixelFormat::bc6h, faceSize, levels, metadata, supercompression);
 }
 
-Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
+Ktx2Levels readKtx2Levels(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw ProbeError(fmt::format("{}: cannot open KTX2 file", path.string()));
     const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -341,35 +342,22 @@ Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
     const auto scheme = readAt<std::uint32_t>(bytes, 44, path);
     if (scheme != 0 && scheme != kZstdScheme)
         throw ProbeError(fmt::format("{}: supercompression scheme {} (probefilter reads none and Zstandard)", path.string(), scheme));
-    if ((vkFormat != kVkFormatRgba16f && vkFormat != kVkFormatRgba32f && vkFormat != kVkFormatRgb9e5) || faces != 6)
-        throw ProbeError(fmt::format("{}: not an RGBA16F, RGBA32F or RGB9E5 cube", path.string()));
-    Ktx2Cube cube;
-    cube.format = vkFormat == kVkFormatRgba16f   ? Ktx2PixelFormat::rgba16f
-                  : vkFormat == kVkFormatRgba32f ? Ktx2PixelFormat::rgba32f
-                                                 : Ktx2PixelFormat::rgb9e5;
-    cube.supercompression = scheme == kZstdScheme ? Ktx2Supercompression::zstd : Ktx2Supercompression::none;
+    Ktx2Levels k;
+    const Ktx2PixelFormat formats[] = {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5, Ktx2PixelFormat::bc6h};
+    const auto format = std::find_if(std::begin(formats), std::end(formats), [&](Ktx2PixelFormat f) { return vkFormatOf(f) == vkFormat; });
+    if (format == std::end(formats) || faces != 6)
+        throw ProbeError(fmt::format("{}: not an RGBA16F, RGBA32F, RGB9E5 or BC6H cube", path.string()));
+    k.format = *format;
+    k.supercompression = scheme == kZstdScheme ? Ktx2Supercompression::zstd : Ktx2Supercompression::none;
+    k.faceSize = static_cast<int>(width);
     for (std::uint32_t m = 0; m < levelCount; ++m) {
         const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path), length = readAt<std::uint64_t>(bytes, 88 + 24 * m, path),
                    uncompressed = readAt<std::uint64_t>(bytes, 96 + 24 * m, path);
         if (offset > bytes.size() || length > bytes.size() - offset)
             throw ProbeError(fmt::format("{}: level {} lies beyond the file", path.string(), m));
-        const std::vector<std::uint8_t> stored(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
-                                               bytes.begin() + static_cast<std::ptrdiff_t>(offset + length));
-        const std::vector<std::uint8_t> data = scheme == kZstdScheme ? zstdDecompress(stored, uncompressed, path) : stored;
-        CubeImage level(static_cast<int>(std::max(1u, width >> m)));
-        for (std::size_t t = 0; t < texelCount(level.size); ++t) {
-            if (cube.format == Ktx2PixelFormat::rgb9e5) {
-                level.set(t, decodeRgb9e5(readAt<std::uint32_t>(data, 4 * t, path)));
-                continue;
-            }
-            for (int k = 0; k < 3; ++k) {
-                const std::size_t channel = 4 * t + k;
-                level.rgb[3 * t + k] = cube.format == Ktx2PixelFormat::rgba32f
-                                           ? readAt<float>(data, 4 * channel, path)
-                                           : halfBitsToFloat(readAt<std::uint16_t>(data, 2 * channel, path));
-            }
-        }
-        cube.levels.push_back(std::move(level));
+        std::vector<std::uint8_t> stored(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
+                                         bytes.begin() + static_cast<std::ptrdiff_t>(offset + length));
+        k.levels.push_back(scheme == kZstdScheme ? zstdDecompress(stored, uncompressed, path) : std::move(stored));
     }
     const auto kvdOffset = readAt<std::uint32_t>(bytes, 56, path), kvdLength = readAt<std::uint32_t>(bytes, 60, path);
     for (std::size_t p = kvdOffset; p + 4 <= kvdOffset + kvdLength;) {
@@ -380,8 +368,33 @@ Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
         const std::size_t nul = entry.find('\0');
         std::string value = entry.substr(nul + 1);
         if (!value.empty() && value.back() == '\0') value.pop_back();
-        cube.metadata.emplace_back(entry.substr(0, nul), value);
+        k.metadata.emplace_back(entry.substr(0, nul), value);
         p = align(p + 4 + length, 4);
+    }
+    return k;
+}
+
+Ktx2Cube readKtx2Cube(const std::filesystem::path& path) {
+    Ktx2Levels k = readKtx2Levels(path);
+    if (k.format == Ktx2PixelFormat::bc6h)
+        throw ProbeError(fmt::format("{}: BC6H blocks (probefilter reads their levels as stored, not their texels)", path.string()));
+    Ktx2Cube cube{k.format, k.supercompression, {}, std::move(k.metadata)};
+    for (std::size_t m = 0; m < k.levels.size(); ++m) {
+        const std::vector<std::uint8_t>& data = k.levels[m];
+        CubeImage level(std::max(1, k.faceSize >> m));
+        for (std::size_t t = 0; t < texelCount(level.size); ++t) {
+            if (cube.format == Ktx2PixelFormat::rgb9e5) {
+                level.set(t, decodeRgb9e5(readAt<std::uint32_t>(data, 4 * t, path)));
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t channel = 4 * t + c;
+                level.rgb[3 * t + c] = cube.format == Ktx2PixelFormat::rgba32f
+                                           ? readAt<float>(data, 4 * channel, path)
+                                           : halfBitsToFloat(readAt<std::uint16_t>(data, 2 * channel, path));
+            }
+        }
+        cube.levels.push_back(std::move(level));
     }
     return cube;
 }

@@ -8,6 +8,7 @@
 
 #include "compute_pipeline.h"
 #include "gpu_timer.h"
+#include "probe/bc6h.h"
 #include "probe/error.h"
 #include "submission.h"
 
@@ -25,11 +26,6 @@ struct Bc6hConstants {
 };
 
 } // namespace
-
-std::size_t bc6hLevelBytes(int faceSize) {
-    const std::size_t across = (std::size_t(faceSize) + 3) / 4;
-    return kFaceCount * across * across * kBlockBytes;
-}
 
 struct Bc6hEncoder::Impl {
     const Device& device;

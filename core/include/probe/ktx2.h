@@ -50,7 +50,18 @@ std::size_t writeKtx2Cube(const std::filesystem::path& path, const CubeLevels& l
 void writeKtx2Bc6hCube(const std::filesystem::path& path, int faceSize, const std::vector<std::vector<std::uint8_t>>& levels,
                        const KeyValues& metadata, Ktx2Supercompression supercompression = Ktx2Supercompression::none);
 
-// Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata).
+// A cube as a KTX2 file stores it (any format above): each level's bytes, decompressed, and the
+// metadata. Throws ProbeError naming the file for anything else.
+struct Ktx2Levels {
+    Ktx2PixelFormat format = Ktx2PixelFormat::rgba16f;
+    Ktx2Supercompression supercompression = Ktx2Supercompression::none;
+    int faceSize = 0;
+    std::vector<std::vector<std::uint8_t>> levels;
+    KeyValues metadata;
+};
+Ktx2Levels readKtx2Levels(const std::filesystem::path& path);
+
+// Reads back a cube written by writeKtx2Cube (RGB of every level, and its metadata); ProbeError for BC6H.
 struct Ktx2Cube {
     Ktx2PixelFormat format = Ktx2PixelFormat::rgba16f;
     Ktx2Supercompression supercompression = Ktx2Supercompression::none;

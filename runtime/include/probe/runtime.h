@@ -378,7 +378,8 @@ public:
     Bc6hEncoder(const Bc6hEncoder&) = delete;
     Bc6hEncoder& operator=(const Bc6hEncoder&) = delete;
 
-    // Each level's blocks; a level left empty (not computed) encodes as black.
+    // Each level's blocks (probe::bc6hLevelBytes, probe/bc6h.h); a level left empty (not computed) encodes
+    // as black.
     std::vector<std::vector<uint8_t>> encode(const CubeLevels& levels);
     // GPU time of the last encode(): "bc6h" and "total". Empty when the queue has no timestamps.
     std::vector<PassTime> timings() const;
@@ -388,8 +389,6 @@ public:
 private:
     std::unique_ptr<Impl> impl_;
 };
-// Bytes of one BC6H level of face size `faceSize` (six faces of ceil(S / 4)^2 blocks).
-std::size_t bc6hLevelBytes(int faceSize);
 
 // A material as the sphere renderer shades it.
 struct SphereMaterial {
