@@ -376,6 +376,17 @@ def main():
     expect_refused("fis-bias-huge", ["--fis-bias 1e+300"], pf, *filter_args(good, "--method", "fis", "--fis-bias", "1e300"))
     expect_refused("repeat-huge", ["--repeat 1000000", "1000"], pf, *filter_args(good, "--repeat", "1000000"))
     expect_refused("filter-size-65536", ["face size 65536", "2048"], pf, "filter", good, "--size", "65536", "--out", path("out"))
+    # Several inputs: one batch, a folder each named after its input.
+    os.makedirs(path("other"), exist_ok=True)
+    shutil.copy(good, path("other/good.exr"))
+    expect_refused("batch-same-name", ["same name", "good/"], pf, "filter", good, path("other/good.exr"), "--size", "16", "--out", path("out"))
+    expect_refused("batch-65-inputs", ["65 inputs", "64"], pf, "filter", *[good] * 65, "--size", "16", "--out", path("out"))
+    expect_refused("batch-slices", ["--slices", "one input"], pf, "filter", good, path("other/good.exr"), "--size", "16", "--slices", "2",
+                   "--out", path("out"))
+    expect_refused("batch-bad-member", [path("bad-member.exr")], pf, "filter", good, write("bad-member.exr", b"not an exr"), "--size", "16",
+                   "--out", path("out"))
+    shutil.rmtree(path("other"))
+    expect_refused("ktx2-unknown-format", ["--ktx2", "bc7"], pf, *filter_args(good, "--ktx2", "bc7"))
     # The exact reference is quadratic in the face size: over an hour's estimate is refused up front.
     expect_refused("reference-size-2048", ["reference at 2048^2 would take", "--allow-long"], pf, "reference", good, "--size", "2048",
                    "--out", path("out"))
