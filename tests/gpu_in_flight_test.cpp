@@ -2,13 +2,19 @@
 // Filter into one submission each get their own levels; a recording beyond the sets in flight is
 // refused, not recorded; a Filter destroyed before its recordings complete leaves their resources to
 // the Device, which releases them once the Completion is signalled; slices keep their update's set.
-// Every case runs under the validation layer with synchronization validation on (gpu_test_support.h).
+// Every case runs under the validation layer with synchronization validation on (gpu_test_support.h),
+// which is live: it reports two unordered writes.
+#include <algorithm>
+#include <cstdlib>
+
 #include <fmt/format.h>
 
+#include "buffer.h"
 #include "device.h"
 #include "engine_caller.h"
 #include "gpu_test_support.h"
 #include "probe/error.h"
+#include "submission.h"
 
 using namespace probe;
 using namespace probetest;
@@ -192,4 +198,25 @@ TEST_F(GpuTest, BatchRunEqualsRunsOneByOne) {
         EXPECT_THROW(filter.run(std::vector<CubeImage>(4, sources[0])), ParameterError);
         EXPECT_THROW(filter.run(std::vector<CubeImage>{}), ParameterError);
     }
+}
+
+// The validation layer runs with synchronization validation (every GPU test's device): two writes of
+// one buffer with no barrier between them are reported as a hazard. A device of its own, so that
+// the report fails no other test.
+TEST(SynchronizationValidation, ReportsTwoUnorderedWrites) {
+    gpu::DeviceOptions options;
+    options.validation = true;
+    if (const char* choice = std::getenv("PROBE_TEST_DEVICE")) options.choice = choice;
+    const gpu::Device device(options);
+    const gpu::Buffer buffer(device, 1024, gpu::Buffer::Kind::storage);
+    gpu::Submission submission(device);
+    VkCommandBuffer cmd = submission.begin();
+    vkCmdFillBuffer(cmd, buffer.handle(), 0, VK_WHOLE_SIZE, 1u);
+    vkCmdFillBuffer(cmd, buffer.handle(), 0, VK_WHOLE_SIZE, 2u);
+    submission.submitAndWait(cmd);
+    submission.release(cmd);
+    const std::vector<std::string> messages = device.validationMessages();
+    EXPECT_TRUE(
+        std::any_of(messages.begin(), messages.end(), [](const std::string& m) { return m.find("SYNC-HAZARD") != std::string::npos; }))
+        << messages.size() << " message(s)";
 }
