@@ -379,7 +379,8 @@ def main():
     # Several inputs: one batch, a folder each named after its input.
     os.makedirs(path("other"), exist_ok=True)
     shutil.copy(good, path("other/good.exr"))
-    expect_refused("batch-same-name", ["same name", "good/"], pf, "filter", good, path("other/good.exr"), "--size", "16", "--out", path("out"))
+    expect_refused("batch-same-name", ["same name", "good/"], pf, "filter", good, path("other/good.exr"), "--size", "16",
+                   "--out", path("out"))
     expect_refused("batch-65-inputs", ["65 inputs", "64"], pf, "filter", *[good] * 65, "--size", "16", "--out", path("out"))
     expect_refused("batch-slices", ["--slices", "one input"], pf, "filter", good, path("other/good.exr"), "--size", "16", "--slices", "2",
                    "--out", path("out"))
