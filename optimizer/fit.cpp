@@ -325,8 +325,9 @@ std::string solverDescription(const FitSettings& s) {
     switch (s.solver) {
     case FitSolver::lmBfgs:
         method = s.coarseIterations > 0
-                     ? fmt::format("{} iterations of {}, then at most {} of {} on the coarse texels (every few of the "
-                                   "stratified output texels, at least {}) and at most {} on all of them",
+                     ? fmt::format("{} iterations of {}, then at most {} of {} with every frame's taps tied (the best frame "
+                                   "copied into the others) on the coarse texels (every few of the stratified output texels, at "
+                                   "least {}) and at most {} on all of them with each frame free",
                                    s.lmIterations, lm, s.coarseIterations, bfgs, kCoarseTexels, s.maxIterations)
                      : fmt::format("{} iterations of {}, then at most {} of {}", s.lmIterations, lm, s.maxIterations, bfgs);
         break;
@@ -358,7 +359,7 @@ std::string solverDescription(const FitSettings& s) {
         initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "",
         screensStarts(s) ? "; every start runs Levenberg-Marquardt on the coarse texels, the lowest objective then the rest of the "
-                           "solver (BFGS, or the whole solver where a level has no coarse texels)"
+                           "solver (BFGS)"
                          : "",
         s.hops > 0 ? fmt::format("; then {} hops (the fit's taps moved at random and refitted, kept where the objective is lower)", s.hops)
                    : "");
@@ -369,9 +370,34 @@ struct SolveReport {
     double solverSeconds = 0.0; // total time inside Ceres
 };
 
+// The level's function with every frame's taps the same: the parameters are one frame's, the slope
+// the sum of the frames'.
+class TiedFrames final : public ceres::FirstOrderFunction {
+public:
+    TiedFrames(const ImpulseModel& model, const LevelObjective& objective) : untied_(model, objective) {}
+    int NumParameters() const override { return untied_.NumParameters() / kFrameCount; }
+
+    bool Evaluate(const double* parameters, double* cost, double* gradient) const override {
+        const auto n = static_cast<std::size_t>(NumParameters());
+        frames_.resize(n * kFrameCount);
+        for (std::size_t f = 0; f < kFrameCount; ++f) std::copy(parameters, parameters + n, frames_.begin() + std::ptrdiff_t(f * n));
+        framesGradient_.resize(frames_.size());
+        untied_.Evaluate(frames_.data(), cost, gradient ? framesGradient_.data() : nullptr);
+        if (gradient)
+            for (std::size_t q = 0; q < n; ++q) gradient[q] = framesGradient_[q] + framesGradient_[n + q] + framesGradient_[2 * n + q];
+        return true;
+    }
+
+private:
+    LevelFunction untied_;
+    mutable std::vector<double> frames_, framesGradient_;
+};
+
+// With `tied`, parameters holds one frame's taps (TiedFrames).
 SolveReport solveBfgs(const ImpulseModel& model, const LevelObjective& objective, double* parameters, int iterations,
-                      ProgressCallback& callback) {
-    ceres::GradientProblem problem(new LevelFunction(model, objective));
+                      ProgressCallback& callback, bool tied) {
+    ceres::GradientProblem problem(tied ? static_cast<ceres::FirstOrderFunction*>(new TiedFrames(model, objective))
+                                        : new LevelFunction(model, objective));
     ceres::GradientProblemSolver::Options options;
     options.line_search_direction_type = ceres::BFGS;
     options.line_search_type = ceres::WOLFE;
@@ -604,17 +630,41 @@ private:
         }
     }
 
-    // The solver from the level's coefficients: Levenberg-Marquardt, BFGS on the coarse texels (cheap
-    // iterations that carry the fit most of the way down a slow slope) where they are fewer, then
-    // BFGS on every texel; returns the objective at the end where `compare` (one more evaluation).
-    // A `screened` start has run its Levenberg-Marquardt on the coarse texels: it goes on to their BFGS.
+    // The solver from the level's coefficients: Levenberg-Marquardt; BFGS with the frames tied (the
+    // frame of the lowest L1 copied into the others) on the coarse texels, or on every texel where a
+    // level has no coarse ones: cheap iterations that carry the fit most of the way down a slow slope
+    // with a third of the parameters, so that neither the frames settle in different basins nor the
+    // fit follows the few coarse texels; then BFGS on every texel, each frame free. Returns the
+    // objective at the end where `compare` (one more evaluation). A `screened` start has run its
+    // Levenberg-Marquardt on the coarse texels: it goes on to the tied BFGS.
     double fitInFull(bool compare, bool screened = false) {
         const int lm = levelIterations(settings_, lmPart(settings_), texels_.size()),
                   bfgs = levelIterations(settings_, bfgsPart(settings_), texels_.size());
-        if (settings_.coarseIterations == 0 || coarse_.size() == texels_.size()) return solve(texels_, lm, bfgs, compare);
+        if (settings_.coarseIterations == 0) return solve(texels_, lm, bfgs, compare);
         if (!screened) solve(texels_, lm, 0);
-        solve(coarse_, 0, levelIterations(settings_, settings_.coarseIterations, texels_.size()));
+        if (settings_.solver != FitSolver::lm) {
+            tieFrames();
+            solve(coarse_, 0, levelIterations(settings_, settings_.coarseIterations, texels_.size()), false, true);
+        }
         return solve(texels_, 0, bfgs, compare);
+    }
+
+    // Every frame gets the taps of the frame whose copy has the lowest L1.
+    void tieFrames() {
+        const std::vector<double> fitted = level_.coefficients;
+        double best = 1e300;
+        std::vector<double> tied;
+        for (int f = 0; f < kFrameCount; ++f) {
+            level_.coefficients = fitted;
+            oneFrameLayout(table_, m_, f);
+            const double value = l1();
+            if (value < best) {
+                best = value;
+                tied = level_.coefficients;
+            }
+        }
+        level_.coefficients = tied;
+        context_.report(m_, best, "frames tied");
     }
 
     // A start's screening: the Levenberg-Marquardt part on the coarse texels, as many iterations at
@@ -623,7 +673,8 @@ private:
 
     // Runs lmIterations of Levenberg-Marquardt, then bfgsIterations of BFGS, over `texels` from the
     // level's coefficients; returns the objective at the end where `compare` (one more evaluation).
-    double solve(const std::vector<OutputTexel>& texels, int lmIterations, int bfgsIterations, bool compare = false) {
+    // With `tied`, the BFGS keeps every frame's taps the same (those of frame 0).
+    double solve(const std::vector<OutputTexel>& texels, int lmIterations, int bfgsIterations, bool compare = false, bool tied = false) {
         const LevelObjective objective(model_, texels, weightedMeanWeightSum(model_, blocks_.data(), texels), pairs_, context_.basis,
                                        settings_.seamWeight, &texels == &coarse_ ? coarseChecker_ : checker_, context_.share);
         if (lmIterations > 0 && settings_.solver != FitSolver::bfgs) {
@@ -634,7 +685,8 @@ private:
         }
         if (bfgsIterations > 0 && settings_.solver != FitSolver::lm) {
             ProgressCallback callback(context_.progress, m_, context_.start, 1.0);
-            add(solveBfgs(model_, objective, level_.coefficients.data(), bfgsIterations, callback));
+            add(solveBfgs(model_, objective, level_.coefficients.data(), bfgsIterations, callback, tied));
+            if (tied) oneFrameLayout(table_, m_, 0);
         }
         const double value = compare ? objective.value(blocks_.data()) : 0.0;
         modelSeconds_ += objective.seconds();
@@ -696,7 +748,8 @@ double levelIterationCost(const FitSettings& s, std::size_t texels) {
     const double share = static_cast<double>(coarseTexelCount(texels)) / static_cast<double>(std::max<std::size_t>(1, texels));
     // The whole solver from one start (fitInFull), and what a screened start runs after its screening.
     const double lm = s.solver == FitSolver::bfgs ? 0 : levelIterations(s, lmPart(s), texels);
-    const bool coarse = s.solver != FitSolver::lm && s.coarseIterations > 0 && share < 1.0;
+    // The tied BFGS on the coarse texels (every texel where a level has no coarse ones).
+    const bool coarse = s.solver != FitSolver::lm && s.coarseIterations > 0;
     double whole = lm + levelIterations(s, bfgsPart(s), texels);
     if (coarse) whole += share * levelIterations(s, s.coarseIterations, texels);
     const double afterScreening = coarse ? whole - lm : whole;

@@ -28,14 +28,16 @@ struct FitSettings {
     // every base texel. The table's records are exact either way.
     Measure measure = Measure::cells;
     FitSolver solver = FitSolver::lmBfgs;
-    int lmIterations = 20; // the Levenberg-Marquardt part of lm-bfgs (scaled like maxIterations)
+    int lmIterations = 10; // the Levenberg-Marquardt part of lm-bfgs (scaled like maxIterations)
     // Solver iterations for a level with the full budget of stratified texels; a level with fewer
     // texels (the rough ones: 24 at a 2x2 face) costs less per iteration and gets proportionally
     // more, at most roughIterationFactor times as many.
     int maxIterations = 30;
-    // BFGS iterations on the coarse texels (every few of the stratified texels) before maxIterations
-    // on all of them: the L1 falls slowly under BFGS, and a quarter of the texels points the same way.
-    int coarseIterations = 200;
+    // BFGS iterations with the frames tied on the coarse texels (every few of the stratified texels,
+    // at least 128; all of them where a level has fewer than 256) before maxIterations on all of
+    // them with each frame free: the L1 falls slowly under BFGS, and a quarter of the texels points
+    // the same way. 0: neither the tied part nor the coarse texels.
+    int coarseIterations = 150;
     int roughIterationFactor = 4;
     // The seam term (seam_term.h): its weight W against the mean L1 (0: off), over at most this many
     // edge pairs per level.

@@ -128,4 +128,12 @@ void startFromTable(TapTable& table, int level, const TapTable& init, double spr
         }
 }
 
+void oneFrameLayout(TapTable& table, int level, int frame) {
+    std::vector<double>& c = table.levels[level].coefficients;
+    const std::ptrdiff_t frameSize = static_cast<std::ptrdiff_t>(c.size()) / kFrameCount;
+    const auto from = c.begin() + frame * frameSize;
+    for (int f = 0; f < kFrameCount; ++f)
+        if (f != frame) std::copy(from, from + frameSize, c.begin() + f * frameSize);
+}
+
 } // namespace probefit

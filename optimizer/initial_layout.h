@@ -42,4 +42,9 @@ void startFromBank(probe::TapTable& table, int level, const probe::TapTable& ban
 // stationary point (the fit keeps the exact split where it cannot beat it).
 void startFromTable(probe::TapTable& table, int level, const probe::TapTable& init, double spread = 0.0);
 
+// Every frame gets the taps of frame `frame`. The lobe is the same about every axis, so one frame's
+// taps suit the others; a fit's frames can settle in different basins, and the best frame copied
+// into the others starts a refit in its basin.
+void oneFrameLayout(probe::TapTable& table, int level, int frame);
+
 } // namespace probefit

@@ -385,8 +385,8 @@ int main(int argc, char** argv) {
     fit->add_option("--iterations", settings.maxIterations, "solver iterations per level (at the full texel budget)")
         ->capture_default_str();
     fit->add_option("--coarse-iterations", settings.coarseIterations,
-                    "BFGS iterations per level on the coarse texels (every few of the stratified texels, at least 128) "
-                    "before --iterations on all of them; 0: none")
+                    "BFGS iterations per level with every frame's taps tied, on the coarse texels (every few of the stratified "
+                    "texels, at least 128), before --iterations on all of them with each frame free; 0: none")
         ->capture_default_str();
     fit->add_option("--rough-factor", settings.roughIterationFactor,
                     "levels with fewer stratified texels get up to this many times the iterations")
