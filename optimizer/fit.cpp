@@ -1,7 +1,6 @@
 #include "fit.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -17,6 +16,7 @@
 #include "evaluate.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
+#include "level_solver.h"
 #include "probe/error.h"
 #include "seam_term.h"
 #include "tail_check.h"
@@ -27,9 +27,6 @@ using namespace probe;
 
 namespace {
 
-// The weight sum is kept above this fraction of its mean at the start of the level's fit.
-constexpr double kMinWeightSum = 0.25;
-constexpr double kPenalty = 10.0;
 // How far apart (in texels of the tap's pyramid level) the two halves of a split --init tap start.
 constexpr double kSplitSpread = 0.5;
 // The bank's starts are screened on every this many stratified texels.
@@ -60,230 +57,6 @@ int nearestLevel(const TapTable& table, double alpha) {
     }
     return best;
 }
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-// The threads a level's evaluations use: all of them, shared by the chains of levels not yet finished
-// (fitTable), so that a chain's threads go to the others when it ends.
-struct ThreadShare {
-    int threads = 1;
-    std::atomic<int> chainsLeft{1};
-    int now() const { return std::max(1, threads / std::clamp(chainsLeft.load(), 1, threads)); }
-};
-
-// The objective over the stratified texels R with normalized weights a_R:
-//   f = sum_R a_R e_R + sum_R a_R p_R^2 + (W / P) sum_pairs s_pair,
-//   p_R = kPenalty * max(0, kMinWeightSum - weightSum_R / scale),
-// the weighted mean L1, a penalty where the weight sum drops below kMinWeightSum of its mean at the
-// start, and with --seam-weight W the mean seam term over P edge pairs (seam_term.h). e_R includes
-// the tail term and, with --checker-weight C, C c_R (checker_term.h). Terms are computed in parallel
-// and summed in order, so the result does not depend on the number of threads.
-class LevelObjective {
-public:
-    LevelObjective(const ImpulseModel& model, const std::vector<OutputTexel>& texels, double weightScale,
-                   const std::vector<SeamPair>& pairs, const MomentBasis& basis, double seamWeight, const CheckerTerm& checker,
-                   const ThreadShare& share)
-        : model_(model), texels_(texels), weightScale_(weightScale), pairs_(pairs), basis_(basis), seamWeight_(seamWeight),
-          checker_(checker), share_(share) {
-        for (const OutputTexel& t : texels) weightTotal_ += t.weight;
-    }
-
-    std::size_t texelCount() const { return texels_.size(); }
-    std::size_t termCount() const { return texels_.size() + pairs_.size(); }
-    int parameterCount() const { return model_.blockCount() * model_.blockSize(); }
-
-    struct Term {
-        double a = 0.0, error = 0.0, penalty = 0.0;
-        double penaltySlope = 0.0; // d p / d weightSum
-    };
-
-    // Per term n (texels first, then seam pairs): its term and, with gradients, d error_n / d theta in
-    // errorGradient[n * P ...] and (texels) d weightSum_n / d theta in weightGradient[n * P ...]
-    // (P = parameterCount()).
-    void evaluate(const double* const* blocks, std::vector<Term>& terms, double* errorGradient, double* weightGradient) const {
-        const std::size_t count = texels_.size(), p = static_cast<std::size_t>(parameterCount());
-        terms.assign(termCount(), Term{});
-        const auto start = Clock::now();
-        // The chain's share of the threads now (ThreadShare): this evaluation's team, and that of the
-        // level's parallel work after it.
-        omp_set_num_threads(share_.now());
-        // One workspace per thread, kept between evaluations: at 1024^2 each is a quarter of a GiB.
-        while (workspaces_.size() < static_cast<std::size_t>(omp_get_max_threads())) workspaces_.push_back(model_.workspace());
-#pragma omp parallel
-        {
-            ImpulseModel::Workspace& ws = workspaces_[static_cast<std::size_t>(omp_get_thread_num())];
-            std::vector<double> scratch;
-#pragma omp for schedule(dynamic, 4)
-            for (std::size_t n = 0; n < count; ++n) {
-                if (n + 1 < count) prefetch(texels_[n + 1]);
-                const ImpulseModel::Result r = model_.evaluate(blocks, texels_[n], ws, errorGradient ? errorGradient + n * p : nullptr,
-                                                               errorGradient ? weightGradient + n * p : nullptr);
-                const double deficit = kMinWeightSum - r.weightSum / weightScale_;
-                Term& t = terms[n];
-                t.a = texels_[n].weight / weightTotal_;
-                t.error = r.error + model_.tailWeight() * r.tail;
-                if (checker_.weight > 0.0) {
-                    scratch.resize(p);
-                    const double c = checkerError(model_, blocks, texels_[n], checker_.reference[n], checker_.basis,
-                                                  errorGradient ? scratch.data() : nullptr);
-                    t.error += checker_.weight * c;
-                    if (errorGradient)
-                        for (std::size_t q = 0; q < p; ++q) errorGradient[n * p + q] += checker_.weight * scratch[q];
-                }
-                t.penalty = deficit > 0.0 ? kPenalty * deficit : 0.0;
-                t.penaltySlope = deficit > 0.0 ? -kPenalty / weightScale_ : 0.0;
-            }
-#pragma omp for schedule(dynamic, 2)
-            for (std::size_t k = 0; k < pairs_.size(); ++k) {
-                const std::size_t n = count + k;
-                Term& t = terms[n];
-                t.a = seamWeight_ / static_cast<double>(pairs_.size());
-                t.error = seamError(model_, blocks, pairs_[k], basis_, errorGradient ? errorGradient + n * p : nullptr, scratch);
-                if (errorGradient) std::fill(weightGradient + n * p, weightGradient + (n + 1) * p, 0.0);
-            }
-        }
-        seconds_ += secondsSince(start);
-        ++evaluations_;
-    }
-
-    // f itself (the value the solvers minimize).
-    double value(const double* const* blocks) const {
-        std::vector<Term> terms;
-        evaluate(blocks, terms, nullptr, nullptr);
-        double f = 0.0;
-        for (const Term& t : terms) f += t.a * (t.error + t.penalty * t.penalty);
-        return f;
-    }
-
-    double seconds() const { return seconds_; }
-    int evaluations() const { return evaluations_; }
-
-private:
-    const ImpulseModel& model_;
-    const std::vector<OutputTexel>& texels_;
-    double weightScale_;
-    const std::vector<SeamPair>& pairs_;
-    const MomentBasis& basis_;
-    double seamWeight_;
-    const CheckerTerm& checker_;
-    const ThreadShare& share_;
-    double weightTotal_ = 0.0;
-    mutable std::vector<ImpulseModel::Workspace> workspaces_;
-    mutable double seconds_ = 0.0;
-    mutable int evaluations_ = 0;
-};
-
-std::vector<const double*> blockPointers(const ImpulseModel& model, const double* parameters) {
-    std::vector<const double*> blocks(static_cast<std::size_t>(model.blockCount()));
-    for (std::size_t b = 0; b < blocks.size(); ++b) blocks[b] = parameters + b * static_cast<std::size_t>(model.blockSize());
-    return blocks;
-}
-
-// BFGS (line search) on f itself. L1 is only piecewise smooth, but BFGS copes with that well in
-// practice and, unlike the Gauss-Newton model of Levenberg-Marquardt, its curvature estimate comes
-// from the true gradients: measured on 128^2 quad 8, 60 iterations reach 0.087 / 0.113 / 0.132 at
-// levels 2 / 5 / 6 where Levenberg-Marquardt's reach 0.093 / 0.126 / 0.156.
-class LevelFunction final : public ceres::FirstOrderFunction {
-public:
-    LevelFunction(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {}
-    int NumParameters() const override { return objective_.parameterCount(); }
-
-    bool Evaluate(const double* parameters, double* cost, double* gradient) const override {
-        const std::vector<const double*> blocks = blockPointers(model_, parameters);
-        const std::size_t p = static_cast<std::size_t>(NumParameters());
-        if (gradient) {
-            errorGradient_.resize(objective_.termCount() * p);
-            weightGradient_.resize(errorGradient_.size());
-        }
-        objective_.evaluate(blocks.data(), terms_, gradient ? errorGradient_.data() : nullptr, gradient ? weightGradient_.data() : nullptr);
-        double f = 0.0;
-        for (const auto& t : terms_) f += t.a * (t.error + t.penalty * t.penalty);
-        *cost = f;
-        if (!gradient) return true;
-        std::fill(gradient, gradient + p, 0.0);
-        for (std::size_t n = 0; n < terms_.size(); ++n) {
-            const auto& t = terms_[n];
-            const double* ge = &errorGradient_[n * p];
-            for (std::size_t q = 0; q < p; ++q) gradient[q] += t.a * ge[q];
-            if (t.penalty <= 0.0) continue;
-            const double s = 2.0 * t.a * t.penalty * t.penaltySlope;
-            const double* gw = &weightGradient_[n * p];
-            for (std::size_t q = 0; q < p; ++q) gradient[q] += s * gw[q];
-        }
-        return true;
-    }
-
-private:
-    const ImpulseModel& model_;
-    const LevelObjective& objective_;
-    mutable std::vector<LevelObjective::Term> terms_;
-    mutable std::vector<double> errorGradient_, weightGradient_;
-};
-
-// Levenberg-Marquardt on the same f as a sum of squares: residuals 0..R-1 are sqrt(a_R e_R) (texels,
-// then seam pairs), residuals R..2R-1 sqrt(a_R) p_R; Ceres's cost 0.5 * sum r^2 is f / 2.
-class LevelCost final : public ceres::CostFunction {
-public:
-    LevelCost(const ImpulseModel& model, const LevelObjective& objective) : model_(model), objective_(objective) {
-        set_num_residuals(static_cast<int>(2 * objective.termCount()));
-        for (int b = 0; b < model.blockCount(); ++b) mutable_parameter_block_sizes()->push_back(model.blockSize());
-    }
-
-    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-        const std::size_t count = objective_.termCount(), p = static_cast<std::size_t>(objective_.parameterCount());
-        if (jacobians) {
-            errorGradient_.resize(count * p);
-            weightGradient_.resize(count * p);
-        }
-        objective_.evaluate(parameters, terms_, jacobians ? errorGradient_.data() : nullptr, jacobians ? weightGradient_.data() : nullptr);
-        const int blockSize = model_.blockSize();
-        for (std::size_t n = 0; n < count; ++n) {
-            const auto& t = terms_[n];
-            const double residual = std::sqrt(t.a * t.error);
-            residuals[n] = residual;
-            residuals[count + n] = std::sqrt(t.a) * t.penalty;
-            if (!jacobians) continue;
-            const double errorScale = residual > 0.0 ? 0.5 * t.a / residual : 0.0;
-            const double penaltyScale = std::sqrt(t.a) * t.penaltySlope;
-            for (int b = 0; b < model_.blockCount(); ++b) {
-                if (!jacobians[b]) continue;
-                double* errorRow = jacobians[b] + n * blockSize;
-                double* penaltyRow = jacobians[b] + (count + n) * blockSize;
-                for (int q = 0; q < blockSize; ++q) {
-                    errorRow[q] = errorScale * errorGradient_[n * p + b * blockSize + q];
-                    penaltyRow[q] = penaltyScale * weightGradient_[n * p + b * blockSize + q];
-                }
-            }
-        }
-        return true;
-    }
-
-private:
-    const ImpulseModel& model_;
-    const LevelObjective& objective_;
-    mutable std::vector<LevelObjective::Term> terms_;
-    mutable std::vector<double> errorGradient_, weightGradient_;
-};
-
-class ProgressCallback final : public ceres::IterationCallback {
-public:
-    ProgressCallback(const std::function<void(const FitProgress&)>& progress, int level, Clock::time_point start, double costScale)
-        : progress_(progress), level_(level), start_(start), costScale_(costScale) {}
-    ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-        // Rejected trial steps report the trial's cost; show the accepted state only.
-        if (progress_ && summary.step_is_successful)
-            progress_({level_, summary.iteration, costScale_ * summary.cost, secondsSince(start_), "iteration"});
-        return ceres::SOLVER_CONTINUE;
-    }
-
-private:
-    const std::function<void(const FitProgress&)>& progress_;
-    int level_;
-    Clock::time_point start_;
-    double costScale_; // to the weighted mean L1
-};
 
 double weightedMeanWeightSum(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {
     double sum = 0.0, total = 0.0;
@@ -359,73 +132,10 @@ std::string solverDescription(const FitSettings& s) {
         initDescription(s),
         s.starts > 1 ? fmt::format("; also fitted from {} importance layouts (FIS taps), the lowest objective kept", s.starts - 1) : "",
         screensStarts(s) ? "; every start runs Levenberg-Marquardt on the coarse texels, the lowest objective then the rest of the "
-                           "solver (BFGS)"
+                           "solver (BFGS); a level without coarse texels runs every start through the whole solver"
                          : "",
         s.hops > 0 ? fmt::format("; then {} hops (the fit's taps moved at random and refitted, kept where the objective is lower)", s.hops)
                    : "");
-}
-
-struct SolveReport {
-    int iterations = 0;
-    double solverSeconds = 0.0; // total time inside Ceres
-};
-
-// The level's function with every frame's taps the same: the parameters are one frame's, the slope
-// the sum of the frames'.
-class TiedFrames final : public ceres::FirstOrderFunction {
-public:
-    TiedFrames(const ImpulseModel& model, const LevelObjective& objective) : untied_(model, objective) {}
-    int NumParameters() const override { return untied_.NumParameters() / kFrameCount; }
-
-    bool Evaluate(const double* parameters, double* cost, double* gradient) const override {
-        const auto n = static_cast<std::size_t>(NumParameters());
-        frames_.resize(n * kFrameCount);
-        for (std::size_t f = 0; f < kFrameCount; ++f) std::copy(parameters, parameters + n, frames_.begin() + std::ptrdiff_t(f * n));
-        framesGradient_.resize(frames_.size());
-        untied_.Evaluate(frames_.data(), cost, gradient ? framesGradient_.data() : nullptr);
-        if (gradient)
-            for (std::size_t q = 0; q < n; ++q) gradient[q] = framesGradient_[q] + framesGradient_[n + q] + framesGradient_[2 * n + q];
-        return true;
-    }
-
-private:
-    LevelFunction untied_;
-    mutable std::vector<double> frames_, framesGradient_;
-};
-
-// With `tied`, parameters holds one frame's taps (TiedFrames).
-SolveReport solveBfgs(const ImpulseModel& model, const LevelObjective& objective, double* parameters, int iterations,
-                      ProgressCallback& callback, bool tied) {
-    ceres::GradientProblem problem(tied ? static_cast<ceres::FirstOrderFunction*>(new TiedFrames(model, objective))
-                                        : new LevelFunction(model, objective));
-    ceres::GradientProblemSolver::Options options;
-    options.line_search_direction_type = ceres::BFGS;
-    options.line_search_type = ceres::WOLFE;
-    options.max_num_iterations = iterations;
-    options.function_tolerance = 1e-7;
-    options.logging_type = ceres::SILENT;
-    options.callbacks.push_back(&callback);
-    ceres::GradientProblemSolver::Summary summary;
-    ceres::Solve(options, problem, parameters, &summary);
-    return {summary.iterations.empty() ? 0 : summary.iterations.back().iteration, summary.total_time_in_seconds};
-}
-
-SolveReport solveLevenbergMarquardt(const ImpulseModel& model, const LevelObjective& objective, const std::vector<double*>& blocks,
-                                    int iterations, ProgressCallback& callback) {
-    ceres::Problem problem;
-    problem.AddResidualBlock(new LevelCost(model, objective), nullptr, blocks);
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-    options.max_num_iterations = iterations;
-    options.function_tolerance = 1e-6;
-    // Start with a small step: the default radius wastes the first iterations on rejected steps.
-    options.initial_trust_region_radius = 1.0;
-    options.num_threads = 1; // the cost parallelizes itself, deterministically
-    options.logging_type = ceres::SILENT;
-    options.callbacks.push_back(&callback);
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    return {summary.num_successful_steps, summary.total_time_in_seconds};
 }
 
 // What decides between the fit and an exact --init: the exact mean L1 (over `judge`, the stratified
@@ -489,9 +199,10 @@ public:
         pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.faceSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
                                             : std::vector<SeamPair>{};
         // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on the coarse
-        // texels and only the lowest objective goes on (with --screen-all, or another solver, every
-        // start runs in full and the lowest objective is kept).
-        const bool screen = starts.size() > 1 && settings_.solver == FitSolver::lmBfgs && !settings_.screenAll;
+        // texels and only the lowest objective goes on (with --screen-all, another solver or on a cheap
+        // level, every start runs in full and the lowest objective is kept: there the screening does
+        // not rank the starts, at 32^2 level 3 the start it ranks last ends lowest).
+        const bool screen = starts.size() > 1 && settings_.solver == FitSolver::lmBfgs && !settings_.screenAll && !cheap();
         level_.coefficients = starts.front().second;
         reportTerms("at the start");
         double bestObjective = 1e300;
@@ -631,16 +342,17 @@ private:
     }
 
     // The solver from the level's coefficients: Levenberg-Marquardt; BFGS with the frames tied (the
-    // frame of the lowest L1 copied into the others) on the coarse texels, or on every texel where a
-    // level has no coarse ones: cheap iterations that carry the fit most of the way down a slow slope
-    // with a third of the parameters, so that neither the frames settle in different basins nor the
-    // fit follows the few coarse texels; then BFGS on every texel, each frame free. Returns the
+    // frame of the lowest L1 copied into the others) on the coarse texels: cheap iterations that carry
+    // the fit most of the way down a slow slope with a third of the parameters, so that neither the
+    // frames settle in different basins nor the fit follows the few coarse texels; then BFGS on every
+    // texel, each frame free. A cheap level (no coarse texels) runs Levenberg-Marquardt and BFGS on
+    // every texel, its frames free: tying them helps some such levels and not others. Returns the
     // objective at the end where `compare` (one more evaluation). A `screened` start has run its
     // Levenberg-Marquardt on the coarse texels: it goes on to the tied BFGS.
     double fitInFull(bool compare, bool screened = false) {
         const int lm = levelIterations(settings_, lmPart(settings_), texels_.size()),
                   bfgs = levelIterations(settings_, bfgsPart(settings_), texels_.size());
-        if (settings_.coarseIterations == 0) return solve(texels_, lm, bfgs, compare);
+        if (settings_.coarseIterations == 0 || cheap()) return solve(texels_, lm, bfgs, compare);
         if (!screened) solve(texels_, lm, 0);
         if (settings_.solver != FitSolver::lm) {
             tieFrames();
@@ -648,6 +360,10 @@ private:
         }
         return solve(texels_, 0, bfgs, compare);
     }
+
+    // A level without coarse texels: fewer than twice kCoarseTexels stratified texels (the rough
+    // levels, a few dozen texels each).
+    bool cheap() const { return coarse_.size() == texels_.size(); }
 
     // Every frame gets the taps of the frame whose copy has the lowest L1.
     void tieFrames() {
@@ -748,14 +464,15 @@ double levelIterationCost(const FitSettings& s, std::size_t texels) {
     const double share = static_cast<double>(coarseTexelCount(texels)) / static_cast<double>(std::max<std::size_t>(1, texels));
     // The whole solver from one start (fitInFull), and what a screened start runs after its screening.
     const double lm = s.solver == FitSolver::bfgs ? 0 : levelIterations(s, lmPart(s), texels);
-    // The tied BFGS on the coarse texels (every texel where a level has no coarse ones).
-    const bool coarse = s.solver != FitSolver::lm && s.coarseIterations > 0;
+    // The tied BFGS on the coarse texels; a cheap level (without them) has none and screens no start.
+    const bool cheap = share >= 1.0;
+    const bool coarse = s.solver != FitSolver::lm && s.coarseIterations > 0 && !cheap;
     double whole = lm + levelIterations(s, bfgsPart(s), texels);
     if (coarse) whole += share * levelIterations(s, s.coarseIterations, texels);
     const double afterScreening = coarse ? whole - lm : whole;
     const bool bank = s.bank.size() > 1 && !s.fresh;
     const int starts = std::max(1, s.starts) + (bank ? std::min(s.bankStarts, static_cast<int>(s.bank.size())) - 1 : 0);
-    if (screensStarts(s)) return starts * share * lmPart(s) + afterScreening + s.hops * whole;
+    if (screensStarts(s) && !cheap) return starts * share * lmPart(s) + afterScreening + s.hops * whole;
     return starts * whole + s.hops * whole;
 }
 

@@ -34,9 +34,9 @@ struct FitSettings {
     // more, at most roughIterationFactor times as many.
     int maxIterations = 30;
     // BFGS iterations with the frames tied on the coarse texels (every few of the stratified texels,
-    // at least 128; all of them where a level has fewer than 256) before maxIterations on all of
-    // them with each frame free: the L1 falls slowly under BFGS, and a quarter of the texels points
-    // the same way. 0: neither the tied part nor the coarse texels.
+    // at least 128; a level with fewer than 256 has none) before maxIterations on all of them with
+    // each frame free: the L1 falls slowly under BFGS, and a quarter of the texels points the same
+    // way. 0: neither the tied part nor the coarse texels.
     int coarseIterations = 150;
     int roughIterationFactor = 4;
     // The seam term (seam_term.h): its weight W against the mean L1 (0: off), over at most this many

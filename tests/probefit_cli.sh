@@ -97,6 +97,7 @@ awk '/objective after the fit from/ { f = $NF == "s" ? $(NF - 2) : $NF; if (!($2
 # goes on to the whole solver. The bank's best levels are starts too (--bank-starts): here two tables
 # of 4 taps, each with a level near level 1's alpha (1/9), so level 1 has three starts: the best of
 # the candidates (the lobe layout, the bank's best), the bank's second and an importance layout.
+# Level 2 (96 texels, no coarse ones) runs each of its starts through the whole solver.
 mkdir -p "$work/bank"
 tables=$(dirname "$0")/../tables
 cp "$tables/gltf128_quad4.json" "$tables/authors128_quad4.json" "$work/bank/"
@@ -104,8 +105,11 @@ cp "$tables/gltf128_quad4.json" "$tables/authors128_quad4.json" "$work/bank/"
     --bank "$work/bank" --bank-starts 2 --out "$work/screened" >"$work/screened.log" || fail "screened starts"
 [[ $(grep -c '^level 1 objective after Levenberg-Marquardt from' "$work/screened.log") -eq 3 &&
     $(grep -c '^level 1 objective after Levenberg-Marquardt from bank' "$work/screened.log") -eq 1 &&
-    $(grep -c 'objective after the fit' "$work/screened.log") -eq 0 ]] ||
+    $(grep -c '^level 1 objective after the fit' "$work/screened.log") -eq 0 ]] ||
     fail "not three screened starts at level 1, one from the bank: $(grep objective "$work/screened.log")"
+[[ $(grep -c '^level 2 objective after the fit from' "$work/screened.log") -eq 3 &&
+    $(grep -c '^level 2 objective after Levenberg-Marquardt' "$work/screened.log") -eq 0 ]] ||
+    fail "level 2 (no coarse texels) did not fit each start in full: $(grep '^level 2 objective' "$work/screened.log")"
 # The start that goes on is the one with the lowest objective after Levenberg-Marquardt.
 python3 - "$work/screened.log" <<'PY' || fail "the start that went on was not the lowest: $(grep objective "$work/screened.log")"
 import re, sys

@@ -12,6 +12,7 @@
 #include "fit.h"
 #include "impulse_model.h"
 #include "initial_layout.h"
+#include "level_solver.h"
 #include "lobe_cells.h"
 #include "probe/error.h"
 #include "probe/fis.h"
@@ -311,6 +312,51 @@ TEST(CheckerTerm, TheFitReducesIt) {
         mean[weight > 0.0] = meanCheckerError(model, levelBlocks(table, 1).data(), texels, prepareCheckerTerm(texels, checkers, weight));
     }
     EXPECT_LT(mean[1], 0.8 * mean[0]) << mean[1] << " against " << mean[0];
+}
+
+TEST(LevelSolver, TiedFramesAreTheLevelWithEveryFrameAlike) {
+    // 16^2 quad 4x3, level 1: the tied function of one frame's taps is the level's function with those
+    // taps in every frame, and its slope is the sum of the frames' slopes, which differ from frame to
+    // frame; central differences of the tied function agree with that slope.
+    TapTable table = lobeTable(16, 3, 4, TableForm::quadratic);
+    const ImpulseModel model(16, table.pyramid, table.taps, table.form);
+    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> 1, 96), 16, 1, tableLevelAlpha(table, 1));
+    const std::vector<SeamPair> pairs;
+    const MomentBasis basis;
+    const CheckerTerm checker{basis, {}, 0.0};
+    const ThreadShare share;
+    const LevelObjective objective(model, texels, 1.0, pairs, basis, 0.0, checker, share);
+    const LevelFunction untied(model, objective);
+    const TiedFrames tied(model, objective);
+    const auto n = static_cast<std::size_t>(tied.NumParameters());
+    ASSERT_EQ(3 * n, static_cast<std::size_t>(untied.NumParameters()));
+
+    oneFrameLayout(table, 1, 1);
+    const std::vector<double>& all = table.levels[1].coefficients;
+    const std::vector<double> one(all.begin(), all.begin() + std::ptrdiff_t(n));
+    double tiedCost = 0.0, untiedCost = 0.0;
+    std::vector<double> tiedSlope(n), untiedSlope(3 * n);
+    ASSERT_TRUE(tied.Evaluate(one.data(), &tiedCost, tiedSlope.data()));
+    ASSERT_TRUE(untied.Evaluate(all.data(), &untiedCost, untiedSlope.data()));
+    EXPECT_EQ(tiedCost, untiedCost);
+    int framesDiffer = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+        EXPECT_DOUBLE_EQ(tiedSlope[q], untiedSlope[q] + untiedSlope[n + q] + untiedSlope[2 * n + q]) << q;
+        framesDiffer += std::abs(untiedSlope[q] - untiedSlope[n + q]) > 1e-6;
+    }
+    EXPECT_GT(framesDiffer, 0);
+    // The weights' constant terms (f is piecewise linear in them).
+    for (int t = 0; t < table.taps; ++t) {
+        const std::size_t q = table.offset(0, t, tapWeight);
+        const double h = 1e-6;
+        std::vector<double> up = one, down = one;
+        up[q] += h;
+        down[q] -= h;
+        double fUp = 0.0, fDown = 0.0;
+        tied.Evaluate(up.data(), &fUp, nullptr);
+        tied.Evaluate(down.data(), &fDown, nullptr);
+        EXPECT_NEAR((fUp - fDown) / (2.0 * h), tiedSlope[q], 1e-4 * std::max(1.0, std::abs(tiedSlope[q]))) << "tap " << t;
+    }
 }
 
 TEST(Evaluate, StratifiedMeanEstimatesTheAllTexelMean) {
