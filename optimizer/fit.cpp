@@ -200,8 +200,8 @@ public:
                                             : std::vector<SeamPair>{};
         // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on the coarse
         // texels and only the lowest objective goes on (with --screen-all, another solver or on a cheap
-        // level, every start runs in full and the lowest objective is kept: there the screening does
-        // not rank the starts, at 32^2 level 3 the start it ranks last ends lowest).
+        // level, every start runs in full and the lowest objective is kept: a cheap level's starts end
+        // far apart, not in the order of their L1 at the start).
         const bool screen = starts.size() > 1 && settings_.solver == FitSolver::lmBfgs && !settings_.screenAll && !cheap();
         level_.coefficients = starts.front().second;
         reportTerms("at the start");
