@@ -155,7 +155,7 @@ void runCompare(const CompareOptions& o) {
     std::vector<std::filesystem::path> inputs{o.input};
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
-    checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
+    checkReferenceTime(o.size, levelCount, mapping, probe::Lobe::ggx, 1, o.allowLong);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
@@ -193,7 +193,7 @@ void runCompare(const CompareOptions& o) {
         throw probe::ProbeError(
             fmt::format("the Vulkan validation layer reported {} message(s); the first: {}", messages.size(), messages.front()));
 
-    json report = describeLevels(o.size, levelCount, mapping);
+    json report = describeLevels(o.size, levelCount, mapping, probe::Lobe::ggx);
     report.update(reportHeader("compare"));
     report["input"] = o.input;
     report["input_pixels"] = pixels;

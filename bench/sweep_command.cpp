@@ -328,7 +328,7 @@ void runSweep(const SweepOptions& o) {
     deviceOptions.choice = o.device;
     const probe::gpu::Device device(deviceOptions);
     const std::vector<NamedProbe> probes = sweepProbes(o);
-    checkReferenceTime(o.size, levelCount, probe::RoughnessMapping::gltf, probes.size(), o.allowLong);
+    checkReferenceTime(o.size, levelCount, probe::RoughnessMapping::gltf, probe::Lobe::ggx, probes.size(), o.allowLong);
     const std::vector<NamedTable> tables = sweepTables(o, levelCount);
     std::vector<Method> methods = sweepMethods(o, levelCount, tables);
     probe::printToStderr(fmt::format("sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size,

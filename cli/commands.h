@@ -16,6 +16,8 @@ inline constexpr const char* kSamplingHelp =
     "(the CPU model's arithmetic over a buffer) or automatic (hardware on GPUs, exact on CPU devices)";
 
 inline constexpr const char* kLevelsHelp = "Output level count M (default: one per --roughness value, else max(1, log2 S_0))";
+inline constexpr const char* kLobeHelp =
+    "The lobe filtered with: ggx (specular) or charlie (the sheen of KHR_materials_sheen: fis or reference; no level is a copy)";
 inline constexpr const char* kMappingHelp = "Roughness per level: gltf (the default), authors, filament or unity";
 inline constexpr const char* kRoughnessHelp =
     "Roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1] (e.g. "

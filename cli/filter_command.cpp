@@ -1,4 +1,4 @@
-// probefilter filter IN... --method table|fis|reference [--table FILE|NAME] [--samples N] --size S
+// probefilter filter IN... --method table|fis|reference [--lobe ggx|charlie] [--table FILE|NAME] [--samples N] --size S
 //   [--levels M] [--mapping NAME] [--sampling MODE] [--pyramid-format F] [--format F] [--repeat K] [--level-times]
 //   [--against-reference]
 //   [--device X] --out DIR
@@ -30,6 +30,7 @@ namespace {
 struct FilterOptions {
     std::vector<std::string> inputs; // several: one batch, a sub-folder each
     std::string method = "table";
+    std::string lobe = "ggx";
     std::string table;            // a table file (project JSON or published text) or a compiled-in table's name
     int tableTaps = 0;            // published text layout: taps per frame
     std::string tableForm;        // published text layout: const or quad
@@ -89,6 +90,7 @@ nlohmann::json describeTable(const probe::TapTable& t) {
 probe::gpu::FilterSettings filterSettings(const FilterOptions& o, const probe::PyramidSettings& pyramid, probe::TapTable& table) {
     probe::gpu::FilterSettings s;
     s.method.kind = probe::parseMethodKind(o.method);
+    s.method.lobe = probe::parseLobe(o.lobe);
     s.mapping = probe::mappingFromOptions(o.mapping, o.roughness);
     s.faceSize = o.size;
     s.levelCount = probe::chooseLevelCount(o.size, o.levels, s.mapping);
@@ -132,7 +134,7 @@ nlohmann::json describeSlices(const std::vector<probe::gpu::Slice>& slices, cons
 // The report of a finished run: the settings, the device, every dispatch and the GPU times.
 nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid,
                            const probe::gpu::Device& device, const probe::gpu::Filter& filter) {
-    nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping);
+    nlohmann::json report = describeLevels(s.faceSize, s.levelCount, s.mapping, s.method.lobe);
     report.update(reportHeader("filter"));
     report["method"] = std::string(probe::methodKindName(s.method.kind));
     report["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
@@ -193,7 +195,8 @@ void writeProbeExtras(const FilterOptions& o, IrradianceOutput irradiance, const
                       const probe::CubeLevels& levels, nlohmann::json& report) {
     if (o.againstReference) {
         const probe::CubeLevels reference = probe::referenceFilter(
-            source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
+            source, s.levelCount, s.mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); },
+            s.method.lobe);
         nlohmann::json errors = nlohmann::json::array();
         for (int m = 0; m < s.levelCount; ++m) errors.push_back({{"level", m}, {"image_l1", probe::imageL1(levels[m], reference[m])}});
         report["errors_against_reference"] = errors;
@@ -223,7 +226,7 @@ void runFilter(const FilterOptions& o) {
     std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
-    if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, o.inputs.size(), o.allowLong);
+    if (o.againstReference) checkReferenceTime(s.faceSize, s.levelCount, s.mapping, s.method.lobe, o.inputs.size(), o.allowLong);
     probe::gpu::DeviceOptions deviceOptions;
     deviceOptions.choice = o.device;
     deviceOptions.validation = o.validate;
@@ -306,6 +309,7 @@ void addFilterCommand(CLI::App& app) {
                                 kMaxBatch))
         ->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
+    cmd->add_option("--lobe", o->lobe, kLobeHelp)->capture_default_str();
     cmd->add_option(
         "--table", o->table,
         "Tap table: a committed table's name (tables/<name>.json), a table file (probefit's JSON) or the published text layout");

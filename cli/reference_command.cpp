@@ -1,4 +1,4 @@
-// probefilter reference IN --size S [--levels M] [--mapping NAME] --out DIR
+// probefilter reference IN --size S [--levels M] [--mapping NAME] [--lobe ggx|charlie] --out DIR
 #include <optional>
 
 #include <fmt/format.h>
@@ -22,6 +22,7 @@ struct ReferenceOptions {
     std::optional<int> levels; // default: the mapping's list, else max(1, log2 S)
     std::string mapping;
     std::string roughness;
+    std::string lobe = "ggx";
     std::string out;
     bool force = false;
     bool repairPixels = false;
@@ -33,9 +34,10 @@ struct ReferenceOptions {
 void runReference(const ReferenceOptions& o) {
     const probe::RoughnessMapping mapping = probe::mappingFromOptions(o.mapping, o.roughness);
     const int levelCount = probe::chooseLevelCount(o.size, o.levels, mapping);
+    const probe::Lobe lobe = probe::parseLobe(o.lobe);
     const std::optional<probe::Ktx2Settings> ktx2 = ktx2Options(o.ktx2, o.ktx2Zstd);
     probe::StagedOutput output(o.out, {o.input}, o.force);
-    checkReferenceTime(o.size, levelCount, mapping, 1, o.allowLong);
+    checkReferenceTime(o.size, levelCount, mapping, lobe, 1, o.allowLong);
 
     Stopwatch loadTime;
     nlohmann::json input, pixels;
@@ -56,10 +58,10 @@ void runReference(const ReferenceOptions& o) {
 
     Stopwatch filterTime;
     const probe::CubeLevels levels = probe::referenceFilter(
-        source, levelCount, mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); });
+        source, levelCount, mapping, [](std::size_t done, std::size_t total) { printProgress("reference", done, total); }, lobe);
     const double filterSeconds = filterTime.seconds();
 
-    nlohmann::json report = describeLevels(o.size, levelCount, mapping);
+    nlohmann::json report = describeLevels(o.size, levelCount, mapping, lobe);
     writeFilteredProbe(output, "", levels, mapping, ktx2, nullptr, report);
     report.update(reportHeader("reference"));
     report["input"] = input;
@@ -83,6 +85,7 @@ void addReferenceCommand(CLI::App& app) {
         ->required();
     cmd->add_option("--levels", options->levels, kLevelsHelp);
     cmd->add_option("--mapping", options->mapping, kMappingHelp);
+    cmd->add_option("--lobe", options->lobe, kLobeHelp)->capture_default_str();
     cmd->add_option("--roughness", options->roughness, kRoughnessHelp);
     cmd->add_option("--out", options->out, "Output folder: level_<m>.exr and report.json")->required();
     cmd->add_flag("--force", options->force, kForceHelp);

@@ -24,16 +24,19 @@ nlohmann::json reportHeader(std::string_view command) {
             {"command_line", invocation()}};
 }
 
-nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping) {
+nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, probe::Lobe lobe) {
     nlohmann::json levels = nlohmann::json::array();
     for (int m = 0; m < levelCount; ++m)
         levels.push_back({{"level", m},
                           {"face_size", faceSize >> m},
                           {"roughness", probe::levelRoughness(mapping, m, levelCount)},
-                          {"alpha", probe::levelAlpha(mapping, m, levelCount)},
+                          {"alpha", probe::lobeAlpha(lobe, probe::levelAlpha(mapping, m, levelCount))},
                           {"file", fmt::format("level_{}.exr", m)}});
-    return {
-        {"face_size", faceSize}, {"level_count", levelCount}, {"mapping", probe::describeRoughnessMapping(mapping)}, {"levels", levels}};
+    return {{"face_size", faceSize},
+            {"level_count", levelCount},
+            {"mapping", probe::describeRoughnessMapping(mapping)},
+            {"lobe", probe::lobeName(lobe)},
+            {"levels", levels}};
 }
 
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {
@@ -90,8 +93,9 @@ void printProgress(const std::string& label, std::size_t done, std::size_t total
     if (done >= total) probe::printToStderr("\n");
 }
 
-void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, std::size_t probes, bool allowLong) {
-    const double seconds = static_cast<double>(probes) * probe::estimateReferenceSeconds(faceSize, levelCount, mapping);
+void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, probe::Lobe lobe, std::size_t probes,
+                        bool allowLong) {
+    const double seconds = static_cast<double>(probes) * probe::estimateReferenceSeconds(faceSize, levelCount, mapping, lobe);
     if (seconds < 60.0) return;
     const std::string estimate =
         seconds < 3600.0 ? fmt::format("{:.1f} minutes", seconds / 60.0) : fmt::format("{:.1f} hours", seconds / 3600.0);

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "probe/lobe.h"
 #include "probe/probe_io.h"
 #include "probe/roughness.h"
 #include "probe/runtime.h"
@@ -23,7 +24,7 @@ inline constexpr int kReportVersion = 2;
 nlohmann::json reportHeader(std::string_view command);
 
 // The settings block every report starts with: input, face size, levels and their roughness.
-nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping);
+nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, probe::Lobe lobe);
 
 // The Vulkan device a command ran on: index, name, driver, type, API version, validation.
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation);
@@ -57,7 +58,8 @@ void writeJson(const std::filesystem::path& path, const nlohmann::json& json);
 
 // The exact reference's time for `probes` probes of these levels, estimated before any work: printed
 // when over a minute, and refused (ProbeError) when over an hour unless `allowLong` (--allow-long).
-void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, std::size_t probes, bool allowLong);
+void checkReferenceTime(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, probe::Lobe lobe, std::size_t probes,
+                        bool allowLong);
 
 // A one-line progress bar on stderr, redrawn in place.
 void printProgress(const std::string& label, std::size_t done, std::size_t total);

@@ -40,7 +40,7 @@ probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::Scene
             return generator(level, texel, taps);
         };
     }
-    case probe::MethodKind::fis: return probe::fisTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis);
+    case probe::MethodKind::fis: return probe::fisTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis, p.method.lobe);
     case probe::MethodKind::reference: break;
     }
     return {};

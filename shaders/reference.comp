@@ -1,6 +1,6 @@
 // The exact reference of docs/design.md on the GPU, mirroring core/src/reference.cpp: for each output
 // texel centre R, F(R) = sum_t L(t) K(R, l_t) dOmega_t / sum_t K(R, l_t) dOmega_t over every source
-// texel t, at the levels with alpha > 0 (copy_level.comp does the others).
+// texel t, K the GGX or Charlie lobe's, at the levels that are not copies (copy_level.comp does those).
 // The source is summed in chunks of rows, one dispatch each (reference_pass.cpp): a chunk's rows
 // are summed in float and added with Kahan compensation; the chunk's sum (sum L K dOmega, sum K
 // dOmega) is added to the texel's running sum (the accumulator, binding 1), which the last chunk
@@ -13,7 +13,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 #include "cube.glsl"
-#include "ggx.glsl"
+#include "lobe.glsl"
 #include "images.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
@@ -21,7 +21,9 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(push_constant) uniform Params {
     int sourceSize; // S_0: pyramid level 0
     int outLevel;   // output level m, face size S_0 >> m
-    float alpha2;   // GGX alpha^2 of the level
+    float alpha2;   // GGX: alpha^2 of the level; Charlie: its kernel's exponent (lobe.glsl)
+    float scale;    // Charlie: its kernel's scale
+    int lobe;       // 0: GGX, 1: Charlie
     int firstRow;   // the chunk: rows [firstRow, firstRow + rowCount) of the source, counted over
     int rowCount;   // all faces (face * S_0 + row), within one face
     int stage;      // bit 0: the first chunk (the sum starts at 0); bit 1: the last (divide)
@@ -55,7 +57,8 @@ void main() {
             for (uint t = begin; t < begin + uint(s); ++t, ++source) {
                 vec4 l = geometry[t]; // level 0 of the geometry is the source's
                 vec3 d = R - l.xyz;
-                float k = ggxKernel(dot(R, l.xyz), dot(d, d), params.alpha2);
+                float k = params.lobe == 0 ? ggxKernel(dot(R, l.xyz), dot(d, d), params.alpha2)
+                                           : charlieKernel(dot(R, l.xyz), dot(d, d), params.alpha2, params.scale);
                 rowSum += k * vec4(pyramidTexel(source) * l.w, l.w);
             }
             precise vec4 y = rowSum - compensation;

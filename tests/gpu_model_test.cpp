@@ -234,6 +234,22 @@ TEST_F(GpuTest, FisEqualsCpuModel) {
         }
 }
 
+// FIS with the Charlie lobe: the same shader with the host's Charlie samples, every level filtered
+// (level 0 too: no Charlie level is a copy).
+TEST_F(GpuTest, CharlieFisEqualsCpuModel) {
+    const CubeImage source = probetest::randomProbe(32, 32);
+    for (const probetest::SamplingCase& sampling : probetest::kSamplingCases) {
+        gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], sampling.sampling);
+        s.method.fis.samples = 64;
+        s.method.lobe = Lobe::charlie;
+        gpu::Filter filter(probetest::testDevice(), s);
+        const CubeLevels levels = filter.run(source);
+        expectLevelsEqual(levels, filterOnCpu(source, 5, RoughnessMapping::gltf, s.method), sampling.tolerance,
+                          describe(sampling.sampling) + " charlie fis");
+        EXPECT_GT(probetest::maxRelativeError(levels[0], source), 0.1) << "level 0 is filtered, not copied";
+    }
+}
+
 // Per-level sample counts (the sweep's FIS mixes): each level as FIS with that level's count.
 TEST_F(GpuTest, FisPerLevelEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 31);

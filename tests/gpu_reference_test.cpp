@@ -25,11 +25,12 @@ CubeImage structuredProbe(int size, unsigned seed) {
 }
 
 // The GPU reference at `levels` (empty: every level) against probe::referenceLevel.
-void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed, std::vector<int> levels = {}) {
+void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed, std::vector<int> levels = {}, Lobe lobe = Lobe::ggx) {
     const CubeImage source = structuredProbe(size, seed);
     const int levelCount = defaultLevelCount(size);
     gpu::FilterSettings settings;
     settings.method.kind = MethodKind::reference;
+    settings.method.lobe = lobe;
     settings.faceSize = size;
     settings.levelCount = levelCount;
     settings.mapping = mapping;
@@ -39,7 +40,7 @@ void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed
     if (levels.empty())
         for (int m = 0; m < levelCount; ++m) levels.push_back(m);
     for (int m : levels) {
-        const CubeImage cpu = referenceLevel(source, size >> m, levelAlpha(mapping, m, levelCount));
+        const CubeImage cpu = referenceLevel(source, size >> m, levelAlpha(mapping, m, levelCount), lobe);
         const double error = probetest::maxRelativeError(gpuLevels[m], cpu);
         ::testing::Test::RecordProperty(fmt::format("level{}_relative_error", m), fmt::format("{:.3g}", error));
         EXPECT_LT(error, kTolerance) << "size " << size << " level " << m;
@@ -50,6 +51,8 @@ void expectGpuEqualsCpu(int size, const RoughnessMapping& mapping, unsigned seed
 
 TEST_F(GpuTest, ReferenceEqualsCpuReference32) { expectGpuEqualsCpu(32, RoughnessMapping::gltf, 1); }
 TEST_F(GpuTest, ReferenceEqualsCpuReference64) { expectGpuEqualsCpu(64, RoughnessMapping::gltf, 2); }
+// Charlie: every level filtered (none is a copy), with its kernel's own constants.
+TEST_F(GpuTest, CharlieReferenceEqualsCpuReference32) { expectGpuEqualsCpu(32, RoughnessMapping::gltf, 6, {}, Lobe::charlie); }
 TEST_F(GpuTest, ReferenceEqualsCpuReferenceAuthorsMapping) { expectGpuEqualsCpu(32, RoughnessMapping::authors, 3); }
 // From 128^2 the source is summed in several chunks per face (reference_pass.cpp), and a whole
 // source exceeds what one lavapipe invocation may loop over: every level at 128^2, and at 256^2 every

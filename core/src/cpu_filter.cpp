@@ -11,7 +11,7 @@ namespace probe {
 TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping) {
     switch (method.kind) {
     case MethodKind::table: return tableTapGenerator(*method.table);
-    case MethodKind::fis: return fisTapGenerator(faceSize, levelCount, mapping, method.fis);
+    case MethodKind::fis: return fisTapGenerator(faceSize, levelCount, mapping, method.fis, method.lobe);
     case MethodKind::reference: break;
     }
     return {};
@@ -19,7 +19,7 @@ TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int le
 
 CubeLevels filterOnCpu(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const FilterMethod& method) {
     validateMethod(method, source.size, levelCount, mapping);
-    if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping);
+    if (method.kind == MethodKind::reference) return referenceFilter(source, levelCount, mapping, {}, method.lobe);
     const int shift = rangeShift(source);
     CubeLevels levels = method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid
                             ? paraboloidFilter(shifted(source, -shift), levelCount, mapping, method.fis)

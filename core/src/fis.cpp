@@ -21,20 +21,19 @@ FisMap parseFisMap(std::string_view name) {
     throw ParameterError("method.fis.map", fmt::format("{}: expected cube or paraboloid", name));
 }
 
-std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias) {
+std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias, Lobe lobe) {
     std::vector<Tap> result;
-    const double alpha2 = alpha * alpha;
     const double texelSolidAngle = 4.0 * std::numbers::pi / (6.0 * faceSize * faceSize);
     const glm::dvec3 n(0.0, 0.0, 1.0);
+    const double shift = lobe == Lobe::charlie ? 0.5 : 0.0;
     for (int i = 0; i < samples; ++i) {
-        const double e1 = static_cast<double>(i) / samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
-        const glm::dvec3 h = ggxHalfVector(e1, e2, alpha2);
+        const double e1 = (i + shift) / samples, e2 = radicalInverse2(static_cast<std::uint32_t>(i));
+        const LobeSample s = lobeSample(lobe, e1, e2, alpha);
+        const glm::dvec3& h = s.halfVector;
         const glm::dvec3 l = 2.0 * h.z * h - n;
         const double nl = l.z;
         if (nl <= 0.0) continue;
-        const glm::dvec3 d = n - l;
-        const double pdf = ggxReflectedPdf(nl, glm::dot(d, d), alpha2);
-        const double sampleSolidAngle = 1.0 / (samples * pdf);
+        const double sampleSolidAngle = 1.0 / (samples * s.pdf);
         result.push_back({l, 0.5 * std::log2(sampleSolidAngle / texelSolidAngle) + bias, nl});
     }
     return result;
@@ -72,22 +71,22 @@ std::vector<int> mixedLevelSamples(int samples, int levelCount) {
     return counts;
 }
 
-std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping,
-                                                 const FisSettings& settings) {
+std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings,
+                                                 Lobe lobe) {
     validateSampleCounts(settings, levelCount);
     std::vector<std::vector<Tap>> perLevel(static_cast<std::size_t>(levelCount));
     for (int m = 0; m < levelCount; ++m) {
-        const double alpha = levelAlpha(mapping, m, levelCount);
-        if (alpha > 0.0) perLevel[m] = fisSamples(alpha, faceSize, settings.samplesAt(m), settings.bias);
+        const double alpha = lobeAlpha(lobe, levelAlpha(mapping, m, levelCount));
+        if (alpha > 0.0) perLevel[m] = fisSamples(alpha, faceSize, settings.samplesAt(m), settings.bias, lobe);
     }
     return perLevel;
 }
 
-TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings) {
+TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings, Lobe lobe) {
     // The samples of each level, made once: the generator runs per texel.
-    const std::vector<std::vector<Tap>> perLevel = fisSamplesPerLevel(faceSize, levelCount, mapping, settings);
+    const std::vector<std::vector<Tap>> perLevel = fisSamplesPerLevel(faceSize, levelCount, mapping, settings, lobe);
     return [=](int level, const Texel& texel, std::vector<Tap>& taps) {
-        if (levelAlpha(mapping, level, levelCount) <= 0.0) return false;
+        if (perLevel[level].empty()) return false;
         fisTaps(texelDirection(texel, faceSize >> level), perLevel[level], taps);
         return true;
     };

@@ -121,17 +121,20 @@ CubeImage forEachOutputTexel(int outSize, PerTexel perTexel) {
 
 } // namespace
 
-CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha) {
+CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha, Lobe lobe) {
+    alpha = lobeAlpha(lobe, alpha);
     if (alpha <= 0.0) return copyLevel(source, outSize);
     const SourceTexels src(source);
-    const float alpha2 = static_cast<float>(alpha * alpha);
-    return forEachOutputTexel(outSize, [&](const glm::dvec3& R) {
-        const Convolution c = convolve(src, R, [alpha2](float cosRL, float d2) { return ggxKernel(cosRL, d2, alpha2); });
-        return glm::vec3(c.weighted / c.weight);
+    return visitLobeKernel<float>(lobe, alpha, [&](auto kernel) {
+        return forEachOutputTexel(outSize, [&](const glm::dvec3& R) {
+            const Convolution c = convolve(src, R, kernel);
+            return glm::vec3(c.weighted / c.weight);
+        });
     });
 }
 
-CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress) {
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress,
+                           Lobe lobe) {
     validateSizeAndLevels(source.size, levelCount);
     const int shift = rangeShift(source); // rows are summed in float
     const CubeImage scaled = shifted(source, -shift);
@@ -139,7 +142,7 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, const Roughn
     std::size_t total = 0, done = 0;
     for (int m = 0; m < levelCount; ++m) total += texelCount(source.size >> m);
     for (int m = 0; m < levelCount; ++m) {
-        levels.push_back(referenceLevel(scaled, source.size >> m, levelAlpha(mapping, m, levelCount)));
+        levels.push_back(referenceLevel(scaled, source.size >> m, levelAlpha(mapping, m, levelCount), lobe));
         done += texelCount(source.size >> m);
         if (progress) progress(done, total);
     }
@@ -147,7 +150,7 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, const Roughn
     return levels;
 }
 
-double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping) {
+double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe) {
     validateSizeAndLevels(faceSize, levelCount);
     // Every filtered output texel sums over every source texel (less the faces behind it): the time
     // of one output texel grows with the source's texel count. Measured on one thread over a
@@ -159,13 +162,13 @@ double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMap
     const auto start = std::chrono::steady_clock::now();
     for (int k = 0; k < kSampleDirections; ++k) {
         const glm::dvec3& R = sample.directions[static_cast<std::size_t>(k) * sample.directions.size() / kSampleDirections];
-        kept = kept + convolve(src, R, [](float cosRL, float d2) { return ggxKernel(cosRL, d2, 0.25f); }).weight;
+        kept = kept + visitLobeKernel<float>(lobe, 0.5, [&](auto kernel) { return convolve(src, R, kernel).weight; });
     }
     const double perTexel = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kSampleDirections *
                             (static_cast<double>(faceSize) / kSampleSize) * (static_cast<double>(faceSize) / kSampleSize);
     double outputTexels = 0.0;
     for (int m = 0; m < levelCount; ++m)
-        if (levelAlpha(mapping, m, levelCount) > 0.0) outputTexels += static_cast<double>(texelCount(faceSize >> m));
+        if (lobeAlpha(lobe, levelAlpha(mapping, m, levelCount)) > 0.0) outputTexels += static_cast<double>(texelCount(faceSize >> m));
     return outputTexels * perTexel / std::max(1, omp_get_max_threads());
 }
 

@@ -180,7 +180,7 @@ FilterShape shapeOf(const Device& d, const FilterSettings& s) {
     }
     shape.outputOffsets = packedOffsets(s.faceSize, s.levelCount);
     for (int m = 0; m < s.levelCount; ++m)
-        if (levelAlpha(s.mapping, m, s.levelCount) <= 0.0) shape.copyLevels |= 1u << m;
+        if (lobeAlpha(s.method.lobe, levelAlpha(s.mapping, m, s.levelCount)) <= 0.0) shape.copyLevels |= 1u << m;
     const bool filters =
         std::any_of(shape.computedLevels.begin(), shape.computedLevels.end(), [&](int m) { return (shape.copyLevels & (1u << m)) == 0; });
     shape.filters = filters;

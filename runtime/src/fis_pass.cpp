@@ -44,7 +44,7 @@ std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
 std::vector<float> fisBufferData(const FilterSettings& s, std::vector<uint32_t>& sampleOffsets) {
     std::vector<float> data;
     sampleOffsets = {0};
-    for (const std::vector<Tap>& level : fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis)) {
+    for (const std::vector<Tap>& level : fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe)) {
         for (const Tap& sample : level)
             data.insert(data.end(), {static_cast<float>(sample.direction.x), static_cast<float>(sample.direction.y),
                                      static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "probe/fis.h"
+#include "probe/lobe.h"
 #include "probe/tap_sum.h"
 #include "probe/tap_table.h"
 
@@ -20,6 +21,7 @@ struct FilterMethod {
     MethodKind kind = MethodKind::table;
     const TapTable* table = nullptr; // table: the tap table (the caller keeps it alive)
     FisSettings fis;                 // fis: samples per texel (or per level), level bias, pyramid
+    Lobe lobe = Lobe::ggx;           // fis and reference: the lobe filtered with (the tables are GGX's)
 
     // Pass 1's pyramid: the table's (it was fitted over it) or FIS's.
     PyramidSettings pyramid() const { return kind == MethodKind::table && table ? table->pyramid : fis.pyramid; }
@@ -27,7 +29,8 @@ struct FilterMethod {
 
 // Throws ParameterError naming the parameter and every reason unless `method` filters probes of
 // this face size, level count and mapping: a table of that shape (validateTable), FIS sample counts
-// of at least 1 (one per level when given per level).
+// of at least 1 (one per level when given per level), the Charlie lobe only with fis on the cube
+// pyramid or the reference.
 void validateMethod(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
 
 } // namespace probe

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "probe/lobe.h"
 #include "probe/roughness.h"
 #include "probe/tap_sum.h"
 
@@ -40,15 +41,17 @@ std::vector<int> mixedLevelSamples(int samples, int levelCount);
 // The samples of one output level in the tangent frame of R (R = +z), as taps: they do not depend
 // on R, so a filter makes them once per level and rotates them to each texel (fisTaps,
 // and the GPU shader from the same list). Sample i of N uses the Hammersley point
-// (i / N, radicalInverse2(i)), h from the GGX distribution of alpha, l = reflect(-z, h); samples
-// with n.l <= 0 are dropped. pdf_l = D / 4, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) +
-// bias, weight n.l (= l.z).
-std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias);
+// (i / N, radicalInverse2(i)), h from the lobe's distribution of alpha (lobeSample; Charlie takes
+// (i + 1/2) / N, since its density vanishes at h = n), l = reflect(-z, h); samples with n.l <= 0 are
+// dropped. pdf_l the lobe's, level = 0.5 log2((1 / (N pdf_l)) / (4 pi / (6 S_0^2))) + bias, weight
+// n.l (= l.z): the kernel D n.l over the density, which is D / 4 up to a constant for both lobes.
+std::vector<Tap> fisSamples(double alpha, int faceSize, int samples, double bias, Lobe lobe = Lobe::ggx);
 
-// fisSamples for every output level of a mapping, settings.samplesAt(m) at level m; empty at
-// the levels with alpha = 0, which are copies. Throws ProbeError as validateSampleCounts.
-std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping,
-                                                 const FisSettings& settings);
+// fisSamples for every output level of a mapping, settings.samplesAt(m) at level m, at the lobe's
+// alpha (lobeAlpha); empty at the levels with alpha = 0, which are copies. Throws ProbeError as
+// validateSampleCounts.
+std::vector<std::vector<Tap>> fisSamplesPerLevel(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings,
+                                                 Lobe lobe = Lobe::ggx);
 
 // The tangent frame of R (unit) that the samples are rotated into: up = +Z, or +X where
 // |R.z| > 0.999; x = normalize(cross(up, R)), y = cross(R, x), z = R.
@@ -59,6 +62,7 @@ void fisTaps(const glm::dvec3& R, const std::vector<Tap>& samples, std::vector<T
 
 // As a TapGenerator over the output levels of a mapping (levels with alpha = 0 are copies), with
 // settings.samplesAt(level) samples at each level.
-TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings);
+TapGenerator fisTapGenerator(int faceSize, int levelCount, const RoughnessMapping& mapping, const FisSettings& settings,
+                             Lobe lobe = Lobe::ggx);
 
 } // namespace probe

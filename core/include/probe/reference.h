@@ -10,6 +10,7 @@
 
 #include "probe/cube_image.h"
 #include "probe/ggx.h"
+#include "probe/lobe.h"
 #include "probe/roughness.h"
 
 namespace probe {
@@ -18,18 +19,20 @@ namespace probe {
 using ProgressCallback = std::function<void(std::size_t done, std::size_t total)>;
 
 // F(R) = sum_t L(t) K(R, l_t) dOmega_t / sum_t K(R, l_t) dOmega_t for every texel centre R of an
-// output level of face size `outSize`. alpha = 0 is a copy (point lookup of the source).
-CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha);
+// output level of face size `outSize`, K the lobe's at lobeAlpha(lobe, alpha). A GGX alpha of 0 is a
+// copy (point lookup of the source).
+CubeImage referenceLevel(const CubeImage& source, int outSize, double alpha, Lobe lobe = Lobe::ggx);
 
 // Every output level m = 0..levelCount-1 (face size source.size >> m, alpha from the mapping),
 // all cores. Throws ProbeError for an impossible level count.
-CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress = {});
+CubeLevels referenceFilter(const CubeImage& source, int levelCount, const RoughnessMapping& mapping, const ProgressCallback& progress = {},
+                           Lobe lobe = Lobe::ggx);
 
 // The seconds referenceFilter takes for these levels of a faceSize^2 source on this machine's
 // threads: the time of one output texel measured on a small source (about 0.1 s) and scaled by the
 // texel counts, since the reference is quadratic in them (a lower bound where a large source no
 // longer fits the caches).
-double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping);
+double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe = Lobe::ggx);
 
 // The reference's impulse response for output direction R: normalized weights k(R, t) over the
 // source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on
