@@ -1,8 +1,9 @@
 // probefilter run SCENE.json --out DIR [--device X] [--validate] [--repair-pixels]: runs exactly the scene's plan
 // (probe/plan.h) on a Vulkan device. Per probe, in DIR/<probe>/: level_<m>.exr of the levels it
 // computed, the SH irradiance (irradiance_sh.exr and its coefficients) and the irradiance cube
-// (irradiance.exr) as the plan asks, probe.ktx2 and spheres.png when the scene asks; DIR/dfg.exr; DIR/report.json with the passes it ran,
-// each with its GPU dispatches.
+// (irradiance.exr) as the plan asks, sheen_level_<m>.exr of the Charlie levels, probe.ktx2 (and
+// sheen.ktx2) and spheres.png when the scene asks; DIR/dfg.exr, DIR/sheen.exr; DIR/report.json with
+// the passes it ran, each with its GPU dispatches.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include "probe/plan.h"
 #include "probe/probe_io.h"
 #include "probe/sh.h"
+#include "probe/sheen.h"
 #include "probe/staged_output.h"
 #include "probe_outputs.h"
 #include "report.h"
@@ -43,7 +45,24 @@ struct ProbeResult {
     const probe::SceneProbe* probe = nullptr;
     probe::CubeImage source;
     probe::CubeLevels levels; // one entry per output level; empty where not computed
+    probe::CubeLevels sheen;  // the Charlie levels, as `levels`
     probe::ShCoefficients irradiance{};
+};
+
+// One Filter's share of a probe's plan: its GGX levels, or its Charlie (sheen) levels.
+struct PlannedLevels {
+    probe::FilterMethod method; // its table is set by filterSettings
+    const std::vector<int>& levels;
+    const std::vector<std::vector<std::string>>& readers;
+    int pyramidDepth;
+    bool sheen;
+
+    static PlannedLevels ggx(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
+        return {p.method, plan.computedLevels, plan.levelReaders, plan.pyramidLevels, false};
+    }
+    static PlannedLevels charlie(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
+        return {probe::sheenMethod(p), plan.sheenLevels, plan.sheenReaders, plan.sheenPyramidLevels, true};
+    }
 };
 
 class SceneRun {
@@ -54,17 +73,23 @@ public:
     // Every probe's filter settings checked against the device before any probe is read.
     void checkLimits(const probe::Plan& plan) const {
         for (std::size_t k = 0; k < scene_.probes.size(); ++k)
-            if (!plan.probes[k].computedLevels.empty()) {
-                probe::TapTable table;
-                probe::gpu::Filter::checkLimits(device_, filterSettings(scene_.probes[k], plan.probes[k], table));
-            }
+            for (const PlannedLevels& set :
+                 {PlannedLevels::ggx(scene_.probes[k], plan.probes[k]), PlannedLevels::charlie(scene_.probes[k], plan.probes[k])})
+                if (!set.levels.empty()) {
+                    probe::TapTable table;
+                    probe::gpu::Filter::checkLimits(device_, filterSettings(scene_.probes[k], set, table));
+                }
     }
 
     // The passes of one probe's plan; appends to the report.
     void runProbe(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
         const probe::BadPixelPolicy policy = options_.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse;
         probe::PixelRepairs repairs;
-        ProbeResult result{&p, probe::loadProbe(p.image, p.faceSize, policy, repairs), probe::CubeLevels(p.levelCount), {}};
+        ProbeResult result{&p,
+                           probe::loadProbe(p.image, p.faceSize, policy, repairs),
+                           probe::CubeLevels(p.levelCount),
+                           probe::CubeLevels(p.levelCount),
+                           {}};
         recordPass(probe::loadPass(p.name), "cpu");
         json entry = {{"name", p.name},
                       {"image", p.image.string()},
@@ -73,10 +98,17 @@ public:
                       {"mapping", probe::describeRoughnessMapping(p.mapping)},
                       {"method", std::string(probe::methodKindName(p.method.kind))},
                       {"input_pixels", reportPixelRepairs(p.image, repairs)}};
-        if (!plan.computedLevels.empty()) filterLevels(p, plan, result, entry);
+        if (!plan.computedLevels.empty()) filterLevels(p, PlannedLevels::ggx(p, plan), result.source, result.levels, entry);
         if (plan.shIrradiance || plan.irradianceCube) writeProbeIrradiance(p, plan, result, entry);
+        if (!plan.sheenLevels.empty()) {
+            entry["sheen"] = {{"method", std::string(probe::methodKindName(plan.sheenMethod))}, {"lobe", "charlie"}};
+            filterLevels(p, PlannedLevels::charlie(p, plan), result.source, result.sheen, entry["sheen"]);
+        }
         if (scene_.outputs.ktx2 && !plan.computedLevels.empty())
             entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping, *scene_.outputs.ktx2, &device_);
+        if (scene_.outputs.ktx2 && !plan.sheenLevels.empty())
+            entry["sheen"]["ktx2"] =
+                writeProbeKtx2(output_, p.name + "/sheen.ktx2", result.sheen, p.mapping, *scene_.outputs.ktx2, &device_);
         probes_.push_back(std::move(entry));
         // Kept for the spheres alone, so that a scene of many large probes without them holds one
         // probe's images at a time.
@@ -93,6 +125,16 @@ public:
                           {"convention", probe::kDfgConvention}};
     }
 
+    void makeSheenTable() {
+        sheenTable_ = probe::sheenTable(probe::kSheenTableSize, probe::kSheenTableSamples);
+        probe::writeExr(output_.file("sheen.exr"), *sheenTable_);
+        recordPass(probe::kSheenTablePass, "cpu");
+        report_["sheen_table"] = {{"file", "sheen.exr"},
+                                  {"size", probe::kSheenTableSize},
+                                  {"samples", probe::kSheenTableSamples},
+                                  {"convention", probe::kSheenConvention}};
+    }
+
     // spheres.png per probe: its materials, lit by what the plan computed.
     void renderSpheres() {
         for (std::size_t k = 0; k < results_.size(); ++k) {
@@ -102,6 +144,8 @@ public:
             s.background = &r.source;
             s.irradiance = r.irradiance;
             s.dfg = dfg_ ? &*dfg_ : nullptr;
+            s.sheen = &r.sheen;
+            s.sheenTable = sheenTable_ ? &*sheenTable_ : nullptr;
             s.cellSize = kSphereCell;
             json names = json::array();
             for (const probe::SceneMaterial& m : scene_.materials)
@@ -132,54 +176,61 @@ private:
     }
 
     // The planned levels over the planned pyramid depth; `table` holds the probe's table for them.
-    probe::gpu::FilterSettings filterSettings(const probe::SceneProbe& p, const probe::ProbePlan& plan, probe::TapTable& table) const {
+    probe::gpu::FilterSettings filterSettings(const probe::SceneProbe& p, const PlannedLevels& set, probe::TapTable& table) const {
         probe::gpu::FilterSettings s;
-        s.method = p.method;
+        s.method = set.method;
         s.faceSize = p.faceSize;
         s.levelCount = p.levelCount;
         s.mapping = p.mapping;
         s.sampling = probe::gpu::parseSampling(options_.sampling);
-        s.computedLevels = plan.computedLevels;
-        s.pyramidDepth = plan.pyramidLevels;
-        if (p.method.kind == probe::MethodKind::table) {
+        s.computedLevels = set.levels;
+        s.pyramidDepth = set.pyramidDepth;
+        if (set.method.kind == probe::MethodKind::table) {
             table = sceneProbeTable(scene_, p);
             s.method.table = &table;
         }
         return s;
     }
 
-    // The planned levels over the planned pyramid depth; the passes recorded are those its dispatches ran.
-    void filterLevels(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+    // The planned levels over the planned pyramid depth into `levels`, their files and report in
+    // `entry`; the passes recorded are those its dispatches ran.
+    void filterLevels(const probe::SceneProbe& p, const PlannedLevels& set, const probe::CubeImage& source, probe::CubeLevels& levels,
+                      json& entry) {
         probe::TapTable table;
-        probe::gpu::Filter filter(device_, filterSettings(p, plan, table));
-        result.levels = filter.run(result.source, 1, probe::gpu::Timestamps::levels);
+        const probe::gpu::FilterSettings settings = filterSettings(p, set, table);
+        probe::gpu::Filter filter(device_, settings);
+        levels = filter.run(source, 1, probe::gpu::Timestamps::levels);
 
-        std::vector<probe::gpu::Dispatch> pyramid, levels;
-        for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : levels).push_back(d);
-        if (!pyramid.empty()) recordPass(probe::pyramidPass(p.name, pyramid.back().level), "gpu", describeDispatches(pyramid));
-        for (const probe::gpu::Dispatch& d : levels)
-            recordPass(probe::levelPass(p.name, d.level, p.method.kind), "gpu", describeDispatches({d}));
+        std::vector<probe::gpu::Dispatch> pyramid, passes;
+        for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : passes).push_back(d);
+        if (!pyramid.empty())
+            recordPass(set.sheen ? probe::sheenPyramidPass(p.name, pyramid.back().level) : probe::pyramidPass(p.name, pyramid.back().level),
+                       "gpu", describeDispatches(pyramid));
+        for (const probe::gpu::Dispatch& d : passes)
+            recordPass(set.sheen ? probe::sheenLevelPass(p.name, d.level, set.method.kind)
+                                 : probe::levelPass(p.name, d.level, set.method.kind),
+                       "gpu", describeDispatches({d}));
 
         json written = json::array();
-        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // plan.computedLevels' order
-        for (std::size_t k = 0; k < plan.computedLevels.size(); ++k) {
-            const int m = plan.computedLevels[k];
+        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // set.levels' order
+        for (std::size_t k = 0; k < set.levels.size(); ++k) {
+            const int m = set.levels[k];
             json level = {{"level", m},
                           {"face_size", p.faceSize >> m},
                           {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
-                          {"alpha", probe::levelAlpha(p.mapping, m, p.levelCount)},
-                          {"read_by", plan.levelReaders[k]}};
+                          {"alpha", probe::lobeAlpha(set.method.lobe, probe::levelAlpha(p.mapping, m, p.levelCount))},
+                          {"read_by", set.readers[k]}};
             if (k < levelTimes.size()) level["gpu_ms"] = levelTimes[k].medianMs;
             if (scene_.outputs.exr) {
-                const std::string file = p.name + "/" + probe::levelFileName(m);
-                probe::writeExr(output_.file(file), probe::cubeToStrip(result.levels[m]));
+                const std::string file = p.name + "/" + (set.sheen ? "sheen_" : "") + probe::levelFileName(m);
+                probe::writeExr(output_.file(file), probe::cubeToStrip(levels[m]));
                 level["file"] = file;
             }
             written.push_back(std::move(level));
         }
         entry["levels"] = std::move(written);
-        entry["pyramid_depth"] = plan.pyramidLevels;
-        if (p.method.kind == probe::MethodKind::fis) entry["fis_samples"] = p.method.fis.samples;
+        entry["pyramid_depth"] = set.pyramidDepth;
+        if (set.method.kind == probe::MethodKind::fis) entry["fis_samples"] = set.method.fis.samples;
         entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
         entry["gpu_ms"] = medianTimes(filter.timings());
     }
@@ -201,7 +252,7 @@ private:
     probe::StagedOutput& output_;
     const probe::gpu::Device& device_;
     std::vector<ProbeResult> results_;
-    std::optional<probe::Image> dfg_;
+    std::optional<probe::Image> dfg_, sheenTable_;
     json probes_ = json::array();
     json ran_ = json::array();
     json report_ = json::object();
@@ -224,9 +275,9 @@ void runScene(const RunOptions& o) {
     SceneRun run(o, scene, output, device);
     run.checkLimits(plan);
     for (std::size_t k = 0; k < scene.probes.size(); ++k)
-        if (!plan.probes[k].computedLevels.empty() || plan.probes[k].shIrradiance || plan.probes[k].irradianceCube)
-            run.runProbe(scene.probes[k], plan.probes[k]);
+        if (plan.probes[k].used()) run.runProbe(scene.probes[k], plan.probes[k]);
     if (plan.dfgTable) run.makeDfgTable();
+    if (plan.sheenTable) run.makeSheenTable();
     if (scene.outputs.spheres) run.renderSpheres();
     const std::vector<std::string> messages = device.validationMessages();
     if (!messages.empty())
@@ -243,9 +294,9 @@ void addRunCommand(CLI::App& app) {
     auto o = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Run exactly the passes a scene calls for (see `plan`) and write what they make");
     cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
-    cmd->add_option(
-           "--out", o->out,
-           "Output folder: <probe>/level_<m>.exr, irradiance_sh.exr, irradiance.exr, probe.ktx2, spheres.png; dfg.exr; report.json")
+    cmd->add_option("--out", o->out,
+                    "Output folder: <probe>/level_<m>.exr, irradiance_sh.exr, irradiance.exr, sheen_level_<m>.exr, probe.ktx2, sheen.ktx2, "
+                    "spheres.png; dfg.exr; sheen.exr; report.json")
         ->required();
     cmd->add_flag("--force", o->force, kForceHelp);
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();

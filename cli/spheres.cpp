@@ -12,6 +12,9 @@ probe::gpu::SphereMaterial sphereMaterial(const probe::SceneMaterial& material, 
     m.roughness = static_cast<float>(material.roughness);
     m.level = static_cast<float>(probe::roughnessToLevel(mapping, material.roughness, levelCount));
     m.hasSpecular = material.hasSpecular();
+    m.sheenColor = glm::vec3(material.sheenColor);
+    m.sheenRoughness = static_cast<float>(material.sheenRoughness);
+    m.sheenLevel = static_cast<float>(probe::roughnessToLevel(mapping, material.sheenRoughness, levelCount));
     return m;
 }
 

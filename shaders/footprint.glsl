@@ -44,9 +44,10 @@ vec3 sampleBilinear(int faceSize, int level, int face, float x, float y) {
     return sampleBilinearAt(pyramidLevelOffset(faceSize, level), faceSize >> level, face, x, y);
 }
 
-// Trilinear value of the pyramid (levelCount levels from faceSize) at a direction (any length, not
-// zero) and a fractional level, clamped to [0, levelCount - 1].
-vec3 sampleTrilinear(int faceSize, int levelCount, vec3 direction, float level) {
+// Trilinear value of the levels packed as the pyramid is (levelCount levels from faceSize) from texel
+// `first` of the pyramid buffer, at a direction (any length, not zero) and a fractional level,
+// clamped to [0, levelCount - 1].
+vec3 sampleTrilinearAt(uint first, int faceSize, int levelCount, vec3 direction, float level) {
     level = clamp(level, 0.0, float(levelCount - 1));
     int lower = int(floor(level));
     float upperWeight = level - float(lower);
@@ -55,12 +56,19 @@ vec3 sampleTrilinear(int faceSize, int levelCount, vec3 direction, float level) 
     directionToFaceUv(direction, face, uv);
     vec2 unit = uv + 1.0;
     float half0 = 0.5 * float(faceSize >> lower);
-    vec3 value = (1.0 - upperWeight) * sampleBilinear(faceSize, lower, face, unit.x * half0, unit.y * half0);
+    vec3 value = (1.0 - upperWeight) *
+                 sampleBilinearAt(first + pyramidLevelOffset(faceSize, lower), faceSize >> lower, face, unit.x * half0, unit.y * half0);
     if (lower + 1 < levelCount && upperWeight > 0.0) {
         float half1 = 0.5 * float(faceSize >> (lower + 1));
-        value += upperWeight * sampleBilinear(faceSize, lower + 1, face, unit.x * half1, unit.y * half1);
+        value += upperWeight * sampleBilinearAt(first + pyramidLevelOffset(faceSize, lower + 1), faceSize >> (lower + 1), face,
+                                                unit.x * half1, unit.y * half1);
     }
     return value;
+}
+
+// The same for the pyramid itself.
+vec3 sampleTrilinear(int faceSize, int levelCount, vec3 direction, float level) {
+    return sampleTrilinearAt(0u, faceSize, levelCount, direction, level);
 }
 
 #endif

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # probefilter run on lavapipe with the validation layer: scenes that call for the mirror level only,
-# diffuse only, both, and nothing run end to end; report.json lists exactly the passes that
+# diffuse only, both, sheen, and nothing run end to end; report.json lists exactly the passes that
 # `probefilter plan` prints; only the planned files are written; the levels a run computes equal,
-# byte for byte, the same levels of a full `filter` run (fis and table).
+# byte for byte, the same levels of a full `filter` run (fis, table, and Charlie fis for sheen).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -30,6 +30,10 @@ scene empty '"method": "fis"' '' ''
 # The Lambertian cube only where asked: beside SH, or alone (no spheres, so no SH either).
 scene lambert '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"irradiance": "both"'
 scene cube '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' '"irradiance": "cube"'
+# Sheen alone (no specular, black base): the Charlie levels its sheen roughness reads and the sheen table.
+scene sheen '"method": "table", "table": "'"$fixtures"'/table_16_quad4_gltf.json", "samples": 16' \
+    '{"name": "velvet", "roughness": 1, "specular": 0, "base_color": [0, 0, 0], "sheen_color": [1, 0.5, 0.5], "sheen_roughness": 0.5}' \
+    '"ktx2": "rgba16f", "spheres": true'
 
 # The passes `plan` prints (the text before " because "), as JSON.
 planned() {
@@ -50,13 +54,16 @@ for d in report["dispatches"]:
     assert (d["on"] == "gpu") == (len(d["gpu_dispatches"]) > 0), d
 out = os.path.dirname(sys.argv[2])
 files = sorted(os.path.relpath(os.path.join(r, f), out) for r, _, fs in os.walk(out) for f in fs)
-levels = sorted(int(p.split(" ")[2]) for p in ran if " level " in p)
-want = ["report.json"] + [f"sky/level_{m}.exr" for m in levels]
+levels = sorted(int(p.split(" ")[2]) for p in ran if ": level " in p)
+sheen = sorted(int(p.split(" ")[3]) for p in ran if ": sheen level " in p)
+want = ["report.json"] + [f"sky/level_{m}.exr" for m in levels] + [f"sky/sheen_level_{m}.exr" for m in sheen]
 if "sky: sh-irradiance" in ran: want.append("sky/irradiance_sh.exr")
 if "sky: irradiance-cube" in ran: want.append("sky/irradiance.exr")
 if "dfg-table" in ran: want.append("dfg.exr")
-if report.get("probes") and name in ("mirror", "diffuse", "mixed"): want.append("sky/spheres.png")
+if "sheen-table" in ran: want.append("sheen.exr")
+if report.get("probes") and name in ("mirror", "diffuse", "mixed", "sheen"): want.append("sky/spheres.png")
 if name == "mixed": want.append("sky/probe.ktx2")
+if name == "sheen": want.append("sky/sheen.ktx2")
 assert files == sorted(want), f"{name}: wrote {files}, expected {sorted(want)}"
 for p in report["probes"]:
     irradiance = p.get("irradiance", {})
@@ -67,6 +74,11 @@ for p in report["probes"]:
     if "cube" in irradiance:
         assert irradiance["cube"]["face_size"] == 32 and irradiance["cube"]["file"] == "sky/irradiance.exr", irradiance
 if "dfg" in report: assert "red = A, green = B" in report["dfg"]["convention"]
+if "sheen_table" in report: assert "Estevez-Kulla" in report["sheen_table"]["convention"]
+for p in report["probes"]:
+    if "sheen" in p:
+        assert p["sheen"]["lobe"] == "charlie" and p["sheen"]["method"] == "fis" and p["sheen"]["fis_samples"] == 16, p["sheen"]
+        assert [l["level"] for l in p["sheen"]["levels"]] == sheen, p["sheen"]
 PY
 }
 
@@ -80,6 +92,8 @@ check_run cube '["sky: load", "sky: irradiance-cube"]'
 mixed_pyramid=$("$PROBEFILTER" plan mixed.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"sky: level 1 (fis)\", \"sky: level 2 (fis)\", \
 \"sky: sh-irradiance\", \"dfg-table\"]"
+sheen_pyramid=$("$PROBEFILTER" plan sheen.json | grep -o "^sky: sheen pyramid 0\.\.[0-9]*")
+check_run sheen "[\"sky: load\", \"$sheen_pyramid\", \"sky: sheen level 1 (fis)\", \"sky: sheen level 2 (fis)\", \"sheen-table\"]"
 table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run table "[\"sky: load\", \"$table_pyramid\", \"sky: level 1 (table)\", \"sky: level 2 (table)\", \"dfg-table\"]"
 
@@ -89,4 +103,8 @@ for m in 0 1 2; do cmp -s out-mixed/sky/level_$m.exr full-fis/level_$m.exr || fa
 "$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --out full-table >/dev/null 2>&1 ||
     fail "filter table"
 for m in 1 2; do cmp -s out-table/sky/level_$m.exr full-table/level_$m.exr || fail "table: level $m differs from the full table run"; done
+"$PROBEFILTER" filter sky.exr --method fis --lobe charlie --samples 16 --size 16 --out full-charlie >/dev/null 2>&1 || fail "filter charlie"
+for m in 1 2; do
+    cmp -s out-sheen/sky/sheen_level_$m.exr full-charlie/level_$m.exr || fail "sheen: level $m differs from the full Charlie fis run"
+done
 echo "cli_run: ok"

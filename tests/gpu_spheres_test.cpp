@@ -5,7 +5,9 @@
 
 #include "gpu_test_support.h"
 #include "probe/dfg.h"
+#include "probe/error.h"
 #include "probe/sh.h"
+#include "probe/sheen.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -52,6 +54,58 @@ TEST_F(GpuSpheres, ConstantEnvironment) {
     EXPECT_LT(roughCentre, 0.8f * radiance) << "a rough metal loses energy (single scattering)";
     EXPECT_GT(roughCentre, 0.2f * radiance);
     for (float v : image.rgb) EXPECT_LE(v, radiance * 1.001f);
+}
+
+// In a constant environment L the sheen layer gives sheenColor L S + (1 - max(sheenColor) E_s) times
+// the layer below, at the sphere's centre (n.v = 1) S and E_s the sheen table's: a white diffuse
+// sphere under a white sheen is L (S + 1 - E_s); black sheen is no sheen, pixel for pixel.
+TEST_F(GpuSpheres, SheenLayerInAConstantEnvironment) {
+    const float radiance = 2.0f;
+    const CubeImage constant = constantProbe(16, glm::vec3(radiance));
+    CubeLevels prefiltered;
+    for (int m = 0; m < 4; ++m) prefiltered.push_back(constantProbe(16 >> m, glm::vec3(radiance)));
+    const Image dfg = dfgTable(32, 256), sheen = sheenTable(32, 1024);
+    gpu::SphereScene scene;
+    scene.prefiltered = &prefiltered;
+    scene.background = &constant;
+    scene.irradiance = radianceToIrradiance(projectRadiance(constant));
+    scene.dfg = &dfg;
+    scene.sheen = &prefiltered;
+    scene.sheenTable = &sheen;
+    gpu::SphereMaterial chalk;
+    chalk.baseColor = glm::vec3(1.0f);
+    chalk.specular = 0.0f;
+    chalk.hasSpecular = false;
+    gpu::SphereMaterial velvet = chalk;
+    velvet.sheenColor = glm::vec3(1.0f);
+    velvet.sheenRoughness = 0.9f;
+    velvet.sheenLevel = 2.7f;
+    scene.materials = {chalk, velvet};
+    scene.cellSize = 32;
+    const Image image = gpu::renderSpheres(probetest::testDevice(), scene);
+
+    // The centre pixel faces the camera to within a pixel: the table's last column (n.v = 1 - 1/64),
+    // bilinear between rows 28 and 29 at roughness 0.9.
+    const glm::vec3 a = sheen.pixel(31, 28), b = sheen.pixel(31, 29);
+    const float f = 0.9f * 32.0f - 0.5f - 28.0f;
+    const glm::vec3 se = a + (b - a) * f;
+    EXPECT_NEAR(image.pixel(16, 16).r, radiance, 1e-5 * radiance) << "no sheen";
+    EXPECT_NEAR(image.pixel(48, 16).r, radiance * (se.r + 1.0f - se.g), 2e-2 * radiance) << "white sheen over white chalk";
+    EXPECT_GT(se.r, 0.05f) << "the test sees the sheen term";
+
+    // Black sheen: the material without sheen, and the scene needs neither the levels nor the table.
+    gpu::SphereScene plain = scene;
+    plain.sheen = nullptr;
+    plain.sheenTable = nullptr;
+    gpu::SphereMaterial black = velvet;
+    black.sheenColor = glm::vec3(0.0f);
+    plain.materials = {chalk, black};
+    const Image without = gpu::renderSpheres(probetest::testDevice(), plain);
+    for (int x = 32; x < 64; ++x)
+        for (int y = 0; y < 32; ++y) ASSERT_EQ(without.pixel(x, y), image.pixel(x - 32, y)) << x << "," << y;
+    // Sheen without its levels is refused.
+    plain.materials = {velvet};
+    EXPECT_THROW(gpu::renderSpheres(probetest::testDevice(), plain), ProbeError);
 }
 
 // The background is read bilinearly: where a cell's pixels are smaller than a texel of a checkerboard

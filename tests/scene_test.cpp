@@ -134,6 +134,42 @@ TEST_F(SceneTest, Mixed) {
                                                     "sky: level 1 (fis)", "sky: level 2 (fis)", "sky: sh-irradiance", "dfg-table"}));
 }
 
+// Sheen (KHR_materials_sheen) adds the Charlie levels its sheen roughness reads, filtered by FIS over
+// a pyramid as deep as their Charlie taps read, and the sheen table; a scene without sheen computes
+// nothing for it.
+TEST_F(SceneTest, SheenOnlyWhereAMaterialHasIt) {
+    const Plan none = plan(scene(R"({"name": "plastic", "roughness": 0.5, "sheen_roughness": 0.7})"));
+    EXPECT_TRUE(none.probes[0].sheenLevels.empty()) << "black sheen is no sheen";
+    EXPECT_FALSE(none.sheenTable);
+    for (const std::string& pass : none.passes()) EXPECT_EQ(pass.find("sheen"), std::string::npos) << pass;
+
+    // Sheen roughness 0.5 reads levels 1 and 2; the velvet's own roughness 1 reads level 3.
+    const Plan p = plan(scene(R"({"name": "velvet", "roughness": 1, "specular": 0, "base_color": [0, 0, 0],
+                                  "sheen_color": [1, 0.5, 0.5], "sheen_roughness": 0.5})"));
+    const ProbePlan& probe = p.probes[0];
+    EXPECT_TRUE(probe.computedLevels.empty()) << "no specular term";
+    EXPECT_EQ(probe.sheenLevels, (std::vector<int>{1, 2}));
+    EXPECT_EQ(probe.sheenMethod, MethodKind::fis);
+    FilterMethod charlie;
+    charlie.kind = MethodKind::fis;
+    charlie.lobe = Lobe::charlie;
+    const int deepest = deepestPyramidLevelRead(methodTapGenerator(charlie, 16, 4, RoughnessMapping::gltf), 16, {1, 2});
+    EXPECT_EQ(probe.sheenPyramidLevels, deepest);
+    EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: sheen pyramid 0..{}", deepest),
+                                                    "sky: sheen level 1 (fis)", "sky: sheen level 2 (fis)", "sheen-table"}));
+
+    // A table probe's Charlie levels are FIS's (the tables are GGX's); the reference's are the reference's.
+    const Scene s = readScene(write(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "table"}],
+                                        "materials": []})"));
+    EXPECT_EQ(sheenMethod(s.probes[0]).kind, MethodKind::fis);
+    EXPECT_EQ(sheenMethod(s.probes[0]).lobe, Lobe::charlie);
+    const Plan reference = plan(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "reference"}],
+                                   "materials": [{"name": "v", "roughness": 0.5, "sheen_color": [1, 1, 1], "sheen_roughness": 0}]})");
+    EXPECT_EQ(reference.probes[0].sheenMethod, MethodKind::reference);
+    EXPECT_EQ(reference.probes[0].sheenLevels, (std::vector<int>{0}));
+    EXPECT_EQ(reference.probes[0].sheenPyramidLevels, 0);
+}
+
 TEST_F(SceneTest, Empty) {
     const Plan p = plan(scene(""));
     EXPECT_TRUE(p.passes().empty());
@@ -153,6 +189,9 @@ TEST_F(SceneTest, BadScenesNameTheField) {
     expectRefused(scene(R"({"name": "a", "roughness": 0.5}, {"name": "a", "roughness": 0.1})"), "materials[1].name");
     expectRefused(scene(R"({"name": "a"})"), "materials[0].roughness");
     expectRefused(scene(R"({"name": "a", "roughness": 0.5, "probe": "nope"})"), "materials[0].probe");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5, "sheen_color": [1, 1]})"), "materials[0].sheen_color");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5, "sheen_color": [1, 2, 1]})"), "materials[0].sheen_color");
+    expectRefused(scene(R"({"name": "a", "roughness": 0.5, "sheen_roughness": 1.5})"), "materials[0].sheen_roughness");
     expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 12}], "materials": []})", "probes[0].face_size");
     expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr", "mapping": "x"}], "materials": []})", "probes[0].mapping");
     expectRefused(R"({"probes": [{"name": "sky", "image": "sky.exr"}], "materials": [], "extra": 1})", "extra");

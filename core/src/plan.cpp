@@ -49,23 +49,45 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int faceSize, const s
     return deepest;
 }
 
+FilterMethod sheenMethod(const SceneProbe& probe) {
+    FilterMethod method = probe.method;
+    method.lobe = Lobe::charlie;
+    if (method.kind == MethodKind::table) method.kind = MethodKind::fis;
+    method.table = nullptr;
+    return method;
+}
+
 Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
     Plan plan;
     for (const SceneProbe& probe : scene.probes) {
         ProbePlan p;
         p.probe = probe.name;
         p.method = probe.method.kind;
-        std::map<int, std::vector<std::string>> readers;
+        std::map<int, std::vector<std::string>> readers, sheenReaders;
         for (const SceneMaterial& material : scene.materials) {
             if (material.probe != probe.name) continue;
             if (material.hasSpecular())
                 for (int level : levelsReadForRoughness(probe.mapping, material.roughness, probe.levelCount))
                     readers[level].push_back(material.name);
             if (material.hasDiffuse()) p.diffuseMaterials.push_back(material.name);
+            if (material.hasSheen())
+                for (int level : levelsReadForRoughness(probe.mapping, material.sheenRoughness, probe.levelCount))
+                    sheenReaders[level].push_back(material.name);
         }
         for (auto& [level, names] : readers) {
             p.computedLevels.push_back(level);
             p.levelReaders.push_back(names);
+        }
+        for (auto& [level, names] : sheenReaders) {
+            p.sheenLevels.push_back(level);
+            p.sheenReaders.push_back(names);
+        }
+        // Every Charlie level is filtered (none is a copy); FIS reads the pyramid, the reference the source.
+        p.sheenMethod = sheenMethod(probe).kind;
+        if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference) {
+            SceneProbe charlie = probe;
+            charlie.method = sheenMethod(probe);
+            p.sheenPyramidLevels = deepestPyramidLevelRead(generatorFor(charlie), probe.faceSize, p.sheenLevels);
         }
         p.shIrradiance = !p.diffuseMaterials.empty() && (scene.outputs.shIrradiance || scene.outputs.spheres);
         p.irradianceCube = !p.diffuseMaterials.empty() && scene.outputs.irradianceCube;
@@ -76,9 +98,12 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.computedLevels);
         plan.probes.push_back(std::move(p));
     }
-    for (const SceneMaterial& material : scene.materials)
+    for (const SceneMaterial& material : scene.materials) {
         if (material.hasSpecular()) plan.specularMaterials.push_back(material.name);
+        if (material.hasSheen()) plan.sheenMaterials.push_back(material.name);
+    }
     plan.dfgTable = !plan.specularMaterials.empty();
+    plan.sheenTable = !plan.sheenMaterials.empty();
     return plan;
 }
 
@@ -89,6 +114,10 @@ std::string levelPass(const std::string& probe, int level, MethodKind method) {
 }
 std::string irradiancePass(const std::string& probe) { return fmt::format("{}: sh-irradiance", probe); }
 std::string irradianceCubePass(const std::string& probe) { return fmt::format("{}: irradiance-cube", probe); }
+std::string sheenPyramidPass(const std::string& probe, int depth) { return fmt::format("{}: sheen pyramid 0..{}", probe, depth); }
+std::string sheenLevelPass(const std::string& probe, int level, MethodKind method) {
+    return fmt::format("{}: sheen level {} ({})", probe, level, methodKindName(method));
+}
 
 namespace {
 
@@ -100,7 +129,7 @@ struct Step {
 std::vector<Step> steps(const Plan& plan) {
     std::vector<Step> out;
     for (const ProbePlan& p : plan.probes) {
-        if (p.computedLevels.empty() && !p.shIrradiance && !p.irradianceCube) continue;
+        if (!p.used()) continue;
         out.push_back({loadPass(p.probe), "the probe is read by some material"});
         if (p.readsPyramid)
             out.push_back({pyramidPass(p.probe, p.pyramidLevels),
@@ -116,8 +145,16 @@ std::vector<Step> steps(const Plan& plan) {
         if (p.irradianceCube)
             out.push_back({irradianceCubePass(p.probe),
                            fmt::format("diffuse: {}; the outputs ask for the cube", fmt::join(p.diffuseMaterials, ", "))});
+        if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference)
+            out.push_back({sheenPyramidPass(p.probe, p.sheenPyramidLevels),
+                           fmt::format("the Charlie FIS taps of sheen levels {} read down to pyramid level {}",
+                                       fmt::join(p.sheenLevels, ", "), p.sheenPyramidLevels)});
+        for (std::size_t k = 0; k < p.sheenLevels.size(); ++k)
+            out.push_back({sheenLevelPass(p.probe, p.sheenLevels[k], p.sheenMethod),
+                           fmt::format("sheen read by {}", fmt::join(p.sheenReaders[k], ", "))});
     }
     if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
+    if (plan.sheenTable) out.push_back({kSheenTablePass, fmt::format("sheen: {}", fmt::join(plan.sheenMaterials, ", "))});
     return out;
 }
 

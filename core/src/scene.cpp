@@ -66,6 +66,15 @@ public:
         if (!(value >= 0.0 && value <= 1.0)) fail(field(key), fmt::format("{} is outside [0, 1]", value));
         return value;
     }
+    // Three numbers in [0, 1], if given.
+    std::optional<glm::dvec3> color(const std::string& key) {
+        const std::optional<std::vector<double>> c = optional<std::vector<double>>(key);
+        if (!c) return std::nullopt;
+        if (c->size() != 3) fail(field(key), "must hold 3 numbers");
+        for (double v : *c)
+            if (!(v >= 0.0 && v <= 1.0)) fail(field(key), fmt::format("{} is outside [0, 1]", v));
+        return glm::dvec3((*c)[0], (*c)[1], (*c)[2]);
+    }
     const json& child(const std::string& key) {
         seen_.insert(key);
         static const json empty = json::object();
@@ -103,7 +112,7 @@ SceneProbe readProbe(const std::filesystem::path& scene, const std::string& wher
         std::any_of(p.name.begin(), p.name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
     if (p.name.empty() || p.name == "." || p.name == ".." || p.name.find_first_of("/\\") != std::string::npos || control)
         r.fail(r.field("name"), fmt::format("'{}' cannot name a folder", p.name));
-    if (p.name == "report.json" || p.name == "dfg.exr")
+    if (p.name == "report.json" || p.name == "dfg.exr" || p.name == "sheen.exr")
         r.fail(r.field("name"), fmt::format("'{}' is the name of one of the run's own files", p.name));
     p.image = scene.parent_path() / r.required<std::string>("image");
     try {
@@ -150,12 +159,9 @@ SceneMaterial readMaterial(const std::filesystem::path& scene, const std::string
     m.roughness = r.unitInterval("roughness", std::nullopt);
     m.metallic = r.unitInterval("metallic", 0.0);
     m.specular = r.unitInterval("specular", 1.0);
-    if (auto color = r.optional<std::vector<double>>("base_color")) {
-        if (color->size() != 3) r.fail(r.field("base_color"), "must hold 3 numbers");
-        for (double c : *color)
-            if (!(c >= 0.0 && c <= 1.0)) r.fail(r.field("base_color"), fmt::format("{} is outside [0, 1]", c));
-        m.baseColor = {(*color)[0], (*color)[1], (*color)[2]};
-    }
+    if (auto color = r.color("base_color")) m.baseColor = *color;
+    if (auto color = r.color("sheen_color")) m.sheenColor = *color;
+    m.sheenRoughness = r.unitInterval("sheen_roughness", 0.0);
     r.refuseUnknown();
     return m;
 }

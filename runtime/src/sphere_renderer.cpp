@@ -1,6 +1,6 @@
-// The sphere renderer (shaders/spheres.comp): packs the filtered levels and the background (both
-// bordered, for seamless bilinear reads), the DFG table, the irradiance and the materials into the
-// four storage buffers and runs one dispatch per batch of spheres.
+// The sphere renderer (shaders/spheres.comp): packs the filtered levels, the background and the
+// Charlie levels (bordered, for seamless bilinear reads), the DFG and sheen tables, the irradiance and
+// the materials into the four storage buffers and runs one dispatch per batch of spheres.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +25,8 @@ struct SphereConstants {
     int32_t levelCount;
     int32_t backgroundSize;
     int32_t dfgSize;
+    int32_t sheenFirst; // the Charlie levels' first texel in the cube buffer (0: none)
+    int32_t sheenSize;  // the sheen table's size (after the DFG table in the lookup buffer)
     float tanHalfFov;
     float distance;
 };
@@ -59,19 +61,21 @@ std::vector<float> packedLevels(const CubeLevels& levels, int faceSize) {
 int sceneShift(const SphereScene& scene) {
     double largest = largestMagnitude(*scene.background);
     for (const CubeImage& level : *scene.prefiltered) largest = std::max<double>(largest, largestMagnitude(level));
+    if (scene.sheen)
+        for (const CubeImage& level : *scene.sheen) largest = std::max<double>(largest, largestMagnitude(level));
     for (const glm::dvec3& c : scene.irradiance) largest = std::max({largest, std::abs(c.r), std::abs(c.g), std::abs(c.b)});
     return rangeShift(largest);
 }
 
-// The DFG table as spheres.comp reads it: RGBA texels, the scale and bias in R and G (one black texel
+// A lookup table as spheres.comp reads it: RGBA texels, its two terms in R and G (one black texel
 // when there is no table).
-std::vector<float> dfgLookup(const SphereScene& scene) {
-    std::vector<float> lookup;
-    if (!scene.dfg) return {0.0f, 0.0f, 0.0f, 0.0f};
-    if (scene.dfg->height != scene.dfg->width) throw ProbeError("sphere renderer: the DFG table must be square");
-    for (std::size_t p = 0; p < scene.dfg->rgb.size(); p += 3)
-        lookup.insert(lookup.end(), {scene.dfg->rgb[p], scene.dfg->rgb[p + 1], 0.0f, 0.0f});
-    return lookup;
+void appendLookup(std::vector<float>& lookup, const Image* table, const char* name) {
+    if (!table) {
+        lookup.insert(lookup.end(), {0.0f, 0.0f, 0.0f, 0.0f});
+        return;
+    }
+    if (table->height != table->width) throw ProbeError(fmt::format("sphere renderer: the {} table must be square", name));
+    for (std::size_t p = 0; p < table->rgb.size(); p += 3) lookup.insert(lookup.end(), {table->rgb[p], table->rgb[p + 1], 0.0f, 0.0f});
 }
 
 // A batch's row of cells (RGBA, scaled down by 2^shift) into its place in the whole row, scaled back.
@@ -91,11 +95,13 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     if (!scene.prefiltered || scene.prefiltered->empty() || !scene.background || scene.materials.empty() || scene.cellSize < 1)
         throw ProbeError("sphere renderer: needs the filtered levels, a background, at least one material and a cell size");
     const CubeLevels& levels = *scene.prefiltered;
-    // S_0 from the first level computed; with none (diffuse materials only), the smallest S_0 that
-    // has this many levels.
+    // S_0 from the first level computed, GGX or Charlie; with none (diffuse materials only), the
+    // smallest S_0 that has this many levels.
     int faceSize = 1 << (levels.size() - 1);
-    for (std::size_t m = levels.size(); m-- > 0;)
-        if (levels[m].size) faceSize = levels[m].size << m;
+    for (const CubeLevels* set : {scene.sheen, &levels})
+        if (set)
+            for (std::size_t m = set->size(); m-- > 0;)
+                if ((*set)[m].size) faceSize = (*set)[m].size << m;
     const int shift = sceneShift(scene);
     CubeLevels scaledLevels = levels;
     shiftLevels(scaledLevels, -shift);
@@ -103,9 +109,23 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     std::vector<float> cubes = packedLevels(scaledLevels, faceSize);
     const std::vector<float> background = borderedRgbaTexels(shifted(*scene.background, -shift));
     cubes.insert(cubes.end(), background.begin(), background.end());
+    // The Charlie levels after the background, where a material with sheen reads them.
+    const bool sheen = std::any_of(scene.materials.begin(), scene.materials.end(), [](const SphereMaterial& m) { return m.hasSheen(); });
+    if (sheen && (!scene.sheen || !scene.sheenTable || scene.sheen->size() != levels.size()))
+        throw ProbeError(
+            "sphere renderer: a material with sheen needs the Charlie levels (as many as the filtered ones) and the sheen table");
+    const std::size_t sheenFirst = sheen ? cubes.size() / 4 : 0;
+    if (sheen) {
+        CubeLevels scaledSheen = *scene.sheen;
+        shiftLevels(scaledSheen, -shift);
+        const std::vector<float> charlie = packedLevels(scaledSheen, faceSize);
+        cubes.insert(cubes.end(), charlie.begin(), charlie.end());
+    }
 
-    const std::vector<float> lookup = dfgLookup(scene);
-    const int dfgSize = scene.dfg ? scene.dfg->width : 1;
+    std::vector<float> lookup;
+    appendLookup(lookup, scene.dfg, "DFG");
+    appendLookup(lookup, sheen ? scene.sheenTable : nullptr, "sheen");
+    const int dfgSize = scene.dfg ? scene.dfg->width : 1, sheenSize = sheen ? scene.sheenTable->width : 1;
 
     for (const SphereMaterial& m : scene.materials)
         if (m.hasSpecular && !scene.dfg) throw ProbeError("sphere renderer: a specular material needs the DFG table");
@@ -132,7 +152,8 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
         for (std::size_t k = first; k < first + count; ++k) {
             const SphereMaterial& m = scene.materials[k];
             parameters.insert(parameters.end(), {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.specular, m.roughness, m.level,
-                                                 m.hasSpecular ? 1.0f : 0.0f});
+                                                 m.hasSpecular ? 1.0f : 0.0f, m.sheenColor.r, m.sheenColor.g, m.sheenColor.b,
+                                                 m.sheenRoughness, m.sheenLevel, 0.0f, 0.0f, 0.0f});
         }
         const std::size_t pixels = count * cellPixels;
         Buffer image(device, pixels * 4 * sizeof(float), Buffer::Kind::storage);
@@ -146,6 +167,8 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
                                         static_cast<int32_t>(levels.size()),
                                         scene.background->size,
                                         dfgSize,
+                                        static_cast<int32_t>(sheenFirst),
+                                        sheenSize,
                                         kTanHalfFov,
                                         kCameraDistance};
         VkCommandBuffer commandBuffer = submission.begin();

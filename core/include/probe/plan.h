@@ -1,6 +1,7 @@
 // What a scene calls for, and nothing else: per probe the output levels its specular materials
 // read, the pyramid only as deep as those levels' taps reach, irradiance only for diffuse
-// materials; the split-sum DFG table only if some material is specular.
+// materials, the Charlie levels only for materials with sheen; the split-sum DFG table only if some
+// material is specular, the sheen table only if some material has sheen.
 #pragma once
 
 #include <functional>
@@ -32,12 +33,23 @@ struct ProbePlan {
     bool shIrradiance = false;                          // some material is diffuse, and the outputs or the spheres want SH
     bool irradianceCube = false;                        // some material is diffuse, and the outputs want the cube
     std::vector<std::string> diffuseMaterials;
+    // The Charlie levels its materials with sheen read (sheenMethod), as `computedLevels` and
+    // `pyramidLevels` are for GGX; the sheen pyramid is its own (a FIS pyramid as deep as they read).
+    MethodKind sheenMethod = MethodKind::fis;
+    std::vector<int> sheenLevels;
+    std::vector<std::vector<std::string>> sheenReaders;
+    int sheenPyramidLevels = 0;
+
+    // Whether anything of the probe is computed (it is loaded at all).
+    bool used() const { return !computedLevels.empty() || shIrradiance || irradianceCube || !sheenLevels.empty(); }
 };
 
 struct Plan {
     std::vector<ProbePlan> probes;
     bool dfgTable = false;
     std::vector<std::string> specularMaterials;
+    bool sheenTable = false;
+    std::vector<std::string> sheenMaterials;
 
     // The passes in execution order, one line each: "<probe>: <pass>", or "dfg-table". This is
     // the list that a run's report.json records as the dispatches it ran.
@@ -52,13 +64,21 @@ std::string pyramidPass(const std::string& probe, int depth); // pyramid levels 
 std::string levelPass(const std::string& probe, int level, MethodKind method);
 std::string irradiancePass(const std::string& probe);
 std::string irradianceCubePass(const std::string& probe);
+std::string sheenPyramidPass(const std::string& probe, int depth);
+std::string sheenLevelPass(const std::string& probe, int level, MethodKind method);
 inline constexpr const char* kDfgPass = "dfg-table";
+inline constexpr const char* kSheenTablePass = "sheen-table";
+
+// How a probe's Charlie levels are filtered: the probe's method with the Charlie lobe, FIS (the
+// probe's samples) where the method is a table, since the tables are fitted for GGX.
+FilterMethod sheenMethod(const SceneProbe& probe);
 
 // The tap generator of a probe's method (empty for the reference, which reads no pyramid).
 using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
 
 // What a scene needs computed: per probe the levels its materials read and the pyramid those levels
-// read, the irradiance where a material is diffuse, the DFG table where one is specular.
+// read, the irradiance where a material is diffuse, the Charlie levels where one has sheen; the DFG
+// table where one is specular, the sheen table where one has sheen.
 Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor);
 
 } // namespace probe

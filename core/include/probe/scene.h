@@ -6,7 +6,8 @@
 //   "probes": [{"name": "sunset", "image": "sunset.exr", "face_size": 128, "levels": 7,
 //               "mapping": "gltf", "method": "table", "samples": 32, "table": "t.json"}],
 //   "materials": [{"name": "chrome", "probe": "sunset", "roughness": 0.05, "metallic": 1,
-//                  "base_color": [0.95, 0.93, 0.88], "specular": 1}],
+//                  "base_color": [0.95, 0.93, 0.88], "specular": 1},
+//                 {"name": "velvet", "roughness": 0.8, "sheen_color": [0.6, 0.1, 0.2], "sheen_roughness": 0.4}],
 //   "outputs": {"exr": true, "ktx2": "rgba16f", "ktx2_zstd": false, "spheres": true, "irradiance": "sh"}
 // }
 // A probe's "roughness" (a list, one perceptual roughness per level, increasing) replaces "mapping".
@@ -47,10 +48,14 @@ struct SceneMaterial {
     double roughness = 0.5; // perceptual, [0, 1]
     double metallic = 0.0;  // [0, 1]
     glm::dvec3 baseColor{0.8};
-    double specular = 1.0; // dielectric specular strength (F0 = 0.04 specular), [0, 1]
+    double specular = 1.0;      // dielectric specular strength (F0 = 0.04 specular), [0, 1]
+    glm::dvec3 sheenColor{0.0}; // KHR_materials_sheen: black is no sheen
+    double sheenRoughness = 0.0;
 
     // Lit by the prefiltered GGX levels (and the DFG table).
     bool hasSpecular() const { return metallic > 0.0 || specular > 0.0; }
+    // Lit by the prefiltered Charlie levels (and the sheen table).
+    bool hasSheen() const { return sheenColor.r > 0.0 || sheenColor.g > 0.0 || sheenColor.b > 0.0; }
     // Lit by irradiance.
     bool hasDiffuse() const { return metallic < 1.0 && (baseColor.r > 0.0 || baseColor.g > 0.0 || baseColor.b > 0.0); }
 };

@@ -398,6 +398,12 @@ struct SphereMaterial {
     float roughness = 0.5f;  // perceptual: the row of the DFG table
     float level = 0.0f;      // the filtered level it reads: probe::roughnessToLevel(mapping, roughness, M)
     bool hasSpecular = true; // false: no specular term (probe::SceneMaterial::hasSpecular)
+    // KHR_materials_sheen: black is none; the Charlie level it reads, as `level`.
+    glm::vec3 sheenColor{0.0f};
+    float sheenRoughness = 0.0f;
+    float sheenLevel = 0.0f;
+
+    bool hasSheen() const { return sheenColor.r > 0.0f || sheenColor.g > 0.0f || sheenColor.b > 0.0f; }
 };
 
 struct SphereScene {
@@ -405,13 +411,17 @@ struct SphereScene {
     const CubeImage* background = nullptr;   // drawn behind the spheres (bilinear, seamless)
     ShCoefficients irradiance{};             // probe::radianceToIrradiance of the probe's coefficients
     const Image* dfg = nullptr;              // probe::dfgTable (square); unused when no material is specular
+    const CubeLevels* sheen = nullptr;       // the Charlie levels, as `prefiltered`; unused when no material has sheen
+    const Image* sheenTable = nullptr;       // probe::sheenTable (square); the same
     std::vector<SphereMaterial> materials;
     int cellSize = 128; // pixels per sphere, cells left to right
 };
 
 // One sphere per material lit by the probe with the split-sum approximation (shaders/spheres.comp:
-// prefiltered(R, level) * (F0 A + B) + base (1 - metallic) E(N)), each in its own square cell seen
-// from +Z, over the background. Returns linear RGB, cellSize * materials wide, cellSize high.
+// prefiltered(R, level) * (F0 A + B) + base (1 - metallic) E(N)), under a sheen layer where the
+// material has one (KHR_materials_sheen: sheenColor charlie(R, sheenLevel) S + (1 - max(sheenColor) E)
+// times the rest, S and E from the sheen table), each in its own square cell seen from +Z, over the
+// background. Returns linear RGB, cellSize * materials wide, cellSize high.
 Image renderSpheres(const Device& device, const SphereScene& scene);
 
 // A tap table compiled into this build from its generated header (tables/<name>.h, as probefit
