@@ -114,7 +114,8 @@ std::array<probe::gpu::FilterSettings, 2> compareSettings(const CompareOptions& 
     tableSettings.mapping = mapping;
     if (!o.table.empty()) {
         table = tableOption(o.table);
-    } else if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(o.size, levelCount, mapping, {})) {
+    } else if (const probe::gpu::CompiledTable* compiled =
+                   probe::gpu::findCompiledTable(o.size, levelCount, mapping, {}, probe::Lobe::ggx)) {
         table = compiled->table;
     } else {
         throw probe::ProbeError(

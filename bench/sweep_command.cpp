@@ -276,8 +276,10 @@ std::vector<probe::ImpulseError> methodImpulseErrors(const SweepOptions& o, int 
         // A paraboloid map's level 0 is a copy, as every method's.
         if (paraboloid && probe::levelAlpha(probe::RoughnessMapping::gltf, m, levelCount) > 0.0)
             impulse.push_back(probe::impulseError([&](const probe::Texel& t) { return paraboloid->response(m, t); }, o.size, levelCount,
-                                                  probe::RoughnessMapping::gltf, m, texels));
-        else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, m, texels));
+                                                  probe::RoughnessMapping::gltf, probe::Lobe::ggx, m, texels));
+        else
+            impulse.push_back(
+                probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, probe::Lobe::ggx, m, texels));
     }
     return impulse;
 }

@@ -62,28 +62,31 @@ struct FilterOptions {
 };
 
 std::string probefitCommand(const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
-    return fmt::format("probefit fit --size {} --levels {} --taps 8 --form quad {} --pyramid {} --pyramid-weighting {} --out tables/<name>",
-                       s.faceSize, s.levelCount, probe::mappingOptions(s.mapping), probe::pyramidKindName(pyramid.kind),
-                       probe::pyramidWeightingName(pyramid.weighting));
+    return fmt::format(
+        "probefit fit --size {} --levels {} --taps 8 --form quad {}{} --pyramid {} --pyramid-weighting {} --out tables/<name>", s.faceSize,
+        s.levelCount, probe::mappingOptions(s.mapping),
+        s.method.lobe == probe::Lobe::ggx ? "" : fmt::format(" --lobe {}", probe::lobeName(s.method.lobe)),
+        probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting));
 }
 
 // The table that --table names (a compiled-in table or a file), or else the compiled-in table for
 // the settings and pyramid (quad with 8 taps preferred). Its shape is checked by the runtime.
 probe::TapTable chooseTable(const FilterOptions& o, const probe::gpu::FilterSettings& s, const probe::PyramidSettings& pyramid) {
     if (!o.table.empty()) return tableOption(o.table, {o.tableTaps, o.tableForm, s.faceSize, s.levelCount, s.mapping, pyramid});
-    const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, pyramid);
+    const probe::gpu::CompiledTable* best = probe::gpu::findCompiledTable(s.faceSize, s.levelCount, s.mapping, pyramid, s.method.lobe);
     if (!best)
-        throw probe::ProbeError(fmt::format("no compiled-in tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
-                                            "and pass --table tables/<name>.json (or rebuild to compile it in)",
-                                            s.faceSize, s.levelCount, probe::describeRoughnessMapping(s.mapping),
-                                            probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting),
-                                            probefitCommand(s, pyramid)));
+        throw probe::ProbeError(
+            fmt::format("no compiled-in {} tap table for {}^2, {} levels, {} mapping, {} {} pyramid; make one with `{}` "
+                        "and pass --table tables/<name>.json (or rebuild to compile it in)",
+                        probe::lobeName(s.method.lobe), s.faceSize, s.levelCount, probe::describeRoughnessMapping(s.mapping),
+                        probe::pyramidKindName(pyramid.kind), probe::pyramidWeightingName(pyramid.weighting), probefitCommand(s, pyramid)));
     return best->table;
 }
 
 nlohmann::json describeTable(const probe::TapTable& t) {
     return {{"taps_per_frame", t.taps},    {"form", std::string(probe::tableFormName(t.form))},     {"face_size", t.faceSize},
-            {"level_count", t.levelCount}, {"mapping", probe::describeRoughnessMapping(t.mapping)}, {"solver", t.solver}};
+            {"level_count", t.levelCount}, {"mapping", probe::describeRoughnessMapping(t.mapping)}, {"lobe", probe::lobeName(t.lobe)},
+            {"solver", t.solver}};
 }
 
 // The runtime's settings from the command line; the table, where the method is one, goes into `table`.

@@ -14,7 +14,8 @@ namespace probefilter {
 
 probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& p) {
     if (!p.table) {
-        if (const probe::gpu::CompiledTable* compiled = probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}))
+        if (const probe::gpu::CompiledTable* compiled =
+                probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}, p.method.lobe))
             return compiled->table;
         throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
                                             "(probefit fit --size {} --levels {} --taps 8 --form quad {} --out PREFIX makes one)",

@@ -57,7 +57,8 @@ LevelEvaluation combine(const std::vector<WeightedTexel>& texels, const std::vec
 
 std::size_t symmetryClassCount(int size) { return symmetryClasses(allTexels(size), size).size(); }
 
-std::vector<OutputTexel> measuredTexels(const CubeGeometry& geometry, int level, double alpha, const std::vector<WeightedTexel>& texels) {
+std::vector<OutputTexel> measuredTexels(const CubeGeometry& geometry, int level, const LevelLobe& lobe,
+                                        const std::vector<WeightedTexel>& texels) {
     const int size = geometry.size >> level;
     // The kernels' normalizations, the one pass over every base texel: once per class, since the
     // base texels are symmetric too (probe::ReferenceLobe). The rest reads only where the taps reach.
@@ -65,23 +66,22 @@ std::vector<OutputTexel> measuredTexels(const CubeGeometry& geometry, int level,
     std::vector<double> normalizations(classes.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::size_t c = 0; c < classes.size(); ++c)
-        normalizations[c] = ReferenceLobe(glm::dvec3(classes[c][0], classes[c][1], classes[c][2]), geometry, alpha).normalization();
+        normalizations[c] = ReferenceLobe(glm::dvec3(classes[c][0], classes[c][1], classes[c][2]), geometry, lobe).normalization();
     std::vector<OutputTexel> measured(texels.size());
 #pragma omp parallel for schedule(dynamic, 8)
     for (std::size_t n = 0; n < texels.size(); ++n) {
         const auto c = std::ranges::lower_bound(classes, symmetryKey(texels[n].texel, size)) - classes.begin();
-        measured[n] = makeMeasuredTexel(texels[n], geometry, level, alpha, normalizations[static_cast<std::size_t>(c)]);
+        measured[n] = makeMeasuredTexel(texels[n], geometry, level, lobe, normalizations[static_cast<std::size_t>(c)]);
     }
     return measured;
 }
 
 LevelEvaluation evaluateLevel(const TapTable& table, int level, TexelSet set) {
-    const double alpha = tableLevelAlpha(table, level);
-    if (alpha <= 0.0) return {};
+    const LevelLobe lobe = tableLevelLobe(table, level);
+    if (lobe.alpha <= 0.0) return {};
     const ImpulseModel model(table.faceSize, table.pyramid, table.taps, table.form);
     const CubeGeometry geometry(table.faceSize);
-    return evaluatePrepared(model, levelBlocks(table, level).data(),
-                            measuredTexels(geometry, level, alpha, levelTexels(table, level, set)));
+    return evaluatePrepared(model, levelBlocks(table, level).data(), measuredTexels(geometry, level, lobe, levelTexels(table, level, set)));
 }
 
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels) {

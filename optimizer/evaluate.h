@@ -31,7 +31,7 @@ std::size_t symmetryClassCount(int size);
 // The texels of level `level` measured exactly: each with its reference lobe over every base texel
 // (probe::ReferenceLobe over `geometry`, the base's, which must outlive them), whose normalization is
 // computed once per class of symmetric texels.
-std::vector<OutputTexel> measuredTexels(const probe::CubeGeometry& geometry, int level, double alpha,
+std::vector<OutputTexel> measuredTexels(const probe::CubeGeometry& geometry, int level, const probe::LevelLobe& lobe,
                                         const std::vector<probe::WeightedTexel>& texels);
 
 // The same from prepared texels and coefficient blocks (what the fit uses).

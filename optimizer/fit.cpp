@@ -196,8 +196,9 @@ public:
     // texels began, which took kernelSeconds.
     void run(int previous, Clock::time_point levelStart, double kernelSeconds) {
         const std::vector<Start> starts = startsFrom(bestCandidate(previous));
-        pairs_ = settings_.seamWeight > 0.0 ? prepareSeamPairs(settings_.faceSize, m_, alpha_, settings_.seamPairBudget, context_.basis)
-                                            : std::vector<SeamPair>{};
+        pairs_ = settings_.seamWeight > 0.0
+                     ? prepareSeamPairs(settings_.faceSize, m_, tableLevelLobe(table_, m_), settings_.seamPairBudget, context_.basis)
+                     : std::vector<SeamPair>{};
         // With several starts and lm-bfgs, every start runs the Levenberg-Marquardt part on the coarse
         // texels and only the lowest objective goes on (with --screen-all, another solver or on a cheap
         // level, every start runs in full and the lowest objective is kept: a cheap level's starts end
@@ -506,6 +507,8 @@ namespace {
 
 void checkFitSettings(const FitSettings& settings, const TapTable& table) {
     for (const TapTable& init : settings.inits) {
+        if (init.lobe != settings.lobe)
+            throw ProbeError(fmt::format("--init: table is fitted for the {} lobe, not {}", lobeName(init.lobe), lobeName(settings.lobe)));
         if (init.faceSize != settings.faceSize || init.levelCount != settings.levelCount)
             throw ProbeError(fmt::format("--init: table is for face size {} with {} levels, not {} with {}", init.faceSize, init.levelCount,
                                          settings.faceSize, settings.levelCount));
@@ -524,8 +527,8 @@ void checkFitSettings(const FitSettings& settings, const TapTable& table) {
         throw ProbeError("--fresh: needs --fit-levels (the --init supplies the other levels)");
     if (const TapTable* r = settings.resume;
         r && (r->faceSize != table.faceSize || r->levelCount != table.levelCount || r->taps != table.taps || r->form != table.form ||
-              r->mapping != table.mapping || !(r->pyramid == table.pyramid) || r->stratifiedBudget != table.stratifiedBudget ||
-              r->solver != table.solver))
+              r->mapping != table.mapping || r->lobe != table.lobe || !(r->pyramid == table.pyramid) ||
+              r->stratifiedBudget != table.stratifiedBudget || r->solver != table.solver))
         throw ProbeError("--resume: the checkpoint was written by a fit of another shape or solver settings");
 }
 
@@ -555,6 +558,7 @@ bool startsFromPreviousLevel(const FitSettings& settings, const TapTable& table,
 TapTable fitTable(const FitSettings& settings, const std::function<void(const FitProgress&)>& progress,
                   const std::function<void(const TapTable&)>& levelDone) {
     TapTable table = emptyTable(settings.faceSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    table.lobe = settings.lobe;
     table.stratifiedBudget = settings.stratifiedBudget;
     table.solver = solverDescription(settings);
     // A partial refit names the levels it fitted and keeps the provenance of those it copied.
@@ -617,14 +621,14 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
     }
 
     auto runLevel = [&](int m) {
-        const double alpha = tableLevelAlpha(table, m);
+        const LevelLobe lobe = tableLevelLobe(table, m);
         const auto kernelStart = Clock::now();
         const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.faceSize >> m, settings.stratifiedBudget);
         const std::vector<OutputTexel> texels =
-            prepareTexels(stratified, settings.faceSize, m, alpha, settings.tailWeight > 0.0, settings.measure);
+            prepareTexels(stratified, settings.faceSize, m, lobe, settings.tailWeight > 0.0, settings.measure);
         // What judges the level (its records, the kept --init): the exact L1, whatever the fit measures.
         const std::vector<OutputTexel> measured =
-            settings.measure == Measure::cells ? measuredTexels(*geometry, m, alpha, stratified) : std::vector<OutputTexel>{};
+            settings.measure == Measure::cells ? measuredTexels(*geometry, m, lobe, stratified) : std::vector<OutputTexel>{};
         const std::vector<OutputTexel>& judge = measured.empty() ? texels : measured;
         const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);

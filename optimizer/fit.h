@@ -22,6 +22,7 @@ struct FitSettings {
     int taps = 0;
     probe::TableForm form = probe::TableForm::quadratic;
     probe::RoughnessMapping mapping = probe::RoughnessMapping::gltf;
+    probe::Lobe lobe = probe::Lobe::ggx;
     probe::PyramidSettings pyramid;
     int stratifiedBudget = 512; // texels per level
     // The fit's L1: over cells (lobe_cells.h: its cost does not grow with the face size) or over

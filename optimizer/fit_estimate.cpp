@@ -30,6 +30,7 @@ constexpr std::size_t kTimedTexels = 12;
 FitEstimate estimateFit(const FitSettings& settings) {
     FitEstimate estimate;
     TapTable table = emptyTable(settings.faceSize, settings.levelCount, settings.taps, settings.form, settings.mapping, settings.pyramid);
+    table.lobe = settings.lobe;
     const ImpulseModel model(settings.faceSize, settings.pyramid, settings.taps, settings.form);
     ImpulseModel::Workspace ws = model.workspace();
     const std::size_t parameters = static_cast<std::size_t>(model.blockCount() * model.blockSize());
@@ -55,8 +56,8 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const auto kernelStart = Clock::now();
         std::vector<OutputTexel> texels;
         for (const WeightedTexel& t : timed)
-            texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.faceSize, m, alpha)
-                                                                : makeOutputTexel(t, geometry, m, alpha));
+            texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.faceSize, m, tableLevelLobe(table, m))
+                                                                : makeOutputTexel(t, geometry, m, tableLevelLobe(table, m)));
         // The reference's checker moments are computed once per texel, like its kernel.
         std::vector<std::array<double, kMomentCount>> checkerReference;
         if (checkers) checkerReference = prepareCheckerTerm(texels, *checkers, settings.checkerWeight).reference;
@@ -77,8 +78,8 @@ FitEstimate estimateFit(const FitSettings& settings) {
         std::vector<OutputTexel> measured;
         const auto normalizationStart = Clock::now();
         for (std::size_t n = 0; n < timed.size(); ++n) {
-            const double normalization = ReferenceLobe(texels[n].cubeVector, geometry, alpha).normalization();
-            measured.push_back(makeMeasuredTexel(timed[n], geometry, m, alpha, normalization));
+            const double normalization = ReferenceLobe(texels[n].cubeVector, geometry, tableLevelLobe(table, m)).normalization();
+            measured.push_back(makeMeasuredTexel(timed[n], geometry, m, tableLevelLobe(table, m), normalization));
         }
         const double normalization = secondsSince(normalizationStart) / static_cast<double>(timed.size());
         const auto measureStart = Clock::now();

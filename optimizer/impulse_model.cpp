@@ -34,17 +34,18 @@ OutputTexel placedTexel(const WeightedTexel& texel, int size) {
 
 } // namespace
 
-OutputTexel makeMeasuredTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, double normalization) {
+OutputTexel makeMeasuredTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, const LevelLobe& lobe,
+                              double normalization) {
     OutputTexel t = placedTexel(texel, geometry.size >> level);
-    t.lobe.emplace(t.cubeVector, geometry, alpha, normalization);
+    t.lobe.emplace(t.cubeVector, geometry, lobe, normalization);
     t.kernelSum = 1.0;
     return t;
 }
 
-OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, double alpha, bool tail) {
+OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geometry, int level, const LevelLobe& lobe, bool tail) {
     const int size = geometry.size >> level;
     OutputTexel t = placedTexel(texel, size);
-    const std::vector<double> k = referenceKernel(t.cubeVector, geometry, alpha);
+    const std::vector<double> k = referenceKernel(t.cubeVector, geometry, lobe);
     t.kernel.assign(k.begin(), k.end());
     for (const float v : t.kernel) t.kernelSum += static_cast<double>(v);
     if (!tail) return t;
@@ -59,11 +60,11 @@ OutputTexel makeOutputTexel(const WeightedTexel& texel, const CubeGeometry& geom
     return t;
 }
 
-OutputTexel makeCellTexel(const WeightedTexel& texel, int faceSize, int level, double alpha, bool tail) {
+OutputTexel makeCellTexel(const WeightedTexel& texel, int faceSize, int level, const LevelLobe& lobe, bool tail) {
     const int size = faceSize >> level;
     OutputTexel t = placedTexel(texel, size);
     const glm::dvec3 R = glm::normalize(t.cubeVector);
-    LobeCells cells = lobeCells(R, faceSize, ggxLobe(R, alpha), tail ? tailRadius(size) : 0.0);
+    LobeCells cells = lobeCells(R, faceSize, lobeDensity(R, lobe), tail ? tailRadius(size) : 0.0);
     t.cells = std::move(cells.cells);
     t.cellTree = std::move(cells.tree);
     t.kernelTail = cells.kernelTail;
@@ -71,17 +72,17 @@ OutputTexel makeCellTexel(const WeightedTexel& texel, int faceSize, int level, d
     return t;
 }
 
-std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int faceSize, int level, double alpha, bool tail,
+std::vector<OutputTexel> prepareTexels(const std::vector<WeightedTexel>& texels, int faceSize, int level, const LevelLobe& lobe, bool tail,
                                        Measure measure) {
     std::vector<OutputTexel> out(texels.size());
     if (measure == Measure::cells) {
 #pragma omp parallel for schedule(dynamic, 4)
-        for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeCellTexel(texels[n], faceSize, level, alpha, tail);
+        for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeCellTexel(texels[n], faceSize, level, lobe, tail);
         return out;
     }
     const CubeGeometry geometry(faceSize);
 #pragma omp parallel for schedule(dynamic, 4)
-    for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, alpha, tail);
+    for (std::size_t n = 0; n < texels.size(); ++n) out[n] = makeOutputTexel(texels[n], geometry, level, lobe, tail);
     return out;
 }
 

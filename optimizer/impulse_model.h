@@ -54,21 +54,21 @@ inline void prefetch(const OutputTexel& texel) {
 // How a fitted texel's reference is held: over every base texel (exact), or over cells (lobe_cells.h).
 enum class Measure { exact, cells };
 
-// One texel of output level m (alpha > 0), its kernel (and with `tail` its tail) included; `geometry`
-// is that of the base.
-OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
+// One texel of output level m filtered with `lobe` (not a copy), its kernel (and with `tail` its
+// tail) included; `geometry` is that of the base.
+OutputTexel makeOutputTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, const probe::LevelLobe& lobe,
                             bool tail = false);
 
 // The same texel with its reference over cells.
-OutputTexel makeCellTexel(const probe::WeightedTexel& texel, int faceSize, int level, double alpha, bool tail = false);
+OutputTexel makeCellTexel(const probe::WeightedTexel& texel, int faceSize, int level, const probe::LevelLobe& lobe, bool tail = false);
 
 // The same texel with the kernel as a lobe of known normalization (probe::ReferenceLobe), for measuring.
-OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level, double alpha,
-                              double normalization);
+OutputTexel makeMeasuredTexel(const probe::WeightedTexel& texel, const probe::CubeGeometry& geometry, int level,
+                              const probe::LevelLobe& lobe, double normalization);
 
 // All of them at once, all cores (for the fit, which revisits them every iteration).
-std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int faceSize, int level, double alpha,
-                                       bool tail = false, Measure measure = Measure::exact);
+std::vector<OutputTexel> prepareTexels(const std::vector<probe::WeightedTexel>& texels, int faceSize, int level,
+                                       const probe::LevelLobe& lobe, bool tail = false, Measure measure = Measure::exact);
 
 // Functions of the base texels whose moments the fit's terms compare, pulled up the pyramid: since a
 // moment is linear in the response, the moment of a weight on pyramid texel p is that weight times

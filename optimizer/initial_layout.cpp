@@ -24,6 +24,8 @@ void setConstant(TapTable& table, int level, int frame, int tap, int parameter, 
 } // namespace
 
 void lobeLayout(TapTable& table, int level, double alpha) {
+    // Charlie's lobe is a ring about R, not a peak: its samples lie on it.
+    if (table.lobe != Lobe::ggx) return importanceLayout(table, level, alpha, 0.0);
     const double angle = lobeAngle(alpha);
     const double texelAngle = 2.0 / table.faceSize; // at a face centre; the model adds the cube's distortion
     const int ring = table.taps - 1;
@@ -50,7 +52,7 @@ void lobeLayout(TapTable& table, int level, double alpha) {
 }
 
 void importanceLayout(TapTable& table, int level, double alpha, double rotation) {
-    const std::vector<Tap> samples = fisSamples(alpha, table.faceSize, table.taps, 0.0);
+    const std::vector<Tap> samples = fisSamples(alpha, table.faceSize, table.taps, 0.0, table.lobe);
     const double c = std::cos(rotation), s = std::sin(rotation);
     for (int frame = 0; frame < kFrameCount; ++frame)
         for (int t = 0; t < table.taps; ++t) {

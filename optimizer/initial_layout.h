@@ -10,11 +10,12 @@ namespace probefit {
 double lobeAngle(double alpha);
 
 // Every frame gets one tap on the lobe axis and the others on one ring (N < 8) or two rings, with
-// levels whose texels match the spacing of the taps; quadratic terms 0.
+// levels whose texels match the spacing of the taps; quadratic terms 0. A Charlie table's lobe is a
+// ring, not a peak: its levels get the importance layout instead.
 void lobeLayout(probe::TapTable& table, int level, double alpha);
 
 // The taps of filtered importance sampling (probe/fis.h) as a start that reaches
-// the lobe's tail: tap i at the GGX quantile of Hammersley point i, at the pyramid level of its pdf
+// the lobe's tail: tap i at the table lobe's quantile of Hammersley point i, at the pyramid level of its pdf
 // and weighted by n.l, so the first iterate is an importance sampler. The samples are turned about
 // the lobe axis by `rotation` radians; every frame gets the same taps; quadratic terms 0. Samples
 // below the horizon (dropped by FIS) become taps of weight 0 on the axis.

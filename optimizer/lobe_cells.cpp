@@ -8,7 +8,6 @@
 #include <glm/geometric.hpp>
 
 #include "probe/cube.h"
-#include "probe/ggx.h"
 #include "probe/pyramid.h"
 #include "probe/roughness.h"
 
@@ -154,12 +153,13 @@ void CellRoutes::prefetch() const {
     prefetchBytes(slots_.data(), slots_.size() * sizeof(std::int32_t));
 }
 
-LobeDensity ggxLobe(const glm::dvec3& R, double alpha) {
-    const double alpha2 = alpha * alpha;
-    return [R, alpha2](const glm::dvec3& l) {
-        const glm::dvec3 d = R - l;
-        return ggxKernel(glm::dot(R, l), glm::dot(d, d), alpha2);
-    };
+LobeDensity lobeDensity(const glm::dvec3& R, const LevelLobe& lobe) {
+    return visitLobeKernel<double>(lobe.lobe, lobe.alpha, [&R](auto kernel) -> LobeDensity {
+        return [R, kernel](const glm::dvec3& l) {
+            const glm::dvec3 d = R - l;
+            return kernel(glm::dot(R, l), glm::dot(d, d));
+        };
+    });
 }
 
 } // namespace probefit

@@ -15,6 +15,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "probe/lobe.h"
+
 namespace probefit {
 
 // A cell is one texel of pyramid level `level` (face size faceSize >> level): the base texels it
@@ -113,7 +115,7 @@ struct LobeCells {
 // solid angles, normalized to sum 1 over all cells.
 LobeCells lobeCells(const glm::dvec3& R, int faceSize, const LobeDensity& density, double tailRadius);
 
-// The GGX reference lobe of probe/reference.h at roughness alpha.
-LobeDensity ggxLobe(const glm::dvec3& R, double alpha);
+// The reference lobe of probe/reference.h (GGX or Charlie) at the level's alpha.
+LobeDensity lobeDensity(const glm::dvec3& R, const probe::LevelLobe& lobe);
 
 } // namespace probefit

@@ -86,7 +86,7 @@ std::vector<int> parseLevelList(const std::string& text) {
     }
 }
 
-// The bank's tables with the fit's taps and pyramid, by name.
+// The bank's tables with the fit's taps, pyramid and lobe, by name.
 std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder, const probefit::FitSettings& settings) {
     std::vector<probefit::FitSettings::BankTable> bank;
     if (folder == "none") return bank;
@@ -100,7 +100,8 @@ std::vector<probefit::FitSettings::BankTable> readBank(const std::string& folder
     std::ranges::sort(files);
     for (const std::filesystem::path& file : files) {
         TapTable table = readTable(file.string());
-        if (table.taps == settings.taps && table.pyramid == settings.pyramid) bank.push_back({file.stem().string(), std::move(table)});
+        if (table.taps == settings.taps && table.pyramid == settings.pyramid && table.lobe == settings.lobe)
+            bank.push_back({file.stem().string(), std::move(table)});
     }
     return bank;
 }
@@ -166,10 +167,10 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
     if (resume && !estimateOnly && std::filesystem::exists(checkpointPath, error)) checkpoint = readTable(checkpointPath);
     settings.resume = checkpoint ? &*checkpoint : nullptr;
 
-    fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, pyramid {} {}, {} texels per level, "
+    fmt::print("probefit: size {}, {} levels, {} taps x 3 frames, {}, mapping {}, lobe {}, pyramid {} {}, {} texels per level, "
                "solver {}\n",
-               settings.faceSize, settings.levelCount, settings.taps, form, describeRoughnessMapping(settings.mapping), pyramid, weighting,
-               settings.stratifiedBudget, solver);
+               settings.faceSize, settings.levelCount, settings.taps, form, describeRoughnessMapping(settings.mapping),
+               lobeName(settings.lobe), pyramid, weighting, settings.stratifiedBudget, solver);
     const probefit::FitEstimate estimate = probefit::estimateFit(settings);
     std::string perLevel;
     for (std::size_t m = 0; m < estimate.levelSeconds.size(); ++m)
@@ -265,7 +266,7 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
         if (cells) {
             const probefit::ImpulseModel model(table.faceSize, table.pyramid, table.taps, table.form);
             const std::vector<probefit::OutputTexel> prepared = probefit::prepareTexels(
-                probefit::levelTexels(table, m, set), table.faceSize, m, tableLevelAlpha(table, m), false, probefit::Measure::cells);
+                probefit::levelTexels(table, m, set), table.faceSize, m, tableLevelLobe(table, m), false, probefit::Measure::cells);
             const double fast = probefit::evaluatePrepared(model, probefit::levelBlocks(table, m).data(), prepared).error.mean;
             std::size_t cellCount = 0;
             for (const probefit::OutputTexel& texel : prepared) cellCount += texel.cells.size();
@@ -345,8 +346,8 @@ int main(int argc, char** argv) {
     CLI::App app{"probefit: fits and evaluates tap tables for fast GGX filtering of reflection probes"};
     app.require_subcommand(1);
     probefit::FitSettings settings;
-    std::string form, mapping, roughness, pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs", measure = "cells", fitLevels,
-                                          out;
+    std::string form, mapping, roughness, lobe = "ggx", pyramid = "bspline", weighting = "solid-angle", solver = "lm-bfgs",
+                                          measure = "cells", fitLevels, out;
     std::string levels; // not given: the default for the size
     std::string bank;   // not given: the committed tables
     std::vector<std::string> init;
@@ -361,6 +362,8 @@ int main(int argc, char** argv) {
     fit->add_option("--roughness", roughness,
                     "roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1]")
         ->excludes(mappingOption);
+    fit->add_option("--lobe", lobe, "the lobe the levels are fitted to: ggx (specular) or charlie (the sheen of KHR_materials_sheen)")
+        ->capture_default_str();
     fit->add_option("--pyramid", pyramid, "bspline or box")->capture_default_str();
     fit->add_option("--pyramid-weighting", weighting, "pyramid weighting: solid-angle or inverse-solid-angle (probefilter's name)")
         ->capture_default_str();
@@ -374,7 +377,7 @@ int main(int argc, char** argv) {
         ->allow_extra_args(false);
     fit->add_option("--bank", bank,
                     "tables whose levels of the nearest roughness are starts (any size, level count or mapping; those with "
-                    "the fit's taps and pyramid are used); default: the committed tables; none: no bank");
+                    "the fit's taps, pyramid and lobe are used); default: the committed tables; none: no bank");
     fit->add_option("--texels", settings.stratifiedBudget, "stratified output texels per level")->capture_default_str();
     fit->add_option("--measure", measure,
                     "the fit's L1: cells (base texels near the lobe centre, larger squares of them further away: a cost "
@@ -506,6 +509,7 @@ int main(int argc, char** argv) {
         }
         settings.mapping = roughness.empty() ? parseOption("--mapping", mapping.empty() ? "gltf" : mapping, parseRoughnessMapping)
                                              : parseOption("--roughness", roughness, parseRoughnessList);
+        settings.lobe = parseOption("--lobe", lobe, parseLobe);
         const std::optional<int> levelCount =
             levelsOption->count() > 0 ? std::optional(parseOption("--levels", levels, parseLevelCount)) : std::nullopt;
         const std::optional<std::string> fitLevelList = fitLevelsOption->count() > 0 ? std::optional(fitLevels) : std::nullopt;

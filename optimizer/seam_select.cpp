@@ -46,7 +46,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     checkSameShape(candidates);
     const TapTable& shape = candidates.front().table;
     const CubeImage sky = skyProbe(shape.faceSize);
-    const std::vector<double> bounds = seamBounds(skyReference(shape.faceSize, shape.levelCount, shape.mapping), seamBoundCap());
+    const std::vector<double> bounds =
+        seamBounds(skyReference(shape.faceSize, shape.levelCount, shape.mapping, shape.lobe), seamBoundCap());
     std::vector<CubeLevels> filtered;
     std::vector<std::vector<bool>> tails;
     for (const SeamCandidate& c : candidates) {

@@ -10,7 +10,7 @@ namespace probefit {
 
 using namespace probe;
 
-std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, double alpha, int budget, const MomentBasis& basis) {
+std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, const LevelLobe& lobe, int budget, const MomentBasis& basis) {
     const int size = faceSize >> level;
     // Every unordered pair of edge neighbours once: from the texel with the lower index.
     std::vector<std::pair<Texel, Texel>> edgePairs;
@@ -30,8 +30,8 @@ std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, double alpha, in
     for (std::size_t n = 0; n < count; ++n) {
         const auto& [a, b] = edgePairs[n * edgePairs.size() / count];
         SeamPair& pair = pairs[n];
-        pair.a = makeOutputTexel({a, 0.0}, geometry, level, alpha);
-        pair.b = makeOutputTexel({b, 0.0}, geometry, level, alpha);
+        pair.a = makeOutputTexel({a, 0.0}, geometry, level, lobe);
+        pair.b = makeOutputTexel({b, 0.0}, geometry, level, lobe);
         const std::array<double, kMomentCount> ra = kernelMoments(pair.a, basis), rb = kernelMoments(pair.b, basis);
         for (int j = 0; j < kMomentCount; ++j) pair.referenceStep[j] = ra[j] - rb[j];
         // (a new vector frees the kernel's storage: `= {}` assigns an empty list and keeps it, 25 MiB

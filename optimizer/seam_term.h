@@ -19,7 +19,7 @@ struct SeamPair {
 
 // At most `budget` pairs of neighbouring texels across the face edges of output level m (every edge,
 // evenly in texel order), all cores.
-std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, double alpha, int budget, const MomentBasis& basis);
+std::vector<SeamPair> prepareSeamPairs(int faceSize, int level, const probe::LevelLobe& lobe, int budget, const MomentBasis& basis);
 
 // s of one pair; with `gradient` (blockCount * blockSize values, overwritten) also d s / d coefficient,
 // using `scratch` (resized as needed).

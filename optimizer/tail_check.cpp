@@ -25,7 +25,7 @@ std::vector<TailLevel> checkTail(const TapTable& table) {
         for (const auto& [where, i, j] : {std::tuple{"face centre", size / 2, size / 2}, {"edge", 0, size / 2}, {"corner", 0, 0}}) {
             const Texel texel{0, i, j};
             const glm::dvec3 R = texelDirection(texel, size);
-            const std::vector<double> reference = referenceKernel(R, geometry, alpha);
+            const std::vector<double> reference = referenceKernel(R, geometry, tableLevelLobe(table, m));
             const std::vector<double> response = tableImpulseResponse(table, operators, m, texel);
             TailSample sample{where};
             for (std::size_t t = 0; t < reference.size(); ++t)

@@ -21,6 +21,7 @@ inline constexpr int kTaps = 32; // per frame
 inline constexpr int kCoefficientCount = 1; // const
 inline constexpr const char* kForm = "const";
 inline constexpr const char* kMapping = "authors";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[7] = {0.05255597583214453, 0.08838767331160417, 0.1486418178292462, 0.24987807848117902, 0.41882168504198275, 0.6865890479690393, 1};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -21,6 +21,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "filament";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[7] = {0, 0.08712907082472313, 0.18350341907227397, 0.2928932188134525, 0.4226497308103742, 0.5917517095361371, 1};
 inline constexpr const char* kPyramidKind = "bspline";

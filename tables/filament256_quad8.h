@@ -22,6 +22,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "filament";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[8] = {0, 0.07417990022744854, 0.15484574527148343, 0.24407105398154555, 0.3453463292920228, 0.4654775161751512, 0.6220355269907727, 1};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -23,6 +23,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "filament";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[9] = {0, 0.06458565330651465, 0.13397459621556135, 0.20943058495790515, 0.2928932188134525, 0.3876275643042055, 0.5, 0.6464466094067263, 1};
 inline constexpr const char* kPyramidKind = "bspline";

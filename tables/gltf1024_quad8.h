@@ -24,6 +24,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[10] = {0, 0.1111111111111111, 0.2222222222222222, 0.3333333333333333, 0.4444444444444444, 0.5555555555555556, 0.6666666666666666, 0.7777777777777778, 0.8888888888888888, 1};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -21,6 +21,7 @@ inline constexpr int kTaps = 32; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[7] = {0, 0.16666666666666666, 0.3333333333333333, 0.5, 0.6666666666666666, 0.8333333333333334, 1};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -19,6 +19,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "gltf";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[5] = {0, 0.25, 0.5, 0.75, 1};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -21,6 +21,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "unity";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[7] = {0, 0.10235291153946503, 0.21513641626870064, 0.3423888845904498, 0.49171471878602296, 0.6813564455809669, 0.9999999999999998};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -22,6 +22,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "unity";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[8] = {0, 0.08716186871003571, 0.18165483608564567, 0.2857142857142857, 0.40301309345710373, 0.540429919138814, 0.7142857142857142, 0.9999999999999998};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -23,6 +23,7 @@ inline constexpr int kTaps = 8; // per frame
 inline constexpr int kCoefficientCount = 3; // quad
 inline constexpr const char* kForm = "quad";
 inline constexpr const char* kMapping = "unity";
+inline constexpr const char* kLobe = "ggx"; // the lobe the levels are fitted to
 // Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).
 inline constexpr double kLevelRoughness[9] = {0, 0.07590161067791233, 0.1572393866465184, 0.24538143098210455, 0.3423888845904498, 0.45163726771204915, 0.5794146844774579, 0.7404821728063714, 0.9999999999999998};
 inline constexpr const char* kPyramidKind = "bspline";

@@ -1,6 +1,6 @@
 // Every committed table under tables/: the table file parses, its name says what it records
 // (mapping, size, form, taps; a mix: the taps of level 1, and "lean" for the cheaper of two mixes
-// with those taps), and the generated header and GLSL
+// with those taps; "_charlie" for the sheen lobe), and the generated header and GLSL
 // include are exactly what the table file generates (so they carry the same sizes, levels, mapping,
 // pyramid and coefficients). The headers also compile: committed_table_headers.cpp includes them all.
 // The tables compiled into the runtime from those headers equal their table files.
@@ -36,7 +36,9 @@ TEST(CommittedTables, MatchTheirNamesAndGeneratedSources) {
         const TapTable table = readTable(entry.path());
         std::smatch m;
         const std::string stem = entry.path().stem().string();
-        ASSERT_TRUE(std::regex_match(stem, m, std::regex("(gltf|authors|filament|unity)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?")));
+        ASSERT_TRUE(
+            std::regex_match(stem, m, std::regex("(gltf|authors|filament|unity)([0-9]+)_(const|quad)(mix)?([0-9]+)(lean)?(_charlie)?")));
+        EXPECT_EQ(table.lobe, m[7].matched ? Lobe::charlie : Lobe::ggx);
         EXPECT_EQ(roughnessMappingName(table.mapping), m[1].str());
         EXPECT_EQ(table.faceSize, std::stoi(m[2].str()));
         EXPECT_EQ(tableFormName(table.form), m[3].str());
@@ -83,7 +85,7 @@ TEST(CompiledTables, EqualTheirTableFiles) {
     }
     // --method table finds a compiled-in table at the common sizes of the glTF mapping.
     for (int size : {16, 32, 64, 128, 256, 512, 1024})
-        EXPECT_NE(gpu::findCompiledTable(size, defaultLevelCount(size), RoughnessMapping::gltf, {}), nullptr) << size;
+        EXPECT_NE(gpu::findCompiledTable(size, defaultLevelCount(size), RoughnessMapping::gltf, {}, Lobe::ggx), nullptr) << size;
 }
 
 } // namespace

@@ -53,7 +53,7 @@ std::vector<ImpulseError> impulseL1PerLevel(int levels, const RoughnessMapping& 
         for (std::size_t t = 0; t < texelCount(size); ++t) {
             const Texel texel{int(t / (size * size)), int(t % size), int(t / size % size)};
             accumulator.add(texel, geometry.solidAngles[t],
-                            impulseL1(response(m, texel), referenceKernel(geometry.directions[t], kSize, alpha)));
+                            impulseL1(response(m, texel), referenceKernel(geometry.directions[t], kSize, {Lobe::ggx, alpha})));
         }
         errors[m] = accumulator.result();
     }

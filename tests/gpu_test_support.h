@@ -44,7 +44,7 @@ private:
 // The settings that run a table as it was fitted: its size, level count, mapping and pyramid.
 inline probe::gpu::FilterSettings tableSettings(const probe::TapTable& table, probe::gpu::Sampling sampling = probe::gpu::Sampling::exact) {
     probe::gpu::FilterSettings s;
-    s.method = {probe::MethodKind::table, &table, {}};
+    s.method = {probe::MethodKind::table, &table, {}, table.lobe};
     s.faceSize = table.faceSize;
     s.levelCount = table.levelCount;
     s.mapping = table.mapping;

@@ -32,6 +32,23 @@ awk 'FILENAME == ARGV[1] { if (/^level [1-3] mean/) own[$2] = $4; next }
 awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" ||
     fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
 
+# The Charlie lobe (sheen): the table records its lobe, eval reproduces its records against the Charlie
+# reference, and every level is fitted (level 0 too, which a GGX table copies): levels 1-3 end below
+# half their start (about 0.4 of it); level 0, whose ring is narrower than a texel, below its start.
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --lobe charlie --iterations 10 --coarse-iterations 20 --out "$work/sheen" \
+    >"$work/sheen.log" || fail "charlie fit: exit $?"
+grep -q '"lobe": "charlie"' "$work/sheen.json" && grep -q 'kLobe = "charlie"' "$work/sheen.h" || fail "charlie fit: no lobe recorded"
+"$PROBEFIT" eval "$work/sheen.json" --texels all --check 1e-3 >"$work/sheen-eval.log" ||
+    fail "charlie eval differs: $(cat "$work/sheen-eval.log")"
+[[ $(grep -c '^level [0-3] mean' "$work/sheen-eval.log") -eq 4 ]] || fail "charlie eval: not every level: $(cat "$work/sheen-eval.log")"
+awk '/start lobe layout: L1/ { start[$2] = $7 }
+     / done: L1/ { if ($5 >= ($2 == 0 ? 1 : 0.5) * start[$2]) { print "level " $2; bad = 1 } } END { exit bad }' "$work/sheen.log" ||
+    fail "charlie fit: a level ends too near its start: $(grep -E 'start lobe|done' "$work/sheen.log")"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --lobe charlie --init "$work/small.json" --out "$work/out" \
+    2>"$work/stderr" >/dev/null
+[[ $? -eq 2 ]] && grep -q 'fitted for the ggx lobe, not charlie' "$work/stderr" ||
+    fail "a GGX --init for a Charlie fit: $(cat "$work/stderr")"
+
 # The same inputs give the same table, whatever the number of threads.
 OMP_NUM_THREADS=1 "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --out "$work/single" >/dev/null || fail "single-thread fit"
 cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/single.json") ||
@@ -209,6 +226,7 @@ expect_refused weighting-renamed "--weighting is now --pyramid-weighting" \
 expect_refused empty-levels    "--levels: empty value" fit --taps 4 --form quad --out "$work/out" --size 16 --levels ''
 expect_refused many-iterations "--iterations"           $(fit --size 16 --iterations 1000000000)
 expect_refused many-starts     "--starts"               $(fit --size 16 --starts 100000)
+expect_refused lobe            "--lobe"                 $(fit --size 16 --lobe phong)
 expect_refused many-hops       "--hops"                 $(fit --size 16 --hops 100000)
 expect_refused measure         "--measure"              $(fit --size 16 --measure fast)
 expect_refused jobs            "--jobs"                 $(fit --size 16 --jobs -3)

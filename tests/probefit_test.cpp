@@ -31,32 +31,43 @@ namespace {
 
 using namespace probe;
 
-TapTable lobeTable(int faceSize, int levelCount, int taps, TableForm form) {
+// Every filtered level (a GGX table's from 1, a Charlie table's from 0) from its lobe layout, jittered.
+TapTable lobeTable(int faceSize, int levelCount, int taps, TableForm form, Lobe lobe = Lobe::ggx) {
     TapTable table = emptyTable(faceSize, levelCount, taps, form, RoughnessMapping::gltf, {});
+    table.lobe = lobe;
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> jitter(-0.05, 0.05);
-    for (int m = 1; m < levelCount; ++m) {
+    for (int m = lobe == Lobe::ggx ? 1 : 0; m < levelCount; ++m) {
         lobeLayout(table, m, tableLevelAlpha(table, m));
         for (double& c : table.levels[m].coefficients) c += jitter(rng); // break symmetries, quad terms non-zero
     }
     return table;
 }
 
+// Against either lobe's reference, with the kernel held whole (the fit's exact texels) or evaluated
+// where the taps reach (the measured texels of the records); a Charlie table's level 0 is filtered.
 TEST(ImpulseModel, EqualsTheSharedModel) {
-    for (TableForm form : {TableForm::constant, TableForm::quadratic}) {
-        const TapTable table = lobeTable(16, 4, 4, form);
-        const ImpulseModel model(16, table.pyramid, table.taps, table.form);
-        const std::vector<DownsampleOperator> ops = pyramidOperators(16, table.pyramid);
-        ImpulseModel::Workspace ws = model.workspace();
-        for (int m = 1; m < 4; ++m) {
-            const double alpha = tableLevelAlpha(table, m);
-            const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 40), 16, m, alpha);
-            for (const OutputTexel& t : texels) {
-                const double expected = impulseL1(tableImpulseResponse(table, ops, m, t.texel), referenceKernel(t.cubeVector, 16, alpha));
-                EXPECT_NEAR(model.evaluate(levelBlocks(table, m).data(), t, ws).error, expected, 1e-6);
+    const CubeGeometry geometry(16);
+    for (Lobe lobe : {Lobe::ggx, Lobe::charlie})
+        for (TableForm form : {TableForm::constant, TableForm::quadratic}) {
+            const TapTable table = lobeTable(16, 4, 4, form, lobe);
+            const ImpulseModel model(16, table.pyramid, table.taps, table.form);
+            const std::vector<DownsampleOperator> ops = pyramidOperators(16, table.pyramid);
+            ImpulseModel::Workspace ws = model.workspace();
+            for (int m = lobe == Lobe::ggx ? 1 : 0; m < 4; ++m) {
+                const std::vector<WeightedTexel> stratified = stratifiedTexels(16 >> m, 40);
+                const std::vector<OutputTexel> texels = prepareTexels(stratified, 16, m, tableLevelLobe(table, m));
+                const std::vector<OutputTexel> measured = measuredTexels(geometry, m, tableLevelLobe(table, m), stratified);
+                for (std::size_t n = 0; n < texels.size(); ++n) {
+                    const OutputTexel& t = texels[n];
+                    const double expected = impulseL1(tableImpulseResponse(table, ops, m, t.texel),
+                                                      referenceKernel(t.cubeVector, 16, tableLevelLobe(table, m)));
+                    EXPECT_NEAR(model.evaluate(levelBlocks(table, m).data(), t, ws).error, expected, 1e-6) << lobeName(lobe) << " " << m;
+                    EXPECT_NEAR(model.evaluate(levelBlocks(table, m).data(), measured[n], ws).error, expected, 1e-6)
+                        << lobeName(lobe) << " " << m;
+                }
             }
         }
-    }
 }
 
 // Checks every 7th coefficient's gradient of level m against central differences, on each texel: the
@@ -92,7 +103,7 @@ TEST(ImpulseModel, GradientMatchesFiniteDifferences) {
         const int m = 2;
         const ImpulseModel model(16, table.pyramid, table.taps, table.form, tailWeight);
         expectGradientMatchesFiniteDifferences(table, m, model,
-                                               prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelAlpha(table, m), true));
+                                               prepareTexels(stratifiedTexels(16 >> m, 12), 16, m, tableLevelLobe(table, m), true));
     }
 }
 
@@ -107,9 +118,9 @@ TEST(ImpulseModel, TailErrorIsTheMassBeyondTheTailRadius) {
     for (int m = 1; m < 4; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         const double cosRadius = std::cos(tailRadius(16 >> m));
-        for (const OutputTexel& t : prepareTexels(stratifiedTexels(16 >> m, 20), 16, m, alpha, true)) {
+        for (const OutputTexel& t : prepareTexels(stratifiedTexels(16 >> m, 20), 16, m, {Lobe::ggx, alpha}, true)) {
             const std::vector<double> response = tableImpulseResponse(table, ops, m, t.texel);
-            const std::vector<double> reference = referenceKernel(t.cubeVector, 16, alpha);
+            const std::vector<double> reference = referenceKernel(t.cubeVector, 16, {Lobe::ggx, alpha});
             const glm::dvec3 R = glm::normalize(t.cubeVector);
             double tableMass = 0.0, referenceMass = 0.0;
             for (std::size_t n = 0; n < response.size(); ++n)
@@ -176,7 +187,7 @@ TEST(SeamTerm, MomentsEqualTheSharedModelsResponse) {
     const std::vector<DownsampleOperator> ops = pyramidOperators(16, table.pyramid);
     const MomentBasis basis(16, table.pyramid);
     const int m = 1;
-    for (const SeamPair& pair : prepareSeamPairs(16, m, tableLevelAlpha(table, m), 10, basis)) {
+    for (const SeamPair& pair : prepareSeamPairs(16, m, tableLevelLobe(table, m), 10, basis)) {
         EXPECT_NE(pair.a.texel.face, pair.b.texel.face);
         std::array<double, kMomentCount> moments;
         model.moments(levelBlocks(table, m).data(), pair.a, basis, moments.data());
@@ -194,7 +205,7 @@ TEST(SeamTerm, GradientMatchesFiniteDifferences) {
     const int m = 2;
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
     const MomentBasis basis(16, table.pyramid);
-    const std::vector<SeamPair> pairs = prepareSeamPairs(16, m, tableLevelAlpha(table, m), 6, basis);
+    const std::vector<SeamPair> pairs = prepareSeamPairs(16, m, tableLevelLobe(table, m), 6, basis);
     const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(n), scratch;
     int checked = 0, agreeing = 0;
@@ -234,7 +245,7 @@ TEST(SeamTerm, TheFitReducesIt) {
         const MomentBasis basis(16, table.pyramid);
         std::vector<double> scratch;
         double sum = 0.0;
-        const std::vector<SeamPair> pairs = prepareSeamPairs(16, 1, tableLevelAlpha(table, 1), 96, basis);
+        const std::vector<SeamPair> pairs = prepareSeamPairs(16, 1, tableLevelLobe(table, 1), 96, basis);
         for (const SeamPair& pair : pairs) sum += seamError(model, levelBlocks(table, 1).data(), pair, basis, nullptr, scratch);
         seam[weight > 0.0].push_back(sum / static_cast<double>(pairs.size()));
     }
@@ -252,7 +263,7 @@ TEST(CheckerTerm, MomentsAreTheFiltersOfTheCheckerProbe) {
     const CubeLevels reference = referenceFilter(probe, table.levelCount, table.mapping);
     auto toProbe = [](double x) { return 0.525 + 0.475 * x; }; // +-1 to the probe's 1 and 0.05
     for (int m = 1; m < 4; ++m) {
-        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 30), 16, m, tableLevelAlpha(table, m));
+        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 30), 16, m, tableLevelLobe(table, m));
         const CheckerTerm term = prepareCheckerTerm(texels, checkers, 1.0);
         for (std::size_t n = 0; n < texels.size(); ++n) {
             std::array<double, kMomentCount> moments;
@@ -269,7 +280,7 @@ TEST(CheckerTerm, GradientMatchesFiniteDifferences) {
     const int m = 2;
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
     const MomentBasis checkers(16, table.pyramid, MomentFunctions::checkers);
-    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 8), 16, m, tableLevelAlpha(table, m));
+    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> m, 8), 16, m, tableLevelLobe(table, m));
     const CheckerTerm term = prepareCheckerTerm(texels, checkers, 1.0);
     const std::size_t n = static_cast<std::size_t>(model.blockCount() * model.blockSize());
     std::vector<double> gradient(n);
@@ -308,7 +319,7 @@ TEST(CheckerTerm, TheFitReducesIt) {
         const TapTable table = fitTable(settings, {});
         const ImpulseModel model(16, table.pyramid, table.taps, table.form);
         const MomentBasis checkers(16, table.pyramid, MomentFunctions::checkers);
-        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> 1, 96), 16, 1, tableLevelAlpha(table, 1));
+        const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> 1, 96), 16, 1, tableLevelLobe(table, 1));
         mean[weight > 0.0] = meanCheckerError(model, levelBlocks(table, 1).data(), texels, prepareCheckerTerm(texels, checkers, weight));
     }
     EXPECT_LT(mean[1], 0.8 * mean[0]) << mean[1] << " against " << mean[0];
@@ -320,7 +331,7 @@ TEST(LevelSolver, TiedFramesAreTheLevelWithEveryFrameAlike) {
     // frame; central differences of the tied function agree with that slope.
     TapTable table = lobeTable(16, 3, 4, TableForm::quadratic);
     const ImpulseModel model(16, table.pyramid, table.taps, table.form);
-    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> 1, 96), 16, 1, tableLevelAlpha(table, 1));
+    const std::vector<OutputTexel> texels = prepareTexels(stratifiedTexels(16 >> 1, 96), 16, 1, tableLevelLobe(table, 1));
     const std::vector<SeamPair> pairs;
     const MomentBasis basis;
     const CheckerTerm checker{basis, {}, 0.0};
@@ -377,7 +388,7 @@ TEST(Evaluate, MeasuringFromTheLobeEqualsTheWholeKernel) {
     const ImpulseModel model(32, table.pyramid, table.taps, table.form);
     for (int m = 1; m < 5; ++m) {
         const LevelEvaluation measured = evaluateLevel(table, m, TexelSet::all);
-        const std::vector<OutputTexel> texels = prepareTexels(allTexels(32 >> m), 32, m, tableLevelAlpha(table, m));
+        const std::vector<OutputTexel> texels = prepareTexels(allTexels(32 >> m), 32, m, tableLevelLobe(table, m));
         const LevelEvaluation prepared = evaluatePrepared(model, levelBlocks(table, m).data(), texels);
         EXPECT_NEAR(measured.error.mean, prepared.error.mean, 1e-7) << "level " << m;
         EXPECT_NEAR(measured.error.max, prepared.error.max, 1e-7) << "level " << m;
@@ -391,7 +402,7 @@ TEST(LobeCells, PartitionTheBaseAndCarryTheLobe) {
     const CubeGeometry geometry(size);
     for (const double alpha : {0.01, 0.1, 0.6}) {
         const glm::dvec3 R = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
-        const LobeCells cells = lobeCells(R, size, ggxLobe(R, alpha), tailRadius(size >> 2));
+        const LobeCells cells = lobeCells(R, size, lobeDensity(R, {Lobe::ggx, alpha}), tailRadius(size >> 2));
         std::vector<int> covered(texelCount(size), 0);
         double sum = 0.0;
         for (const LobeCell& c : cells.cells) {
@@ -406,7 +417,7 @@ TEST(LobeCells, PartitionTheBaseAndCarryTheLobe) {
         EXPECT_NEAR(sum, 1.0, 1e-5);
         EXPECT_LT(cells.cells.size(), texelCount(size) / 4) << "alpha " << alpha;
         // The near cells are base texels, with the exact kernel's values.
-        const std::vector<double> kernel = referenceKernel(R, geometry, alpha);
+        const std::vector<double> kernel = referenceKernel(R, geometry, {Lobe::ggx, alpha});
         for (const LobeCell& c : cells.cells) {
             if (c.level != 0) continue;
             EXPECT_NEAR(static_cast<double>(c.kernel), kernel[c.index], 1e-4 * kernel[c.index] + 1e-9);
@@ -419,7 +430,7 @@ TEST(LobeCells, PartitionTheBaseAndCarryTheLobe) {
 TEST(LobeCells, TreeFindsTheCellOfEveryTexel) {
     const int size = 32, top = log2Exact(size);
     const glm::dvec3 R = glm::normalize(glm::dvec3(-0.4, 0.7, 1.0));
-    const LobeCells cells = lobeCells(R, size, ggxLobe(R, 0.05), 0.0);
+    const LobeCells cells = lobeCells(R, size, lobeDensity(R, {Lobe::ggx, 0.05}), 0.0);
     // Per level, the cell each texel is (or -1).
     std::vector<std::vector<std::int32_t>> cellOf(static_cast<std::size_t>(top) + 1);
     for (int k = 0; k <= top; ++k) cellOf[k].assign(texelCount(size >> k), -1);
@@ -460,8 +471,8 @@ TEST(LobeCells, FastObjectiveIsCloseToTheExactL1) {
         for (int m = 1; m < table.levelCount; ++m) {
             const double alpha = tableLevelAlpha(table, m);
             const std::vector<WeightedTexel> texels = stratifiedTexels(table.faceSize >> m, 64);
-            const std::vector<OutputTexel> fast = prepareTexels(texels, table.faceSize, m, alpha, false, Measure::cells);
-            const std::vector<OutputTexel> exact = prepareTexels(texels, table.faceSize, m, alpha);
+            const std::vector<OutputTexel> fast = prepareTexels(texels, table.faceSize, m, {Lobe::ggx, alpha}, false, Measure::cells);
+            const std::vector<OutputTexel> exact = prepareTexels(texels, table.faceSize, m, {Lobe::ggx, alpha});
             const LevelEvaluation f = evaluatePrepared(model, levelBlocks(table, m).data(), fast);
             const LevelEvaluation e = evaluatePrepared(model, levelBlocks(table, m).data(), exact);
             ImpulseModel::Workspace ws = model.workspace();
@@ -483,7 +494,7 @@ TEST(LobeCells, GradientMatchesFiniteDifferences) {
         const int m = 2;
         const ImpulseModel model(32, table.pyramid, table.taps, table.form, tailWeight);
         expectGradientMatchesFiniteDifferences(
-            table, m, model, prepareTexels(stratifiedTexels(32 >> m, 12), 32, m, tableLevelAlpha(table, m), true, Measure::cells));
+            table, m, model, prepareTexels(stratifiedTexels(32 >> m, 12), 32, m, tableLevelLobe(table, m), true, Measure::cells));
     }
 }
 
@@ -542,7 +553,7 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     candidates.push_back({"rough", rough});
 
     const SeamSelection selection = selectWithinSeamBound(candidates);
-    const std::vector<double> bounds = seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf), seamBoundCap());
+    const std::vector<double> bounds = seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf, Lobe::ggx), seamBoundCap());
     const CubeImage sky = skyProbe(16);
     std::vector<std::vector<TailLevel>> tails;
     for (const SeamCandidate& c : candidates) tails.push_back(checkTail(c.table));

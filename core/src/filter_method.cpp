@@ -41,8 +41,9 @@ void validateMethod(const FilterMethod& method, int faceSize, int levelCount, co
     case MethodKind::fis: validateSampleCounts(method.fis, levelCount); break;
     case MethodKind::reference: break;
     }
-    if (method.lobe == Lobe::charlie && method.kind == MethodKind::table)
-        throw ParameterError("method.lobe", "charlie: the tap tables are fitted for GGX; filter the Charlie lobe with fis or reference");
+    if (method.kind == MethodKind::table && method.table->lobe != method.lobe)
+        throw ParameterError(
+            "method.lobe", fmt::format("{}: the tap table is fitted for the {} lobe", lobeName(method.lobe), lobeName(method.table->lobe)));
     if (method.lobe == Lobe::charlie && method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid)
         throw ParameterError("method.lobe", "charlie: FIS on the dual-paraboloid map is GGX's alone; use fis on the cube pyramid");
 }

@@ -172,19 +172,19 @@ double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMap
     return outputTexels * perTexel / std::max(1, omp_get_max_threads());
 }
 
-std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha) {
-    return referenceKernel(R, CubeGeometry(sourceSize), alpha);
+std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, const LevelLobe& levelLobe) {
+    return referenceKernel(R, CubeGeometry(sourceSize), levelLobe);
 }
 
-std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& geometry, double alpha) {
-    const ReferenceLobe lobe(R, geometry, alpha);
+std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& geometry, const LevelLobe& levelLobe) {
+    const ReferenceLobe lobe(R, geometry, levelLobe);
     std::vector<double> weights(texelCount(geometry.size));
     for (std::size_t t = 0; t < weights.size(); ++t) weights[t] = lobe(t);
     return weights;
 }
 
-ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha) : ReferenceLobe(R, source, alpha, 1.0) {
-    if (alpha2_ <= 0.0) return;
+ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, const LevelLobe& lobe) : ReferenceLobe(R, source, lobe, 1.0) {
+    if (mirror_) return;
     // In texel order, so the sum does not depend on how the caller visits texels.
     double sum = 0.0;
     for (int f = 0; f < kFaceCount; ++f) {
@@ -194,7 +194,7 @@ ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, do
             for (std::size_t t = texelIndex({f, first, j}, source.size), end = t + static_cast<std::size_t>(last - first); t < end; ++t) {
                 const glm::dvec3& l = source.directions[t];
                 const glm::dvec3 d = r_ - l;
-                sum += ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source.solidAngles[t];
+                sum += kernel(glm::dot(r_, l), glm::dot(d, d)) * source.solidAngles[t];
             }
         }
     }
@@ -202,9 +202,10 @@ ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, do
     inverseNormalization_ = 1.0 / sum;
 }
 
-ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha, double normalization)
-    : source_(&source), r_(glm::normalize(R)), alpha2_(alpha > 0.0 ? alpha * alpha : 0.0),
-      mirrorTexel_(alpha > 0.0 ? 0 : texelIndex(directionToTexel(r_, source.size), source.size)), normalization_(normalization),
+ReferenceLobe::ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, const LevelLobe& lobe, double normalization)
+    : source_(&source), r_(glm::normalize(R)), charlie_(lobe.lobe == Lobe::charlie), mirror_(!charlie_ && lobe.alpha <= 0.0),
+      constants_(lobeConstants(lobe.lobe, lobe.alpha)),
+      mirrorTexel_(mirror_ ? texelIndex(directionToTexel(r_, source.size), source.size) : 0), normalization_(normalization),
       inverseNormalization_(1.0 / normalization) {}
 
 CubeImage exactIrradiance(const CubeImage& source, int outSize) {

@@ -41,13 +41,13 @@ double seamRatio(const CubeImage& level) {
     return steps.interior > 0.0 ? steps.edge / steps.interior : 0.0;
 }
 
-CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping) {
-    return referenceFilter(skyProbe(faceSize), levelCount, mapping);
+CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe) {
+    return referenceFilter(skyProbe(faceSize), levelCount, mapping, {}, lobe);
 }
 
 double seamBoundCap() {
     double largest = 0.0;
-    for (const CubeImage& level : skyReference(kCapFaceSize, defaultLevelCount(kCapFaceSize), RoughnessMapping::gltf))
+    for (const CubeImage& level : skyReference(kCapFaceSize, defaultLevelCount(kCapFaceSize), RoughnessMapping::gltf, Lobe::ggx))
         largest = std::max(largest, seamRatio(level));
     return kSeamMargin * largest;
 }

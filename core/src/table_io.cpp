@@ -165,6 +165,7 @@ std::string tableToJson(const TapTable& table) {
               {"fitSeconds", table.fitSeconds},
               {"levels", levels}};
     if (table.seamWeight > 0.0) j["seamWeight"] = table.seamWeight; // tables from before the seam term have none
+    if (table.lobe != Lobe::ggx) j["lobe"] = lobeName(table.lobe);  // GGX tables name none
     if (table.mapping.curve() == RoughnessMapping::Curve::custom) j["roughness"] = table.mapping.list();
     return j.dump(1) + "\n";
 }
@@ -188,7 +189,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     const char* faceSizeKey = version == 1 ? "baseSize" : "faceSize";
     r.refuseUnknown(j,
                     {"format", "version", "layout", faceSizeKey, "levelCount", "taps", "form", "mapping", "pyramid", "solver",
-                     "stratifiedBudget", "fitSeconds", "seamWeight", "roughness", "levels"},
+                     "stratifiedBudget", "fitSeconds", "seamWeight", "roughness", "lobe", "levels"},
                     "");
     if (version == 1)
         printToStderr(fmt::format(
@@ -211,6 +212,7 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
         r.fail("stratifiedBudget", fmt::format("is {}, fewer than the 24 corner texels", table.stratifiedBudget));
     table.fitSeconds = r.get<double>(j, "fitSeconds");
     if (j.contains("seamWeight")) table.seamWeight = r.get<double>(j, "seamWeight");
+    if (j.contains("lobe")) table.lobe = r.name(j, "lobe", parseLobe);
     const json& levels = r.field(j, "levels");
     if (!levels.is_array() || levels.size() != static_cast<std::size_t>(table.levelCount))
         throw ProbeError(fmt::format("{}: 'levels' must list {} levels", path.string(), table.levelCount));
@@ -306,6 +308,7 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
     out += fmt::format("inline constexpr int kCoefficientCount = {}; // {}\n", coefficientCount(table.form), tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kForm = \"{}\";\n", tableFormName(table.form));
     out += fmt::format("inline constexpr const char* kMapping = \"{}\";\n", roughnessMappingName(table.mapping));
+    out += fmt::format("inline constexpr const char* kLobe = \"{}\"; // the lobe the levels are fitted to\n", lobeName(table.lobe));
     std::vector<double> roughness;
     for (int m = 0; m < table.levelCount; ++m) roughness.push_back(levelRoughness(table.mapping, m, table.levelCount));
     out += "// Per level, the perceptual roughness it holds (the mapping's; a custom mapping's list).\n";

@@ -230,7 +230,8 @@ int run(int argc, char** argv) {
     const int levels = probe::defaultLevelCount(kFaceSize);
 
     // The compiled-in table for the size, as probefilter --method table picks it.
-    const probe::gpu::CompiledTable* table = probe::gpu::findCompiledTable(kFaceSize, levels, probe::RoughnessMapping::gltf, {});
+    const probe::gpu::CompiledTable* table =
+        probe::gpu::findCompiledTable(kFaceSize, levels, probe::RoughnessMapping::gltf, {}, probe::Lobe::ggx);
     if (!table) throw std::runtime_error("no compiled-in table for 32^2");
     probe::gpu::FilterSettings settings;
     settings.method = {probe::MethodKind::table, &table->table, {}};

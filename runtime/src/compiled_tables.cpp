@@ -22,6 +22,7 @@ struct HeaderTable {
     int taps;
     std::string_view form;
     std::string_view mapping;
+    std::string_view lobe;
     std::span<const double> levelRoughness;
     std::string_view pyramidKind;
     std::string_view pyramidWeighting;
@@ -43,6 +44,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
                                                            : parseRoughnessMapping(h.mapping);
     TapTable table = emptyTable(h.faceSize, h.levelCount, h.taps, parseTableForm(h.form), mapping,
                                 {parsePyramidKind(h.pyramidKind), parsePyramidWeighting(h.pyramidWeighting)});
+    table.lobe = parseLobe(h.lobe);
     table.solver = h.solver;
     table.stratifiedBudget = h.stratifiedBudget;
     table.fitSeconds = h.fitSeconds;
@@ -66,6 +68,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
                 probe_tables::name::kTaps,                                                                                                 \
                 probe_tables::name::kForm,                                                                                                 \
                 probe_tables::name::kMapping,                                                                                              \
+                probe_tables::name::kLobe,                                                                                                 \
                 probe_tables::name::kLevelRoughness,                                                                                       \
                 probe_tables::name::kPyramidKind,                                                                                          \
                 probe_tables::name::kPyramidWeighting,                                                                                     \
@@ -89,11 +92,13 @@ const std::vector<CompiledTable>& compiledTables() {
     return tables;
 }
 
-const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid) {
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid,
+                                       Lobe lobe) {
     const CompiledTable* best = nullptr;
     for (const CompiledTable& c : compiledTables()) {
         const TapTable& t = c.table;
-        if (t.faceSize != faceSize || t.levelCount != levelCount || t.mapping != mapping || !(t.pyramid == pyramid)) continue;
+        if (t.faceSize != faceSize || t.levelCount != levelCount || t.mapping != mapping || !(t.pyramid == pyramid) || t.lobe != lobe)
+            continue;
         if (t.taps == 8 && t.form == TableForm::quadratic) return &c;
         if (!best) best = &c;
     }

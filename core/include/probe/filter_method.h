@@ -21,7 +21,7 @@ struct FilterMethod {
     MethodKind kind = MethodKind::table;
     const TapTable* table = nullptr; // table: the tap table (the caller keeps it alive)
     FisSettings fis;                 // fis: samples per texel (or per level), level bias, pyramid
-    Lobe lobe = Lobe::ggx;           // fis and reference: the lobe filtered with (the tables are GGX's)
+    Lobe lobe = Lobe::ggx;           // the lobe filtered with (a table's must be its own)
 
     // Pass 1's pyramid: the table's (it was fitted over it) or FIS's.
     PyramidSettings pyramid() const { return kind == MethodKind::table && table ? table->pyramid : fis.pyramid; }
@@ -29,8 +29,8 @@ struct FilterMethod {
 
 // Throws ParameterError naming the parameter and every reason unless `method` filters probes of
 // this face size, level count and mapping: a table of that shape (validateTable), FIS sample counts
-// of at least 1 (one per level when given per level), the Charlie lobe only with fis on the cube
-// pyramid or the reference.
+// of at least 1 (one per level when given per level), a table fitted for the lobe, the Charlie lobe
+// with FIS only on the cube pyramid.
 void validateMethod(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping);
 
 } // namespace probe

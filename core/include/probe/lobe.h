@@ -25,6 +25,12 @@ inline constexpr double kCharlieMinAlpha = 0.07 * 0.07;
 // kCharlieMinAlpha for Charlie.
 inline double lobeAlpha(Lobe lobe, double alpha) { return lobe == Lobe::charlie ? std::fmax(alpha, kCharlieMinAlpha) : alpha; }
 
+// What one output level filters with: the lobe and the alpha it is filtered at (lobeAlpha).
+struct LevelLobe {
+    Lobe lobe = Lobe::ggx;
+    double alpha = 0.0;
+};
+
 // Charlie's D(theta_h) = (2 + 1/alpha) sin(theta_h)^(1/alpha) / (2 pi) from sin^2(theta_h): with
 // N = V = R, sin^2(theta_h) = |R - l|^2 / 4 exactly, which has no cancellation near R = l. It
 // integrates to 1 against cos(theta_h) over half vectors, as a microfacet distribution must.
@@ -44,6 +50,12 @@ inline LobeConstants lobeConstants(Lobe lobe, double alpha) {
     return {0.0, 0.5 / alpha, (2.0 + 1.0 / alpha) / (2.0 * PROBE_PI)};
 }
 
+// Charlie's kernel D max(R.l, 0) with D = scale sin^2(theta_h)^exponent (LobeConstants).
+template <typename T>
+inline T charlieKernel(T cosRL, T distanceSquared, T exponent, T scale) {
+    return cosRL > T(0) ? scale * std::pow(distanceSquared * T(0.25), exponent) * cosRL : T(0);
+}
+
 // Calls visit(kernel) with the lobe's kernel K(R, l) at alpha > 0, not normalized, as a callable
 // kernel(R.l, |R - l|^2) in T for unit R and l: a type per lobe, so that the inner loops it runs in
 // carry no branch on the lobe.
@@ -55,9 +67,7 @@ decltype(auto) visitLobeKernel(Lobe lobe, double alpha, Visit&& visit) {
         return visit([alpha2](T cosRL, T distanceSquared) { return ggxKernel(cosRL, distanceSquared, alpha2); });
     }
     const T exponent = T(c.exponent), scale = T(c.scale);
-    return visit([exponent, scale](T cosRL, T distanceSquared) {
-        return cosRL > T(0) ? scale * std::pow(distanceSquared * T(0.25), exponent) * cosRL : T(0);
-    });
+    return visit([exponent, scale](T cosRL, T distanceSquared) { return charlieKernel(cosRL, distanceSquared, exponent, scale); });
 }
 
 // A half vector of the lobe for the uniform point (e1, e2) in [0, 1)^2, in the tangent frame of the

@@ -35,34 +35,40 @@ CubeLevels referenceFilter(const CubeImage& source, int levelCount, const Roughn
 double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe = Lobe::ggx);
 
 // The reference's impulse response for output direction R: normalized weights k(R, t) over the
-// source texels of `sourceSize` (indexed by texelIndex, summing to 1). alpha = 0 puts all weight on
-// the texel that contains R.
-std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, double alpha);
+// source texels of `sourceSize` (indexed by texelIndex, summing to 1). A GGX alpha of 0 puts all
+// weight on the texel that contains R.
+std::vector<double> referenceKernel(const glm::dvec3& R, int sourceSize, const LevelLobe& lobe);
 // The same with the source geometry computed once by the caller (for many output texels).
-std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& source, double alpha);
+std::vector<double> referenceKernel(const glm::dvec3& R, const CubeGeometry& source, const LevelLobe& lobe);
 
 // The same response texel by texel, for measuring without a vector over the whole cube:
-// k(R, t) = K(R, l_t) dOmega_t / Z with Z = sum_s K(R, l_s) dOmega_s. Z costs one pass over the
-// source texels in front of R (K vanishes behind it); a caller that knows it passes it.
+// k(R, t) = K(R, l_t) dOmega_t / Z with Z = sum_s K(R, l_s) dOmega_s, K the level's lobe. Z costs one
+// pass over the source texels in front of R (K vanishes behind it); a caller that knows it passes it.
 // The source texels are symmetric under the cube's 48 symmetries, so Z is too: Z(g R) = Z(R).
 class ReferenceLobe {
 public:
-    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha);
-    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, double alpha, double normalization);
+    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, const LevelLobe& lobe);
+    ReferenceLobe(const glm::dvec3& R, const CubeGeometry& source, const LevelLobe& lobe, double normalization);
 
     double normalization() const { return normalization_; }
     double operator()(std::size_t t) const { // inline: the dense passes read every texel
-        if (alpha2_ <= 0.0) return t == mirrorTexel_ ? 1.0 : 0.0;
+        if (mirror_) return t == mirrorTexel_ ? 1.0 : 0.0;
         const glm::dvec3& l = source_->directions[t];
         const glm::dvec3 d = r_ - l;
-        return ggxKernel(glm::dot(r_, l), glm::dot(d, d), alpha2_) * source_->solidAngles[t] * inverseNormalization_;
+        return kernel(glm::dot(r_, l), glm::dot(d, d)) * source_->solidAngles[t] * inverseNormalization_;
     }
 
 private:
+    double kernel(double cosRL, double distanceSquared) const {
+        return charlie_ ? charlieKernel(cosRL, distanceSquared, constants_.exponent, constants_.scale)
+                        : ggxKernel(cosRL, distanceSquared, constants_.alpha2);
+    }
+
     const CubeGeometry* source_;
     glm::dvec3 r_;
-    double alpha2_;
-    std::size_t mirrorTexel_; // alpha = 0: the texel that holds all the weight
+    bool charlie_, mirror_;
+    LobeConstants constants_;
+    std::size_t mirrorTexel_; // a GGX alpha of 0: the texel that holds all the weight
     double normalization_, inverseNormalization_;
 };
 

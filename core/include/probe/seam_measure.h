@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "probe/cube_image.h"
+#include "probe/lobe.h"
 #include "probe/roughness.h"
 
 namespace probe {
@@ -25,8 +26,9 @@ SeamSteps steepestSteps(const CubeImage& level); // the largest RGB step of each
 // edge / interior; 0 for faces under 4 texels (no interior to compare with) or a flat level.
 double seamRatio(const CubeImage& level);
 
-// The exact reference of the smooth sky (synthetic.h's skyProbe), all levels; costs seconds at 128^2.
-CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping);
+// The exact reference of the smooth sky (synthetic.h's skyProbe) with the lobe, all levels; costs
+// seconds at 128^2.
+CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe);
 
 // The single k: 1.1x the largest seam ratio over the levels of the 64^2 sky reference.
 double seamBoundCap();

@@ -8,6 +8,7 @@
 
 #include "probe/error_measures.h"
 #include "probe/frame.h"
+#include "probe/lobe.h"
 #include "probe/pyramid.h"
 #include "probe/roughness.h"
 
@@ -36,6 +37,7 @@ struct TapTable {
     int taps = 0;       // N per frame, a multiple of 4
     TableForm form = TableForm::quadratic;
     RoughnessMapping mapping = RoughnessMapping::gltf;
+    Lobe lobe = Lobe::ggx; // the lobe its levels are fitted to
     PyramidSettings pyramid;
     std::string solver;         // the solver settings, free text
     int stratifiedBudget = 512; // texel budget per level of the stratified set (stratified_texels.h)
@@ -80,7 +82,11 @@ inline constexpr int kLevelFitColumns = 11;
 // count matches the table's shape).
 void setPublishedLayout(TapTable& table, const std::vector<double>& values);
 
-// GGX alpha of output level m of the table (0: a copy of the source).
-inline double tableLevelAlpha(const TapTable& table, int level) { return levelAlpha(table.mapping, level, table.levelCount); }
+// The alpha output level m of the table is fitted at: its lobe's (lobeAlpha; a GGX 0 is a copy of
+// the source).
+inline double tableLevelAlpha(const TapTable& table, int level) {
+    return lobeAlpha(table.lobe, levelAlpha(table.mapping, level, table.levelCount));
+}
+inline LevelLobe tableLevelLobe(const TapTable& table, int level) { return {table.lobe, tableLevelAlpha(table, level)}; }
 
 } // namespace probe

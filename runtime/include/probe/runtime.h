@@ -433,8 +433,9 @@ struct CompiledTable {
 };
 // Every compiled-in table, in name order.
 const std::vector<CompiledTable>& compiledTables();
-// The compiled-in table for these settings (the quadratic 8-tap one when there are several), or
-// null.
-const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid);
+// The compiled-in table for these settings and lobe (the quadratic 8-tap one when there are
+// several), or null.
+const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid,
+                                       Lobe lobe);
 
 } // namespace probe::gpu
