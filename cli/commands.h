@@ -17,7 +17,8 @@ inline constexpr const char* kSamplingHelp =
 
 inline constexpr const char* kLevelsHelp = "Output level count M (default: one per --roughness value, else max(1, log2 S_0))";
 inline constexpr const char* kLobeHelp =
-    "The lobe filtered with: ggx (specular) or charlie (the sheen of KHR_materials_sheen: fis or reference; no level is a copy)";
+    "The lobe filtered with: ggx (specular) or charlie (the sheen of KHR_materials_sheen; no level is a copy); a table must be fitted "
+    "for it";
 inline constexpr const char* kMappingHelp = "Roughness per level: gltf (the default), authors, filament or unity";
 inline constexpr const char* kRoughnessHelp =
     "Roughness per level instead of a named mapping: a comma-separated list, level 0 first, increasing, in [0, 1] (e.g. "

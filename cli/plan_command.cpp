@@ -13,7 +13,8 @@ void addPlanCommand(CLI::App& app) {
     cmd->add_option("scene", *scenePath, "Scene file (JSON)")->required();
     cmd->callback([scenePath] {
         const probe::Scene scene = probe::readScene(*scenePath);
-        const probe::Plan plan = probe::makePlan(scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); });
+        const probe::Plan plan = probe::makePlan(
+            scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); }, hasCharlieTable);
         for (const std::string& line : plan.explain()) fmt::print("{}\n", line);
         if (plan.passes().empty()) fmt::print("nothing to compute: no material reads any probe\n");
     });

@@ -61,7 +61,8 @@ struct PlannedLevels {
         return {p.method, plan.computedLevels, plan.levelReaders, plan.pyramidLevels, false};
     }
     static PlannedLevels charlie(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
-        return {probe::sheenMethod(p), plan.sheenLevels, plan.sheenReaders, plan.sheenPyramidLevels, true};
+        return {probe::sheenMethod(p, plan.sheenMethod == probe::MethodKind::table), plan.sheenLevels, plan.sheenReaders,
+                plan.sheenPyramidLevels, true};
     }
 };
 
@@ -117,22 +118,13 @@ public:
 
     void makeDfgTable() {
         dfg_ = probe::dfgTable(probe::kDfgTableSize, probe::kDfgTableSamples);
-        probe::writeExr(output_.file("dfg.exr"), *dfg_);
-        recordPass(probe::kDfgPass, "cpu");
-        report_["dfg"] = {{"file", "dfg.exr"},
-                          {"size", probe::kDfgTableSize},
-                          {"samples", probe::kDfgTableSamples},
-                          {"convention", probe::kDfgConvention}};
+        writeLookupTable(*dfg_, "dfg.exr", probe::kDfgPass, "dfg", probe::kDfgTableSamples, probe::kDfgConvention);
     }
 
     void makeSheenTable() {
         sheenTable_ = probe::sheenTable(probe::kSheenTableSize, probe::kSheenTableSamples);
-        probe::writeExr(output_.file("sheen.exr"), *sheenTable_);
-        recordPass(probe::kSheenTablePass, "cpu");
-        report_["sheen_table"] = {{"file", "sheen.exr"},
-                                  {"size", probe::kSheenTableSize},
-                                  {"samples", probe::kSheenTableSamples},
-                                  {"convention", probe::kSheenConvention}};
+        writeLookupTable(*sheenTable_, "sheen.exr", probe::kSheenTablePass, "sheen_table", probe::kSheenTableSamples,
+                         probe::kSheenConvention);
     }
 
     // spheres.png per probe: its materials, lit by what the plan computed.
@@ -175,6 +167,14 @@ private:
         ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
     }
 
+    // A lookup table into DIR/file, its pass and its report entry under `key`.
+    void writeLookupTable(const probe::Image& table, const std::string& file, const char* pass, const char* key, int samples,
+                          const char* convention) {
+        probe::writeExr(output_.file(file), table);
+        recordPass(pass, "cpu");
+        report_[key] = {{"file", file}, {"size", table.width}, {"samples", samples}, {"convention", convention}};
+    }
+
     // The planned levels over the planned pyramid depth; `table` holds the probe's table for them.
     probe::gpu::FilterSettings filterSettings(const probe::SceneProbe& p, const PlannedLevels& set, probe::TapTable& table) const {
         probe::gpu::FilterSettings s;
@@ -186,7 +186,9 @@ private:
         s.computedLevels = set.levels;
         s.pyramidDepth = set.pyramidDepth;
         if (set.method.kind == probe::MethodKind::table) {
-            table = sceneProbeTable(scene_, p);
+            probe::SceneProbe withLobe = p;
+            withLobe.method.lobe = set.method.lobe;
+            table = sceneProbeTable(scene_, withLobe);
             s.method.table = &table;
         }
         return s;
@@ -260,7 +262,8 @@ private:
 
 void runScene(const RunOptions& o) {
     const probe::Scene scene = probe::readScene(o.scene);
-    const probe::Plan plan = probe::makePlan(scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); });
+    const probe::Plan plan = probe::makePlan(
+        scene, [&](const probe::SceneProbe& p) { return sceneProbeTaps(scene, p); }, hasCharlieTable);
     std::vector<std::filesystem::path> inputs{o.scene};
     for (const probe::SceneProbe& p : scene.probes) {
         inputs.push_back(p.image);

@@ -12,14 +12,19 @@
 
 namespace probefilter {
 
+bool hasCharlieTable(const probe::SceneProbe& p) {
+    return probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}, probe::Lobe::charlie) != nullptr;
+}
+
 probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& p) {
-    if (!p.table) {
+    // A probe's "table" file is its GGX levels'.
+    if (!p.table || p.method.lobe != probe::Lobe::ggx) {
         if (const probe::gpu::CompiledTable* compiled =
                 probe::gpu::findCompiledTable(p.faceSize, p.levelCount, p.mapping, {}, p.method.lobe))
             return compiled->table;
-        throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in table for {}^2, {} levels, mapping {}; give a \"table\" "
+        throw probe::ProbeError(fmt::format("{}: probe '{}': no built-in {} table for {}^2, {} levels, mapping {}; give a \"table\" "
                                             "(probefit fit --size {} --levels {} --taps 8 --form quad {} --out PREFIX makes one)",
-                                            scene.path.string(), p.name, p.faceSize, p.levelCount,
+                                            scene.path.string(), p.name, probe::lobeName(p.method.lobe), p.faceSize, p.levelCount,
                                             probe::describeRoughnessMapping(p.mapping), p.faceSize, p.levelCount,
                                             probe::mappingOptions(p.mapping)));
     }

@@ -8,9 +8,12 @@
 namespace probefilter {
 
 // The table a probe filters with: its "table" file, checked against the probe's size, levels and
-// mapping, else the compiled-in table for them. Throws ProbeError naming the scene file and the
-// problem.
+// mapping, else the compiled-in table for them; for its Charlie levels (the probe's method's lobe),
+// the compiled-in Charlie table. Throws ProbeError naming the scene file and the problem.
 probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::SceneProbe& probe);
+
+// Whether a compiled-in Charlie table fits the probe (its sheen levels filter with it).
+bool hasCharlieTable(const probe::SceneProbe& probe);
 
 probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& probe);
 

@@ -288,6 +288,7 @@ int runTail(const std::string& path) {
                "less than {} of the reference's mass there have no tail)\n",
                path, probefit::kTailTexels, probefit::kTailBound, 1.0 / probefit::kTailBound, probefit::kMinTailMass);
     bool reached = true;
+    if (table.lobe != Lobe::ggx) fmt::print("the {} lobe has no tail to check: it is GGX's\n", lobeName(table.lobe));
     for (const probefit::TailLevel& level : probefit::checkTail(table)) {
         std::string line;
         for (const probefit::TailSample& s : level.samples) {

@@ -13,6 +13,7 @@ namespace probefit {
 using namespace probe;
 
 std::vector<TailLevel> checkTail(const TapTable& table) {
+    if (table.lobe != Lobe::ggx) return {};
     const CubeGeometry geometry(table.faceSize);
     const std::vector<DownsampleOperator> operators = pyramidOperators(table.faceSize, table.pyramid);
     std::vector<TailLevel> levels;

@@ -38,8 +38,9 @@ struct TailLevel {
     std::vector<TailSample> samples;
 };
 
-// Levels with alpha > 0 of a table, three output texels each: face 0's centre, the middle of its
-// edge i = 0, its corner (0, 0).
+// Levels with alpha > 0 of a GGX table, three output texels each: face 0's centre, the middle of its
+// edge i = 0, its corner (0, 0). A Charlie table has none: its lobe is a ring that ends at R's
+// horizon, without GGX's slow falloff, and most of its mass lies beyond the radius.
 std::vector<TailLevel> checkTail(const probe::TapTable& table);
 
 } // namespace probefit

@@ -158,4 +158,18 @@ python3 -c "import json,sys; sys.exit(json.load(open('fis-levels/report.json'))[
     fail "fis paraboloid"
 python3 -c "import json,sys; sys.exit(json.load(open('fis-paraboloid/report.json'))['fis']['map'] != 'paraboloid')" ||
     fail "fis paraboloid: the report does not name the map"
+# The Charlie lobe with a Charlie table (probefit --lobe charlie): every level filtered, the report names
+# the lobe; a table of the other lobe is refused with the reason, and so is the GGX table picked by default.
+charlie=$fixtures/table_16_quad4_gltf_charlie.json
+"$PROBEFILTER" filter sky.exr --method table --lobe charlie --table "$charlie" --size 16 --validate --out charlie >/dev/null 2>&1 ||
+    fail "charlie table"
+python3 -c "import json,sys; r=json.load(open('charlie/report.json'))
+sys.exit(not (r['lobe'] == 'charlie' and r['table']['lobe'] == 'charlie' and r['levels'][0]['alpha'] > 0))" ||
+    fail "charlie table: the report does not name the Charlie table and lobe"
+"$PROBEFILTER" filter sky.exr --method table --table "$charlie" --size 16 --out wrong-lobe >/dev/null 2>err.txt &&
+    fail "a Charlie table for the GGX lobe was accepted"
+grep -q "fitted for the charlie lobe" err.txt || fail "a Charlie table for the GGX lobe: $(cat err.txt)"
+"$PROBEFILTER" filter sky.exr --method table --lobe charlie --size 16 --out no-table >/dev/null 2>err.txt &&
+    fail "the GGX table picked for the Charlie lobe"
+grep -q "no compiled-in charlie tap table" err.txt || fail "no Charlie table: $(cat err.txt)"
 echo "cli_filter: ok"

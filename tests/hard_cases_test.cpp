@@ -104,21 +104,22 @@ std::string describe(const MethodCase& c) {
 }
 
 // The committed tables, grouped by the exact reference their seam bounds come from (face size,
-// level count, mapping), so that a group builds it once rather than once per table.
+// level count, mapping, lobe), so that a group builds it once rather than once per table.
 struct TableGroup {
     std::string name;
     std::vector<std::filesystem::path> tables;
 };
 
 std::vector<TableGroup> committedTableGroups() {
-    std::map<std::tuple<int, int, std::string>, TableGroup> groups;
+    std::map<std::tuple<int, int, std::string, Lobe>, TableGroup> groups;
     const std::filesystem::path dir = PROBEFILTER_TABLES_DIR;
     if (std::filesystem::exists(dir))
         for (const auto& entry : std::filesystem::directory_iterator(dir)) {
             if (entry.path().extension() != ".json") continue;
             const TapTable table = readTable(entry.path());
-            TableGroup& group = groups[{table.faceSize, table.levelCount, describeRoughnessMapping(table.mapping)}];
-            group.name = fmt::format("{}{}_{}levels", roughnessMappingName(table.mapping), table.faceSize, table.levelCount);
+            TableGroup& group = groups[{table.faceSize, table.levelCount, describeRoughnessMapping(table.mapping), table.lobe}];
+            group.name = fmt::format("{}{}_{}levels{}", roughnessMappingName(table.mapping), table.faceSize, table.levelCount,
+                                     table.lobe == Lobe::ggx ? "" : "_" + std::string(lobeName(table.lobe)));
             group.tables.push_back(entry.path());
         }
     std::vector<TableGroup> sorted;

@@ -42,7 +42,9 @@ protected:
     }
     Plan plan(const std::string& json) {
         const Scene s = readScene(write(json));
-        return makePlan(s, [](const SceneProbe& p) { return methodTapGenerator(p.method, p.faceSize, p.levelCount, p.mapping); });
+        return makePlan(
+            s, [](const SceneProbe& p) { return methodTapGenerator(p.method, p.faceSize, p.levelCount, p.mapping); },
+            [](const SceneProbe&) { return false; });
     }
     void expectRefused(const std::string& json, const std::string& field) {
         try {
@@ -158,11 +160,13 @@ TEST_F(SceneTest, SheenOnlyWhereAMaterialHasIt) {
     EXPECT_EQ(p.passes(), (std::vector<std::string>{"sky: load", fmt::format("sky: sheen pyramid 0..{}", deepest),
                                                     "sky: sheen level 1 (fis)", "sky: sheen level 2 (fis)", "sheen-table"}));
 
-    // A table probe's Charlie levels are FIS's (the tables are GGX's); the reference's are the reference's.
+    // A table probe's Charlie levels are a Charlie table's where one fits it, else FIS's; the
+    // reference's are the reference's.
     const Scene s = readScene(write(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "table"}],
                                         "materials": []})"));
-    EXPECT_EQ(sheenMethod(s.probes[0]).kind, MethodKind::fis);
-    EXPECT_EQ(sheenMethod(s.probes[0]).lobe, Lobe::charlie);
+    EXPECT_EQ(sheenMethod(s.probes[0], false).kind, MethodKind::fis);
+    EXPECT_EQ(sheenMethod(s.probes[0], true).kind, MethodKind::table);
+    EXPECT_EQ(sheenMethod(s.probes[0], true).lobe, Lobe::charlie);
     const Plan reference = plan(R"({"probes": [{"name": "sky", "image": "sky.exr", "face_size": 16, "method": "reference"}],
                                    "materials": [{"name": "v", "roughness": 0.5, "sheen_color": [1, 1, 1], "sheen_roughness": 0}]})");
     EXPECT_EQ(reference.probes[0].sheenMethod, MethodKind::reference);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "probe/ggx.h"
+#include "probe/lookup_table.h"
 
 namespace probe {
 
@@ -36,16 +37,7 @@ glm::dvec2 dfgIntegral(double nDotV, double roughness, int samples) {
 }
 
 Image dfgTable(int size, int samples) {
-    Image table{size, size, std::vector<float>(static_cast<std::size_t>(size) * size * 3, 0.0f)};
-#pragma omp parallel for schedule(dynamic)
-    for (int j = 0; j < size; ++j)
-        for (int i = 0; i < size; ++i) {
-            const glm::dvec2 ab = dfgIntegral((i + 0.5) / size, (j + 0.5) / size, samples);
-            float* p = &table.rgb[(static_cast<std::size_t>(j) * size + i) * 3];
-            p[0] = static_cast<float>(ab.x);
-            p[1] = static_cast<float>(ab.y);
-        }
-    return table;
+    return lookupTable(size, [samples](double nDotV, double roughness) { return dfgIntegral(nDotV, roughness, samples); });
 }
 
 } // namespace probe

@@ -24,17 +24,10 @@ std::string oneLine(std::string_view message) {
 
 std::string_view parameterFlag(std::string_view parameter) {
     static constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
-        {"method.kind", "--method"},
-        {"method.table", "--table"},
-        {"method.fis.samples", "--samples"},
-        {"method.fis.bias", "--fis-bias"},
-        {"method.fis.map", "--fis-map"},
-        {"roughness", "--roughness"},
-        {"sampling", "--sampling"},
-        {"outputFormat", "--format"},
-        {"pyramidFormat", "--pyramid-format"},
-        {"repeat", "--repeat"},
-        {"device", "--device"},
+        {"method.kind", "--method"},           {"method.table", "--table"},     {"method.fis.samples", "--samples"},
+        {"method.fis.bias", "--fis-bias"},     {"method.fis.map", "--fis-map"}, {"method.lobe", "--lobe"},
+        {"roughness", "--roughness"},          {"sampling", "--sampling"},      {"outputFormat", "--format"},
+        {"pyramidFormat", "--pyramid-format"}, {"repeat", "--repeat"},          {"device", "--device"},
     };
     for (const auto& [name, flag] : kFlags)
         if (name == parameter) return flag;

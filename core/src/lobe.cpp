@@ -12,7 +12,7 @@ std::string_view lobeName(Lobe lobe) { return lobe == Lobe::charlie ? "charlie" 
 Lobe parseLobe(std::string_view name) {
     for (Lobe lobe : {Lobe::ggx, Lobe::charlie})
         if (lobeName(lobe) == name) return lobe;
-    throw ParameterError("lobe", fmt::format("{}: expected ggx or charlie", name));
+    throw ParameterError("method.lobe", fmt::format("{}: expected ggx or charlie", name));
 }
 
 LobeSample lobeSample(Lobe lobe, double e1, double e2, double alpha) {

@@ -49,15 +49,15 @@ int deepestPyramidLevelRead(const TapGenerator& generator, int faceSize, const s
     return deepest;
 }
 
-FilterMethod sheenMethod(const SceneProbe& probe) {
+FilterMethod sheenMethod(const SceneProbe& probe, bool charlieTable) {
     FilterMethod method = probe.method;
     method.lobe = Lobe::charlie;
-    if (method.kind == MethodKind::table) method.kind = MethodKind::fis;
+    if (method.kind == MethodKind::table && !charlieTable) method.kind = MethodKind::fis;
     method.table = nullptr;
     return method;
 }
 
-Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
+Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor, const CharlieTableFor& charlieTableFor) {
     Plan plan;
     for (const SceneProbe& probe : scene.probes) {
         ProbePlan p;
@@ -83,10 +83,11 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor) {
             p.sheenReaders.push_back(names);
         }
         // Every Charlie level is filtered (none is a copy); FIS reads the pyramid, the reference the source.
-        p.sheenMethod = sheenMethod(probe).kind;
+        const FilterMethod sheen = sheenMethod(probe, !p.sheenLevels.empty() && charlieTableFor(probe));
+        p.sheenMethod = sheen.kind;
         if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference) {
             SceneProbe charlie = probe;
-            charlie.method = sheenMethod(probe);
+            charlie.method = sheen;
             p.sheenPyramidLevels = deepestPyramidLevelRead(generatorFor(charlie), probe.faceSize, p.sheenLevels);
         }
         p.shIrradiance = !p.diffuseMaterials.empty() && (scene.outputs.shIrradiance || scene.outputs.spheres);
@@ -147,8 +148,9 @@ std::vector<Step> steps(const Plan& plan) {
                            fmt::format("diffuse: {}; the outputs ask for the cube", fmt::join(p.diffuseMaterials, ", "))});
         if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference)
             out.push_back({sheenPyramidPass(p.probe, p.sheenPyramidLevels),
-                           fmt::format("the Charlie FIS taps of sheen levels {} read down to pyramid level {}",
-                                       fmt::join(p.sheenLevels, ", "), p.sheenPyramidLevels)});
+                           fmt::format("the Charlie {} taps of sheen levels {} read down to pyramid level {}",
+                                       p.sheenMethod == MethodKind::table ? "table's" : "FIS", fmt::join(p.sheenLevels, ", "),
+                                       p.sheenPyramidLevels)});
         for (std::size_t k = 0; k < p.sheenLevels.size(); ++k)
             out.push_back({sheenLevelPass(p.probe, p.sheenLevels[k], p.sheenMethod),
                            fmt::format("sheen read by {}", fmt::join(p.sheenReaders[k], ", "))});

@@ -5,6 +5,7 @@
 
 #include "probe/ggx.h"
 #include "probe/lobe.h"
+#include "probe/lookup_table.h"
 
 namespace probe {
 
@@ -49,16 +50,7 @@ glm::dvec2 sheenIntegral(double nDotV, double roughness, int samples) {
 }
 
 Image sheenTable(int size, int samples) {
-    Image table{size, size, std::vector<float>(static_cast<std::size_t>(size) * size * 3, 0.0f)};
-#pragma omp parallel for schedule(dynamic)
-    for (int j = 0; j < size; ++j)
-        for (int i = 0; i < size; ++i) {
-            const glm::dvec2 terms = sheenIntegral((i + 0.5) / size, (j + 0.5) / size, samples);
-            float* p = &table.rgb[(static_cast<std::size_t>(j) * size + i) * 3];
-            p[0] = static_cast<float>(terms.x);
-            p[1] = static_cast<float>(terms.y);
-        }
-    return table;
+    return lookupTable(size, [samples](double nDotV, double roughness) { return sheenIntegral(nDotV, roughness, samples); });
 }
 
 } // namespace probe

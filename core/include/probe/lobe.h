@@ -14,7 +14,7 @@ namespace probe {
 
 enum class Lobe { ggx, charlie };
 std::string_view lobeName(Lobe lobe);  // "ggx" or "charlie"
-Lobe parseLobe(std::string_view name); // ParameterError("lobe") for anything else
+Lobe parseLobe(std::string_view name); // ParameterError("method.lobe") for anything else
 
 // The smallest Charlie alpha a level is filtered at: the sheen roughness 0.07 (alpha 0.0049) that
 // the glTF sample viewer clamps to. As alpha falls to 0 the Charlie lobe becomes a ring at the

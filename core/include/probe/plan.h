@@ -69,16 +69,18 @@ std::string sheenLevelPass(const std::string& probe, int level, MethodKind metho
 inline constexpr const char* kDfgPass = "dfg-table";
 inline constexpr const char* kSheenTablePass = "sheen-table";
 
-// How a probe's Charlie levels are filtered: the probe's method with the Charlie lobe, FIS (the
-// probe's samples) where the method is a table, since the tables are fitted for GGX.
-FilterMethod sheenMethod(const SceneProbe& probe);
+// How a probe's Charlie levels are filtered: the probe's method with the Charlie lobe; where it is a
+// table, a Charlie table where one fits the probe (`charlieTable`), else FIS with the probe's samples.
+FilterMethod sheenMethod(const SceneProbe& probe, bool charlieTable);
 
-// The tap generator of a probe's method (empty for the reference, which reads no pyramid).
+// The tap generator of a probe's method (empty for the reference, which reads no pyramid), and
+// whether a Charlie table fits a probe.
 using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
+using CharlieTableFor = std::function<bool(const SceneProbe&)>;
 
 // What a scene needs computed: per probe the levels its materials read and the pyramid those levels
 // read, the irradiance where a material is diffuse, the Charlie levels where one has sheen; the DFG
 // table where one is specular, the sheen table where one has sheen.
-Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor);
+Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor, const CharlieTableFor& charlieTableFor);
 
 } // namespace probe
