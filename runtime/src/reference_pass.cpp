@@ -21,9 +21,10 @@ constexpr int kChunkTexels = 16384;
 struct ReferenceConstants {
     int32_t sourceSize;
     int32_t outLevel;
-    float alpha2; // GGX; Charlie: the kernel's exponent (shaders/lobe.glsl)
-    float scale;  // Charlie: the kernel's scale
-    int32_t lobe; // 0: GGX, 1: Charlie
+    float alpha2;   // GGX
+    float exponent; // Charlie (shaders/lobe.glsl)
+    float scale;    // Charlie
+    int32_t lobe;   // 0: GGX, 1: Charlie
     int32_t firstRow;
     int32_t rowCount;
     int32_t stage;
@@ -49,16 +50,21 @@ uint32_t referenceDispatchCount(const Filter::Impl& impl) {
 void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const double alpha = lobeAlpha(s.method.lobe, levelAlpha(s.mapping, m, s.levelCount));
-    const bool charlie = s.method.lobe == Lobe::charlie;
     const LobeConstants lobe = lobeConstants(s.method.lobe, alpha);
-    const float parameter = static_cast<float>(charlie ? lobe.exponent : lobe.alpha2);
     const int chunk = rowsPerChunk(s);
     const int rows = kFaceCount * s.faceSize;
     for (int firstRow = 0; firstRow < rows; firstRow += chunk) {
         if (firstRow > 0) impl.barrier(commandBuffer);
         const int stage = (firstRow == 0 ? 1 : 0) | (firstRow + chunk >= rows ? 2 : 0);
-        const ReferenceConstants constants{s.faceSize,      m,        parameter, static_cast<float>(lobe.scale),
-                                           charlie ? 1 : 0, firstRow, chunk,     stage};
+        const ReferenceConstants constants{s.faceSize,
+                                           m,
+                                           static_cast<float>(lobe.alpha2),
+                                           static_cast<float>(lobe.exponent),
+                                           static_cast<float>(lobe.scale),
+                                           s.method.lobe == Lobe::charlie ? 1 : 0,
+                                           firstRow,
+                                           chunk,
+                                           stage};
         dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
     }
 }
