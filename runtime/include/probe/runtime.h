@@ -436,6 +436,6 @@ const std::vector<CompiledTable>& compiledTables();
 // The compiled-in table for these settings and lobe (the quadratic 8-tap one when there are
 // several), or null.
 const CompiledTable* findCompiledTable(int faceSize, int levelCount, const RoughnessMapping& mapping, const PyramidSettings& pyramid,
-                                       Lobe lobe);
+                                       Lobe lobe = Lobe::ggx);
 
 } // namespace probe::gpu
