@@ -51,11 +51,15 @@ TEST(Sheen, EqualsBruteForceQuadrature) {
             EXPECT_NEAR(sampled.x, exact.x, 2e-3 * std::max(1.0, exact.x)) << "red at roughness " << roughness << ", n.v " << nDotV;
             EXPECT_NEAR(sampled.y, exact.y, 2e-3) << "E at roughness " << roughness << ", n.v " << nDotV;
         }
+    // At grazing n.v a smooth sheen's albedo E exceeds 1, and the brute force agrees: the model's.
+    const glm::dvec2 grazing = sheenIntegral(1.0 / 32.0, 1.0 / 32.0, 1 << 16), exact = bruteForceSheen(1.0 / 32.0, 1.0 / 32.0, 1500);
+    EXPECT_NEAR(grazing.y, exact.y, 2e-3);
+    EXPECT_GT(grazing.y, 1.15);
 }
 
 TEST(Sheen, AlbedoIsBoundedAwayFromGrazingAndGrowsWithRoughness) {
-    // At grazing n.v a smooth sheen's E exceeds 1 (1.16 at n.v = 1/32, roughness 1/32, where the
-    // brute-force quadrature agrees): the model's, which the visibility's clamp does not bound. From
+    // At grazing n.v a smooth sheen's E exceeds 1 (Sheen.EqualsBruteForceQuadrature): the model's,
+    // which the visibility's clamp does not bound. From
     // n.v = 0.1 on E is at most 1 and grows with roughness, the lobe reaching further from grazing.
     const int size = 16;
     const Image table = sheenTable(size, 1024);
