@@ -17,10 +17,11 @@ float ggxKernel(float cosRL, float distanceSquared, float alpha2) {
     return cosRL > 0.0 ? ggxD(cosRL, distanceSquared, alpha2) * cosRL : 0.0;
 }
 
-// Charlie's kernel with D = scale sin^2(theta_h)^exponent: exponent 1 / (2 alpha), scale
-// (2 + 1 / alpha) / (2 pi), made once per level (probe::visitLobeKernel).
-float charlieKernel(float cosRL, float distanceSquared, float exponent, float scale) {
-    return cosRL > 0.0 ? scale * pow(distanceSquared * 0.25, exponent) * cosRL : 0.0;
+// Charlie's kernel over its largest value in front of R, (2 sin^2(theta_h))^exponent max(R.l, 0)
+// with exponent 1 / (2 alpha) (probe::charlieKernel): near 1 where it matters at any alpha, where D
+// itself falls to 2^-100. Callers normalize.
+float charlieKernel(float cosRL, float distanceSquared, float exponent) {
+    return cosRL > 0.0 ? pow(distanceSquared * 0.5, exponent) * cosRL : 0.0;
 }
 
 #endif

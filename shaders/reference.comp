@@ -22,8 +22,7 @@ layout(push_constant) uniform Params {
     int sourceSize; // S_0: pyramid level 0
     int outLevel;   // output level m, face size S_0 >> m
     float alpha2;   // GGX: alpha^2 of the level
-    float exponent; // Charlie: its kernel's exponent and scale (lobe.glsl)
-    float scale;
+    float exponent; // Charlie: its kernel's exponent (lobe.glsl)
     int lobe;       // 0: GGX, 1: Charlie
     int firstRow;   // the chunk: rows [firstRow, firstRow + rowCount) of the source, counted over
     int rowCount;   // all faces (face * S_0 + row), within one face
@@ -59,7 +58,7 @@ void main() {
                 vec4 l = geometry[t]; // level 0 of the geometry is the source's
                 vec3 d = R - l.xyz;
                 float k = params.lobe == 0 ? ggxKernel(dot(R, l.xyz), dot(d, d), params.alpha2)
-                                           : charlieKernel(dot(R, l.xyz), dot(d, d), params.exponent, params.scale);
+                                           : charlieKernel(dot(R, l.xyz), dot(d, d), params.exponent);
                 rowSum += k * vec4(pyramidTexel(source) * l.w, l.w);
             }
             precise vec4 y = rowSum - compensation;

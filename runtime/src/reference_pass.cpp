@@ -23,7 +23,6 @@ struct ReferenceConstants {
     int32_t outLevel;
     float alpha2;   // GGX
     float exponent; // Charlie (shaders/lobe.glsl)
-    float scale;    // Charlie
     int32_t lobe;   // 0: GGX, 1: Charlie
     int32_t firstRow;
     int32_t rowCount;
@@ -60,7 +59,6 @@ void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int
                                            m,
                                            static_cast<float>(lobe.alpha2),
                                            static_cast<float>(lobe.exponent),
-                                           static_cast<float>(lobe.scale),
                                            s.method.lobe == Lobe::charlie ? 1 : 0,
                                            firstRow,
                                            chunk,

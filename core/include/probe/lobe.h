@@ -40,20 +40,27 @@ inline T charlieD(T sinHalf2, T alpha) {
 }
 
 // What a lobe's kernel at alpha > 0 takes besides R.l and |R - l|^2, as the shaders take it
-// (shaders/lobe.glsl): GGX's alpha^2; Charlie's D = scale sin^2(theta_h)^exponent.
+// (shaders/lobe.glsl): GGX's alpha^2; Charlie's exponent 1 / (2 alpha) and the cutoff below.
 struct LobeConstants {
-    double alpha2 = 0.0;                // GGX
-    double exponent = 0.0, scale = 0.0; // Charlie: 1 / (2 alpha), (2 + 1 / alpha) / (2 pi)
+    double alpha2 = 0.0;                 // GGX
+    double exponent = 0.0, cutoff = 0.0; // Charlie
 };
+// Below 2^-100 of its largest value Charlie's kernel is 0: a float sum would otherwise add
+// denormals (slow on CPUs, flushed on GPUs), and they are far below its rounding.
+inline constexpr double kCharlieCutoffLog2 = -100.0;
 inline LobeConstants lobeConstants(Lobe lobe, double alpha) {
     if (lobe == Lobe::ggx) return {alpha * alpha, 0.0, 0.0};
-    return {0.0, 0.5 / alpha, (2.0 + 1.0 / alpha) / (2.0 * PROBE_PI)};
+    const double exponent = 0.5 / alpha;
+    return {0.0, exponent, std::exp2(kCharlieCutoffLog2 / exponent)};
 }
 
-// Charlie's kernel D max(R.l, 0) with D = scale sin^2(theta_h)^exponent (LobeConstants).
+// Charlie's kernel over D at theta_h = 45 degrees, its largest value in front of R:
+// (2 sin^2(theta_h))^exponent max(R.l, 0), so that it is near 1 where it matters at any alpha (D
+// itself falls to 2^-100 there at the smallest alpha). Callers normalize, so the factor cancels.
 template <typename T>
-inline T charlieKernel(T cosRL, T distanceSquared, T exponent, T scale) {
-    return cosRL > T(0) ? scale * std::pow(distanceSquared * T(0.25), exponent) * cosRL : T(0);
+inline T charlieKernel(T cosRL, T distanceSquared, T exponent, T cutoff) {
+    const T x = distanceSquared * T(0.5);
+    return cosRL > T(0) && x > cutoff ? std::pow(x, exponent) * cosRL : T(0);
 }
 
 // Calls visit(kernel) with the lobe's kernel K(R, l) at alpha > 0, not normalized, as a callable
@@ -66,8 +73,8 @@ decltype(auto) visitLobeKernel(Lobe lobe, double alpha, Visit&& visit) {
         const T alpha2 = T(c.alpha2);
         return visit([alpha2](T cosRL, T distanceSquared) { return ggxKernel(cosRL, distanceSquared, alpha2); });
     }
-    const T exponent = T(c.exponent), scale = T(c.scale);
-    return visit([exponent, scale](T cosRL, T distanceSquared) { return charlieKernel(cosRL, distanceSquared, exponent, scale); });
+    const T exponent = T(c.exponent), cutoff = T(c.cutoff);
+    return visit([exponent, cutoff](T cosRL, T distanceSquared) { return charlieKernel(cosRL, distanceSquared, exponent, cutoff); });
 }
 
 // A half vector of the lobe for the uniform point (e1, e2) in [0, 1)^2, in the tangent frame of the

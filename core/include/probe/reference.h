@@ -60,7 +60,7 @@ public:
 
 private:
     double kernel(double cosRL, double distanceSquared) const {
-        return charlie_ ? charlieKernel(cosRL, distanceSquared, constants_.exponent, constants_.scale)
+        return charlie_ ? charlieKernel(cosRL, distanceSquared, constants_.exponent, constants_.cutoff)
                         : ggxKernel(cosRL, distanceSquared, constants_.alpha2);
     }
 
