@@ -22,8 +22,9 @@ void checkSameShape(const std::vector<SeamCandidate>& candidates) {
     for (const SeamCandidate& c : candidates) {
         const TapTable& t = c.table;
         if (t.faceSize != first.faceSize || t.levelCount != first.levelCount || t.taps != first.taps || t.form != first.form ||
-            t.mapping != first.mapping || t.pyramid.kind != first.pyramid.kind || t.pyramid.weighting != first.pyramid.weighting)
-            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping and pyramid must agree)", c.name,
+            t.mapping != first.mapping || t.lobe != first.lobe || t.pyramid.kind != first.pyramid.kind ||
+            t.pyramid.weighting != first.pyramid.weighting)
+            throw ProbeError(fmt::format("{}: not the shape of {} (size, levels, taps, form, mapping, lobe and pyramid must agree)", c.name,
                                          candidates.front().name));
     }
 }
@@ -46,8 +47,8 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
     checkSameShape(candidates);
     const TapTable& shape = candidates.front().table;
     const CubeImage sky = skyProbe(shape.faceSize);
-    const std::vector<double> bounds =
-        seamBounds(skyReference(shape.faceSize, shape.levelCount, shape.mapping, shape.lobe), seamBoundCap());
+    const CubeLevels reference = skyReference(shape.faceSize, shape.levelCount, shape.mapping, shape.lobe);
+    const std::vector<double> bounds = seamBounds(reference, seamBoundCap(shape.lobe));
     std::vector<CubeLevels> filtered;
     std::vector<std::vector<bool>> tails;
     for (const SeamCandidate& c : candidates) {
@@ -66,7 +67,10 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
         level.bound = bounds[m];
         int nearest = 0;
         for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
-            level.seamRatios.push_back(level.bound > 0.0 ? seamRatio(filtered[k][m]) : 0.0);
+            const CubeImage& out = filtered[k][m];
+            level.seamRatios.push_back(level.bound > 0.0 ? seamRatio(out) : 0.0);
+            level.edgeSteps.push_back(level.bound > 0.0 ? edgeStepRatio(out, reference[m]) : 0.0);
+            level.within.push_back(withinSeamBound(out, level.bound, &reference[m]));
             level.tailReached.push_back(tails[k][m]);
             if (level.seamRatios[k] < level.seamRatios[nearest]) nearest = k;
         }
@@ -74,7 +78,7 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
         bool found = false;
         for (const bool needTail : {true, false}) {
             for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
-                if (level.seamRatios[k] > level.bound || (needTail && !tails[k][m])) continue;
+                if (!level.within[k] || (needTail && !tails[k][m])) continue;
                 if (!found || (order == SelectOrder::lowestL1 &&
                                levelL1(candidates[k].table.levels[m], all) < levelL1(candidates[level.chosen].table.levels[m], all))) {
                     level.chosen = k;

@@ -21,6 +21,8 @@ struct SeamCandidate {
 struct LevelSelection {
     int chosen = 0;                 // index into the candidates
     std::vector<double> seamRatios; // per candidate (0 where the level has no bound)
+    std::vector<double> edgeSteps;  // per candidate: its steepest edge step over the reference's
+    std::vector<bool> within;       // per candidate: within the bound (probe::withinSeamBound)
     std::vector<bool> tailReached;  // per candidate
     double bound = 0.0;             // 0: faces under 4 texels, chosen by L1 alone
     bool withinBound = true;        // false: no candidate was; the one nearest the bound was kept
@@ -36,7 +38,7 @@ struct SeamSelection {
 enum class SelectOrder { lowestL1, first };
 
 // Throws ProbeError naming the candidate unless every candidate has the first one's size, levels,
-// taps, form, mapping and pyramid. Costs the exact reference of the sky at the table's size.
+// taps, form, mapping, lobe and pyramid. Costs the exact reference of the sky at the table's size.
 SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates, SelectOrder order = SelectOrder::lowestL1);
 
 } // namespace probefit

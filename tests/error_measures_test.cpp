@@ -3,6 +3,7 @@
 
 #include "probe/error_measures.h"
 #include "probe/reference.h"
+#include "probe/seam_measure.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -38,4 +39,38 @@ TEST(ErrorMeasures, ImageL1IsRelativeAndSolidAngleWeighted) {
     CubeImage out = ref;
     out.set(texelIndex({1, 0, 0}, 4), glm::vec3(0.0f));
     EXPECT_NEAR(imageL1(out, ref), texelSolidAngle(0, 0, 4) / (4.0 * 3.14159265358979), 1e-6);
+}
+
+namespace {
+
+// An 8^2 cube of 1s with face +X at `edge`, so that every step across +X's edges is |edge - 1| and
+// none inside a face, and one interior texel of -Y at 1 + interior: the steepest interior step.
+CubeImage steppedCube(float edge, float interior) {
+    const int size = 8;
+    CubeImage cube = constantProbe(size, glm::vec3(1.0f));
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) cube.set(texelIndex({0, i, j}, size), glm::vec3(edge));
+    cube.set(texelIndex({3, 3, 3}, size), glm::vec3(1.0f + interior));
+    return cube;
+}
+
+} // namespace
+
+TEST(SeamMeasure, WithinTheBoundByTheRatioOrByTheReferencesEdgeSteps) {
+    const CubeImage reference = steppedCube(1.1f, 1.0f);
+    EXPECT_NEAR(seamRatio(reference), 0.1, 1e-6);
+    const double bound = seamBounds({reference}, 1.0)[0];
+    EXPECT_NEAR(bound, 0.11, 1e-6);
+    // Smoother inside than the reference, the same seams: its ratio is 5x the reference's, and it is
+    // within the bound by its edge steps alone.
+    const CubeImage smoother = steppedCube(1.1f, 0.2f);
+    EXPECT_GT(seamRatio(smoother), bound);
+    EXPECT_TRUE(withinSeamBound(smoother, bound, &reference));
+    EXPECT_FALSE(withinSeamBound(smoother, bound, nullptr));
+    EXPECT_NEAR(edgeStepRatio(smoother, reference), 1.0, 1e-5);
+    // Seams 1.2x the reference's: outside, whatever its interior.
+    EXPECT_FALSE(withinSeamBound(steppedCube(1.12f, 0.2f), bound, &reference));
+    EXPECT_FALSE(withinSeamBound(steppedCube(1.12f, 1.0f), bound, &reference));
+    // The ratio alone still admits a level that steps hard everywhere alike.
+    EXPECT_TRUE(withinSeamBound(steppedCube(1.2f, 2.0f), bound, &reference));
 }

@@ -553,7 +553,8 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     candidates.push_back({"rough", rough});
 
     const SeamSelection selection = selectWithinSeamBound(candidates);
-    const std::vector<double> bounds = seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf, Lobe::ggx), seamBoundCap());
+    const std::vector<double> bounds =
+        seamBounds(skyReference(16, settings.levelCount, RoughnessMapping::gltf, Lobe::ggx), seamBoundCap(Lobe::ggx));
     const CubeImage sky = skyProbe(16);
     std::vector<std::vector<TailLevel>> tails;
     for (const SeamCandidate& c : candidates) tails.push_back(checkTail(c.table));

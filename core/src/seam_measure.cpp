@@ -45,9 +45,9 @@ CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& ma
     return referenceFilter(skyProbe(faceSize), levelCount, mapping, {}, lobe);
 }
 
-double seamBoundCap() {
+double seamBoundCap(Lobe lobe) {
     double largest = 0.0;
-    for (const CubeImage& level : skyReference(kCapFaceSize, defaultLevelCount(kCapFaceSize), RoughnessMapping::gltf, Lobe::ggx))
+    for (const CubeImage& level : skyReference(kCapFaceSize, defaultLevelCount(kCapFaceSize), RoughnessMapping::gltf, lobe))
         largest = std::max(largest, seamRatio(level));
     return kSeamMargin * largest;
 }
@@ -56,6 +56,16 @@ std::vector<double> seamBounds(const CubeLevels& reference, double cap) {
     std::vector<double> bounds;
     for (const CubeImage& level : reference) bounds.push_back(level.size >= 4 ? std::min(kSeamMargin * seamRatio(level), cap) : 0.0);
     return bounds;
+}
+
+double edgeStepRatio(const CubeImage& level, const CubeImage& reference) {
+    const double exact = steepestSteps(reference).edge;
+    return exact > 0.0 ? steepestSteps(level).edge / exact : 0.0;
+}
+
+bool withinSeamBound(const CubeImage& level, double bound, const CubeImage* reference) {
+    if (bound == 0.0 || seamRatio(level) <= bound) return true;
+    return reference && steepestSteps(level).edge <= kSeamMargin * steepestSteps(*reference).edge;
 }
 
 } // namespace probe

@@ -2,8 +2,12 @@
 // exact reference (the seam check of the hard-case suite, and what `probefit select` keeps within).
 // A level's seam ratio is the steepest step between face-edge neighbours over the steepest step
 // between interior neighbours (largest channel difference); its bound is 1.1x the exact reference's
-// own ratio on the smooth sky at the same size, level count and mapping, and never more than one k for
-// every level: 1.1x the largest ratio of the 64^2 exact reference (default levels, glTF).
+// own ratio on the smooth sky at the same size, level count, mapping and lobe, and never more than one
+// k per lobe: 1.1x the largest ratio of that lobe's 64^2 exact reference (default levels, glTF).
+// Where the reference's level is at hand, a level whose steepest edge step is within 1.1x the
+// reference's own is within the bound too: a filter smoother inside its faces than the reference
+// lowers the interior step its ratio divides by (a thin Charlie ring's reference steps hardest at
+// the pole of a sharp horizon, inside a face), while its seams are no steeper than the reference's.
 #pragma once
 
 #include <vector>
@@ -30,10 +34,17 @@ double seamRatio(const CubeImage& level);
 // seconds at 128^2.
 CubeLevels skyReference(int faceSize, int levelCount, const RoughnessMapping& mapping, Lobe lobe);
 
-// The single k: 1.1x the largest seam ratio over the levels of the 64^2 sky reference.
-double seamBoundCap();
+// The lobe's k: 1.1x the largest seam ratio over the levels of its 64^2 sky reference.
+double seamBoundCap(Lobe lobe);
 
 // Per level, min(1.1x the seam ratio of `reference` at that level, cap); 0 where faces are under 4.
 std::vector<double> seamBounds(const CubeLevels& reference, double cap);
+
+// The level's steepest edge step over that of the reference's same level (0 for a flat reference).
+double edgeStepRatio(const CubeImage& level, const CubeImage& reference);
+
+// Whether a level is within its bound (from seamBounds; 0: no bound): its seam ratio at most the
+// bound, or, given the reference's level, its steepest edge step at most 1.1x the reference's.
+bool withinSeamBound(const CubeImage& level, double bound, const CubeImage* reference);
 
 } // namespace probe
