@@ -51,6 +51,7 @@ struct SweepOptions {
     int repeat = 5;
     int texelBudget = 384;
     std::string tables = "tables";
+    std::string lobe = "ggx";
     std::string sampling = "automatic";
     std::string pyramidFormat = "auto";
     std::string device;
@@ -101,9 +102,9 @@ struct NamedTable {
     probe::TapTable table;
 };
 
-// The glTF tables of the size and level count among the table files (*.json) of the folder, in name
-// order.
-std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
+// The glTF tables of the size, level count and lobe among the table files (*.json) of the folder, in
+// name order.
+std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount, probe::Lobe lobe) {
     if (!std::filesystem::is_directory(o.tables)) throw probe::ProbeError(fmt::format("--tables {}: not a folder", o.tables));
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(o.tables))
@@ -112,25 +113,25 @@ std::vector<NamedTable> sweepTables(const SweepOptions& o, int levelCount) {
     std::vector<NamedTable> tables;
     for (const auto& file : files) {
         probe::TapTable table = probe::readTable(file);
-        if (table.faceSize == o.size && table.levelCount == levelCount && table.mapping == probe::RoughnessMapping::gltf)
+        if (table.faceSize == o.size && table.levelCount == levelCount && table.mapping == probe::RoughnessMapping::gltf &&
+            table.lobe == lobe)
             tables.push_back({file.stem().string(), std::move(table)});
     }
     return tables;
 }
 
-// Per output texel of levels >= 1, averaged over those texels: the trilinear reads (a table's taps in
-// each frame the texel blends, frames of weight 0 skipped, a mix's padding not read; FIS's samples
-// with n.l > 0), and the taps or samples the filter shader's loop runs. They are the same but for a
-// table level whose taps in use are not a multiple of four: table_filter.comp runs them in groups of
-// four, the zero-weight padding included.
+// Per output texel of the levels from firstLevel (1 where level 0 is a copy), averaged over those texels: the trilinear reads (a table's
+// taps in each frame the texel blends, frames of weight 0 skipped, a mix's padding not read; FIS's samples with n.l > 0), and the taps or
+// samples the filter shader's loop runs. They are the same but for a table level whose taps in use are not a multiple of four:
+// table_filter.comp runs them in groups of four, the zero-weight padding included.
 struct ReadCounts {
     double reads = 0.0, shaderTaps = 0.0; // per output texel
 };
 
-ReadCounts readsPerTexel(const probe::TapGenerator& taps, int size, int levelCount, const probe::TapTable* table) {
+ReadCounts readsPerTexel(const probe::TapGenerator& taps, int size, int firstLevel, int levelCount, const probe::TapTable* table) {
     std::vector<probe::Tap> list;
     double reads = 0.0, shaderTaps = 0.0, texels = 0.0;
-    for (int m = 1; m < levelCount; ++m) {
+    for (int m = firstLevel; m < levelCount; ++m) {
         const int used = table ? probe::tapsInUse(*table, m) : 0;
         const double padding = used > 0 ? 4.0 * ((used + 3) / 4) / used : 1.0;
         double levelReads = 0.0;
@@ -147,31 +148,42 @@ ReadCounts readsPerTexel(const probe::TapGenerator& taps, int size, int levelCou
     return {reads / texels, shaderTaps / texels};
 }
 
-void setReads(Method& m, int size, int levelCount, const probe::TapTable* table) {
-    const ReadCounts reads = readsPerTexel(m.taps, size, levelCount, table);
+void setReads(Method& m, int size, int firstLevel, int levelCount, const probe::TapTable* table) {
+    const ReadCounts reads = readsPerTexel(m.taps, size, firstLevel, levelCount, table);
     m.description.readsPerTexel = reads.reads;
     m.description.shaderTapsPerTexel = reads.shaderTaps;
 }
 
-std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables) {
+// The level the errors and reads start from: 1 where level 0 is a copy for every method (GGX), else 0.
+int firstLevel(probe::Lobe lobe, int levelCount) {
+    return probe::lobeAlpha(lobe, probe::levelAlpha(probe::RoughnessMapping::gltf, 0, levelCount)) > 0.0 ? 0 : 1;
+}
+
+// The tables of the sweep's lobe ("table"); for Charlie also the GGX tables, whose levels engines
+// read at the sheen roughness in its place ("ggx-levels", as Filament does), measured against Charlie.
+std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const std::vector<NamedTable>& tables,
+                                 const std::vector<NamedTable>& standIns, probe::Lobe lobe) {
     std::vector<Method> methods;
     const probe::gpu::Sampling sampling = probe::gpu::parseSampling(o.sampling);
     const VkFormat pyramidFormat = probe::gpu::parsePyramidFormat(o.pyramidFormat);
-    for (const NamedTable& t : tables) {
-        Method m;
-        m.description = {t.name,
-                         "table",
-                         t.table.taps,
-                         0.0,
-                         std::string(probe::pyramidKindName(t.table.pyramid.kind)),
-                         std::string(probe::tableFormName(t.table.form))};
-        m.settings.method = {probe::MethodKind::table, &t.table, {}};
-        m.settings.sampling = sampling;
-        m.settings.pyramidFormat = pyramidFormat;
-        m.taps = probe::tableTapGenerator(t.table);
-        setReads(m, o.size, levelCount, &t.table);
-        methods.push_back(std::move(m));
-    }
+    const int first = firstLevel(lobe, levelCount);
+    for (const bool standIn : {false, true})
+        for (const NamedTable& t : standIn ? standIns : tables) {
+            Method m;
+            m.description = {standIn ? "ggx-levels-" + t.name : t.name,
+                             standIn ? "ggx-levels" : "table",
+                             t.table.taps,
+                             0.0,
+                             std::string(probe::pyramidKindName(t.table.pyramid.kind)),
+                             std::string(probe::tableFormName(t.table.form))};
+            m.settings.method = {probe::MethodKind::table, &t.table, {}};
+            m.settings.method.lobe = t.table.lobe;
+            m.settings.sampling = sampling;
+            m.settings.pyramidFormat = pyramidFormat;
+            m.taps = probe::tableTapGenerator(t.table);
+            setReads(m, o.size, first, levelCount, &t.table);
+            methods.push_back(std::move(m));
+        }
     // FIS at one count for every level ("fis"), and the per-level mix with N at level 1 ("fis-mix").
     for (const bool mix : {false, true})
         for (const std::string& pyramid : o.pyramids)
@@ -190,15 +202,17 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                                      pyramid,
                                      ""};
                     m.settings.method = {probe::MethodKind::fis, nullptr, fis};
+                    m.settings.method.lobe = lobe;
                     m.settings.sampling = sampling;
                     m.settings.pyramidFormat = pyramidFormat;
-                    m.taps = probe::fisTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-                    setReads(m, o.size, levelCount, nullptr);
+                    m.taps = probe::fisTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis, lobe);
+                    setReads(m, o.size, first, levelCount, nullptr);
                     methods.push_back(std::move(m));
                 }
     // FIS on a dual-paraboloid map: the same samples, read from the map (its mips are box averages).
+    // GGX's alone, as probe::validateMethod has it.
     for (const std::string& map : o.fisMaps) {
-        if (probe::parseFisMap(map) != probe::FisMap::paraboloid) continue;
+        if (probe::parseFisMap(map) != probe::FisMap::paraboloid || lobe != probe::Lobe::ggx) continue;
         for (double bias : o.biases)
             for (int samples : o.samples) {
                 Method m;
@@ -209,7 +223,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
                 m.description = {fmt::format("fisparaboloid{}-bias{}", samples, bias), "fis-paraboloid", samples, bias, "paraboloid", ""};
                 m.settings.method.kind = probe::MethodKind::fis; // read exactly, whatever --sampling and --pyramid-format say
                 m.taps = probe::fisTapGenerator(o.size, levelCount, probe::RoughnessMapping::gltf, fis);
-                setReads(m, o.size, levelCount, nullptr);
+                setReads(m, o.size, first, levelCount, nullptr);
                 methods.push_back(std::move(m));
             }
     }
@@ -219,15 +233,14 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
 // The sweep's summary of `rows` into `output` (sweep.md, report.json), committed, and printed.
 // pyramidFormat: empty unless hardware sampling.
 void writeSummary(probe::StagedOutput& output, const std::vector<SweepRow>& rows, const std::string& name, const std::string& driver,
-                  const std::string& sampling, const std::string& pyramidFormat, int size, int levelCount) {
-    const SweepSummary summary = summarizeSweep(rows);
+                  const std::string& sampling, const std::string& pyramidFormat, const SweepShape& shape) {
+    const SweepSummary summary = summarizeSweep(rows, shape.firstLevel);
     // "hardware sampling, rgba32f pyramid" or "exact sampling", for the Markdown's device line.
     const std::string samplingText =
         pyramidFormat.empty() ? fmt::format("{} sampling", sampling) : fmt::format("{} sampling, {} pyramid", sampling, pyramidFormat);
     const nlohmann::json header = reportHeader("sweep");
-    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {}", name, driver, samplingText), size, levelCount,
-                       header);
-    nlohmann::json report = sweepSummaryJson(summary, name, driver, size, levelCount);
+    writeSweepMarkdown(output.file("sweep.md"), summary, rows, fmt::format("{} ({}), {}", name, driver, samplingText), shape, header);
+    nlohmann::json report = sweepSummaryJson(summary, name, driver, shape);
     report.update(header);
     report["sampling"] = sampling;
     if (!pyramidFormat.empty()) report["pyramid_format"] = pyramidFormat;
@@ -242,26 +255,28 @@ void summarizeAgain(const SweepOptions& o) {
     const std::filesystem::path dir = o.summarize;
     const std::vector<SweepRow> rows = readSweepCsv(dir / "sweep.csv");
     std::string name, driver, sampling, pyramidFormat;
-    int size = 0, levelCount = 0;
+    SweepShape shape;
     try {
         const nlohmann::json previous = probe::parseJsonFile(probe::readTextFile(dir / "report.json"), dir / "report.json", "sweep report");
         name = previous.at("device").at("name").get<std::string>();
         driver = previous.at("device").at("driver").get<std::string>();
         sampling = previous.at("sampling").get<std::string>();
         pyramidFormat = previous.value("pyramid_format", "");
-        size = previous.at("face_size").get<int>();
-        levelCount = previous.at("level_count").get<int>();
+        shape.size = previous.at("face_size").get<int>();
+        shape.levelCount = previous.at("level_count").get<int>();
+        shape.lobe = previous.value("lobe", "ggx");
+        shape.firstLevel = previous.value("first_level", 1);
     } catch (const nlohmann::json::exception&) {
         throw probe::ProbeError(
             fmt::format("{}: not a sweep report (device, sampling, face_size or level_count missing)", (dir / "report.json").string()));
     }
     probe::StagedOutput output(o.out, {dir}, o.force);
     writeSweepCsv(output.file("sweep.csv"), rows);
-    writeSummary(output, rows, name, driver, sampling, pyramidFormat, size, levelCount);
+    writeSummary(output, rows, name, driver, sampling, pyramidFormat, shape);
 }
 
 // A method's impulse-response L1 per level over stratified texels (it does not depend on the probe).
-std::vector<probe::ImpulseError> methodImpulseErrors(const SweepOptions& o, int levelCount, const Method& method,
+std::vector<probe::ImpulseError> methodImpulseErrors(const SweepOptions& o, int levelCount, probe::Lobe lobe, const Method& method,
                                                      std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>>& operators) {
     const probe::PyramidSettings pyramid = method.settings.method.pyramid();
     auto& ops = operators[pyramid.kind];
@@ -276,10 +291,8 @@ std::vector<probe::ImpulseError> methodImpulseErrors(const SweepOptions& o, int 
         // A paraboloid map's level 0 is a copy, as every method's.
         if (paraboloid && probe::levelAlpha(probe::RoughnessMapping::gltf, m, levelCount) > 0.0)
             impulse.push_back(probe::impulseError([&](const probe::Texel& t) { return paraboloid->response(m, t); }, o.size, levelCount,
-                                                  probe::RoughnessMapping::gltf, probe::Lobe::ggx, m, texels));
-        else
-            impulse.push_back(
-                probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, probe::Lobe::ggx, m, texels));
+                                                  probe::RoughnessMapping::gltf, lobe, m, texels));
+        else impulse.push_back(probe::impulseError(method.taps, ops, o.size, levelCount, probe::RoughnessMapping::gltf, lobe, m, texels));
     }
     return impulse;
 }
@@ -323,6 +336,7 @@ void runSweep(const SweepOptions& o) {
                 throw probe::ProbeError(fmt::format("{} {}: must be 1 to {}", flag, samples, probe::kMaxSamples));
     const int levelCount = probe::defaultLevelCount(o.size);
     probe::validateSizeAndLevels(o.size, levelCount);
+    const probe::Lobe lobe = probe::parseLobe(o.lobe);
     std::vector<std::filesystem::path> inputs{o.tables};
     if (!o.hdriDir.empty()) inputs.emplace_back(o.hdriDir);
     probe::StagedOutput output(o.out, inputs, o.force);
@@ -330,9 +344,11 @@ void runSweep(const SweepOptions& o) {
     deviceOptions.choice = o.device;
     const probe::gpu::Device device(deviceOptions);
     const std::vector<NamedProbe> probes = sweepProbes(o);
-    checkReferenceTime(o.size, levelCount, probe::RoughnessMapping::gltf, probe::Lobe::ggx, probes.size(), o.allowLong);
-    const std::vector<NamedTable> tables = sweepTables(o, levelCount);
-    std::vector<Method> methods = sweepMethods(o, levelCount, tables);
+    checkReferenceTime(o.size, levelCount, probe::RoughnessMapping::gltf, lobe, probes.size(), o.allowLong);
+    const std::vector<NamedTable> tables = sweepTables(o, levelCount, lobe);
+    const std::vector<NamedTable> standIns =
+        lobe == probe::Lobe::ggx ? std::vector<NamedTable>{} : sweepTables(o, levelCount, probe::Lobe::ggx);
+    std::vector<Method> methods = sweepMethods(o, levelCount, tables, standIns, lobe);
     probe::printToStderr(fmt::format("sweep: {} probes x {} methods, {}^2, {} levels, on {}\n", probes.size(), methods.size(), o.size,
                                      levelCount, device.info().name));
 
@@ -346,14 +362,14 @@ void runSweep(const SweepOptions& o) {
 
     std::vector<probe::CubeLevels> references;
     for (std::size_t p = 0; p < probes.size(); ++p) {
-        references.push_back(probe::referenceFilter(probes[p].cube, levelCount, probe::RoughnessMapping::gltf));
+        references.push_back(probe::referenceFilter(probes[p].cube, levelCount, probe::RoughnessMapping::gltf, {}, lobe));
         printProgress("reference", p + 1, probes.size());
     }
 
     std::vector<SweepRow> rows;
     std::map<probe::PyramidKind, std::vector<probe::DownsampleOperator>> operators;
     for (std::size_t k = 0; k < methods.size(); ++k) {
-        const std::vector<probe::ImpulseError> impulse = methodImpulseErrors(o, levelCount, methods[k], operators);
+        const std::vector<probe::ImpulseError> impulse = methodImpulseErrors(o, levelCount, lobe, methods[k], operators);
         for (std::size_t p = 0; p < probes.size(); ++p) {
             const probe::CubeLevels out = filters[k]->run(probes[p].cube);
             for (int m = 0; m < levelCount; ++m)
@@ -369,7 +385,8 @@ void runSweep(const SweepOptions& o) {
     const std::string sampling(probe::gpu::samplingName(first.sampling()));
     const std::string pyramidFormat(first.sampling() == probe::gpu::Sampling::hardware ? probe::gpu::formatName(first.pyramidFormat())
                                                                                        : "");
-    writeSummary(output, rows, device.info().name, device.info().driver, sampling, pyramidFormat, o.size, levelCount);
+    const SweepShape shape{o.size, levelCount, std::string(probe::lobeName(lobe)), firstLevel(lobe, levelCount)};
+    writeSummary(output, rows, device.info().name, device.info().driver, sampling, pyramidFormat, shape);
 }
 
 } // namespace
@@ -394,7 +411,12 @@ void addSweepCommand(CLI::App& app) {
     cmd->add_option("--texels", o->texelBudget,
                     "Stratified output texels per level for the impulse L1 (at least 1; a level with fewer measures all)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size are swept")->capture_default_str();
+    cmd->add_option("--tables", o->tables, "Folder of table files (*.json): its glTF tables of the size and lobe are swept")
+        ->capture_default_str();
+    cmd->add_option("--lobe", o->lobe,
+                    "The lobe every method filters with and is measured against: ggx, or charlie (sheen; beside its tables and FIS, "
+                    "the GGX tables' levels that engines read in its place)")
+        ->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,
                     "Hardware sampling's pyramid image for the tables and FIS on the cube: auto, rgba32f or rgba16f")

@@ -24,7 +24,7 @@ double median(std::vector<double> v) {
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses) {
+std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses, int firstLevel) {
     struct Sums {
         SweepMethod method;
         double image = 0.0, impulse = 0.0;
@@ -39,7 +39,7 @@ std::vector<MethodScore> score(const std::vector<SweepRow>& rows, bool impulses)
         Sums& s = byMethod[r.method.name];
         s.method = r.method;
         s.times[r.probe] = r.gpuMs;
-        if (r.level == 0) continue; // the mirror level is a copy for every method
+        if (r.level < firstLevel) continue; // a mirror level 0 is a copy for every method
         s.image += r.imageL1;
         s.impulse += r.impulseL1Mean;
         ++s.count;
@@ -158,7 +158,7 @@ std::vector<TableVersusFis> tablesVersusFront(const std::vector<MethodScore>& sc
     std::vector<TableVersusFis> result;
     if (front.empty()) return result;
     for (const MethodScore& s : scores) {
-        if (s.method.family != "table") continue;
+        if (s.method.family != "table" && s.method.family != "ggx-levels") continue;
         TableVersusFis t{s.method.name, errorOf(s, impulse), s.gpuMs, s.method.readsPerTexel, 0.0, {}};
         t.errorAtTableTime = t.error / frontErrorAtTime(front, s.gpuMs, impulse);
         if (const std::optional<double> ms = frontTimeAtError(front, t.error, impulse)) t.fisTimeAtTableError = *ms / s.gpuMs;
@@ -170,7 +170,7 @@ std::vector<TableVersusFis> tablesVersusFront(const std::vector<MethodScore>& sc
 
 } // namespace
 
-bool isFisFamily(const std::string& family) { return family != "table"; }
+bool isFisFamily(const std::string& family) { return family == "fis" || family == "fis-mix" || family == "fis-paraboloid"; }
 
 std::vector<MethodScore> fisFront(const std::vector<MethodScore>& scores, bool impulse) {
     std::vector<MethodScore> fis;
@@ -204,10 +204,10 @@ std::optional<double> frontTimeAtError(const std::vector<MethodScore>& front, do
     return std::nullopt;
 }
 
-SweepSummary summarizeSweep(const std::vector<SweepRow>& rows) {
+SweepSummary summarizeSweep(const std::vector<SweepRow>& rows, int firstLevel) {
     SweepSummary summary;
-    summary.images = score(rows, false);
-    summary.impulses = score(rows, true);
+    summary.images = score(rows, false, firstLevel);
+    summary.impulses = score(rows, true, firstLevel);
     // The best single uniform FIS setting over the image probes (lowest geometric mean error over
     // N): its FIS-32 sets the time budget.
     std::map<std::string, std::pair<double, int>> logSums;
@@ -298,19 +298,24 @@ std::string formatSummary(const SweepSummary& summary) {
 }
 
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
-                        const std::string& device, int size, int levelCount, const nlohmann::json& header) {
+                        const std::string& device, const SweepShape& shape, const nlohmann::json& header) {
     std::ostringstream out;
-    out << fmt::format("# Sweep: {}^2, {} levels (glTF), on {}\n\n", size, levelCount, device);
+    out << fmt::format("# Sweep: {}^2, {} levels (glTF), {} lobe, on {}\n\n", shape.size, shape.levelCount, shape.lobe, device);
     out << fmt::format("Written by `{}` on {}.\n\n", header.at("command_line").get<std::string>(), header.at("date").get<std::string>());
-    out << "Errors are means over levels >= 1 (level 0 is a copy for every method); image L1 over the non-impulse probes, "
-           "impulse L1 over stratified output texels; GPU time covers all levels (both passes), the median of the repeats "
-           "on one probe (it does not depend on the content); reads are trilinear pyramid reads per output texel of levels >= 1 "
-           "(a table's taps in every frame the texel blends; FIS's samples).\n\n"
-           "FIS is the Pareto front of every FIS method below, per error measure: at each time the lowest error any FIS "
+    const std::string levels = shape.firstLevel > 0 ? "levels >= 1 (level 0 is a copy for every method)" : "every level";
+    out << fmt::format("Errors are means over {}; image L1 over the non-impulse probes, impulse L1 over stratified output texels, "
+                       "against the exact {} reference; GPU time covers all levels (both passes), the median of the repeats on one "
+                       "probe (it does not depend on the content); reads are trilinear pyramid reads per output texel of those levels "
+                       "(a table's taps in every frame the texel blends; FIS's samples).\n\n",
+                       levels, shape.lobe);
+    if (shape.lobe != "ggx")
+        out << "The `ggx-levels` methods are what engines read in place of the lobe's own levels: the GGX table's levels at "
+               "the same roughness (Filament's sheen), measured against this lobe.\n\n";
+    out << "FIS is the Pareto front of every FIS method below, per error measure: at each time the lowest error any FIS "
            "variant reaches, interpolated between its points in log error against log time (outside them, the nearer end).\n\n";
     out << "```\n" << formatSummary(summary) << "```\n\n";
-    out << "Each table against the FIS front: its error over the front's at the table's time, and the front's time over the "
-           "table's at the table's error.\n\n";
+    out << "Each table (and stand-in) against the FIS front: its error over the front's at the table's time, and the front's "
+           "time over the table's at the table's error.\n\n";
     out << "| table | GPU ms | reads/texel | image L1 | / front's at that time | front's time at that error | impulse L1 | / front's at "
            "that time | front's time at that error |\n"
            "|---|---|---|---|---|---|---|---|---|\n";
@@ -335,14 +340,14 @@ void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& s
            "|---|---|---|---|---|---|---|---|---|\n";
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         out << fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {:.4f} | {:.4f} | {:.3f} |\n", s.method.name, s.method.family,
-                           s.method.count, s.method.family != "table" ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid,
+                           s.method.count, isFisFamily(s.method.family) ? fmt::format("{}", s.method.bias) : "-", s.method.pyramid,
                            s.method.readsPerTexel, s.imageL1, s.impulseL1, s.gpuMs);
     out << fmt::format("\n{} rows in sweep.csv.\n", rows.size());
     probe::writeFile(path, out.str());
 }
 
-nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,
-                                int levelCount) {
+nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver,
+                                const SweepShape& shape) {
     nlohmann::json methods = nlohmann::json::array();
     for (const MethodScore& s : summary.images.empty() ? summary.impulses : summary.images)
         methods.push_back({{"method", s.method.name},
@@ -358,8 +363,10 @@ nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& 
                            {"gpu_ms", s.gpuMs}});
     return {{"command", "sweep"},
             {"device", {{"name", device}, {"driver", driver}}},
-            {"face_size", size},
-            {"level_count", levelCount},
+            {"face_size", shape.size},
+            {"level_count", shape.levelCount},
+            {"lobe", shape.lobe},
+            {"first_level", shape.firstLevel},
             {"best_fis_setting", summary.bestFisSetting},
             {"images", ratiosJson(summary.imageRatios)},
             {"impulses", ratiosJson(summary.impulseRatios)},

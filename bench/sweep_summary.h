@@ -16,8 +16,10 @@ namespace probefilter {
 
 struct SweepMethod {
     std::string name;
-    std::string family; // "table", "fis" (one sample count) or "fis-mix" (per level: probe::mixedLevelSamples)
-    int count = 0;      // taps per frame, or samples (at level 1 for a mix)
+    // "table"; "fis" (one sample count), "fis-mix" (per level: probe::mixedLevelSamples) or
+    // "fis-paraboloid"; "ggx-levels" (a Charlie sweep's stand-in: a GGX table read at the sheen roughness)
+    std::string family;
+    int count = 0; // taps per frame, or samples (at level 1 for a mix)
     double bias = 0.0;
     std::string pyramid;
     std::string form;           // tables: "quad" or "const"
@@ -38,8 +40,9 @@ struct SweepRow {
     double levelGpuMs = 0.0; // the part of it that this level's pass-2 dispatch takes, median of the repeats
 };
 
-// One method over a probe set: image L1 averaged over probes and levels >= 1, impulse L1 averaged
-// over levels >= 1, median GPU time over probes.
+// One method over a probe set: image L1 averaged over probes and the levels from the sweep's first
+// (1 where level 0 is a copy, GGX; 0 for Charlie), impulse L1 averaged over those levels, median GPU
+// time over probes.
 struct MethodScore {
     SweepMethod method;
     double imageL1 = 0.0;
@@ -47,7 +50,7 @@ struct MethodScore {
     double gpuMs = 0.0;
 };
 
-bool isFisFamily(const std::string& family); // every family but "table"
+bool isFisFamily(const std::string& family); // "fis", "fis-mix" and "fis-paraboloid"
 
 // The Pareto front of the FIS methods on one error measure: ascending in time, strictly descending
 // in error; every FIS method has a point of the front no slower and no less accurate.
@@ -77,7 +80,7 @@ struct Ratios {
     std::string frontMostAccurate;          // the front's last point
 };
 
-// One table against the FIS front at the table's own time and its own error.
+// One table (or stand-in) against the FIS front at the table's own time and its own error.
 struct TableVersusFis {
     std::string table;
     double error = 0.0, gpuMs = 0.0, readsPerTexel = 0.0;
@@ -91,10 +94,18 @@ struct SweepSummary {
     std::string bestFisSetting;                             // the best single (bias, pyramid) over the image probes
     std::vector<MethodScore> imageFront, impulseFront;      // fisFront of each measure
     std::optional<Ratios> imageRatios, impulseRatios;       // against the fronts
-    std::vector<TableVersusFis> tableImages, tableImpulses; // every table against the fronts, by time
+    std::vector<TableVersusFis> tableImages, tableImpulses; // every table and stand-in against the fronts, by time
 };
 
-SweepSummary summarizeSweep(const std::vector<SweepRow>& rows);
+// firstLevel: the first level the errors average over (1 where level 0 is a copy for every method).
+SweepSummary summarizeSweep(const std::vector<SweepRow>& rows, int firstLevel = 1);
+
+// What a sweep filtered with, for its reports: the lobe ("ggx", "charlie") and the first level measured.
+struct SweepShape {
+    int size = 0, levelCount = 0;
+    std::string lobe = "ggx";
+    int firstLevel = 1;
+};
 
 void writeSweepCsv(const std::filesystem::path& path, const std::vector<SweepRow>& rows);
 // The rows of a sweep.csv that writeSweepCsv wrote; ProbeError naming the file and line otherwise.
@@ -102,9 +113,8 @@ std::vector<SweepRow> readSweepCsv(const std::filesystem::path& path);
 // sweep.md: the summary, every table against the FIS front and every method; `header` (reportHeader)
 // gives the command line and date it names.
 void writeSweepMarkdown(const std::filesystem::path& path, const SweepSummary& summary, const std::vector<SweepRow>& rows,
-                        const std::string& device, int size, int levelCount, const nlohmann::json& header);
-nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, int size,
-                                int levelCount);
+                        const std::string& device, const SweepShape& shape, const nlohmann::json& header);
+nlohmann::json sweepSummaryJson(const SweepSummary& summary, const std::string& device, const std::string& driver, const SweepShape& shape);
 std::string formatSummary(const SweepSummary& summary);
 
 } // namespace probefilter

@@ -21,9 +21,9 @@ def load(folder):
     return rows, report
 
 
-def scores(rows, level=None):
-    """Per method over the image probes: mean image L1 (levels >= 1, or one level) and median time
-    (of all levels, or of that level's pass-2 dispatch)."""
+def scores(rows, level=None, first_level=1):
+    """Per method over the image probes: mean image L1 (levels >= first_level, or one level) and median
+    time (of all levels, or of that level's pass-2 dispatch)."""
     errors, times, meta = defaultdict(list), defaultdict(dict), {}
     for r in rows:
         if r["probe"].startswith("impulse"):
@@ -32,7 +32,7 @@ def scores(rows, level=None):
         meta[r["method"]] = r
         if level is None:
             times[r["method"]][r["probe"]] = float(r["gpu_ms"])
-        if (level is None and lv >= 1) or lv == level:
+        if (level is None and lv >= first_level) or lv == level:
             errors[r["method"]].append(float(r["image_l1"]))
             if level is not None:
                 times[r["method"]][r["probe"]] = float(r["level_gpu_ms"])
@@ -50,6 +50,11 @@ def pareto(points):
             front.append((ms, err))
             best = err
     return front
+
+
+def is_fis(family):
+    """FIS of any kind: the methods the FIS front is made of (not tables, nor a Charlie sweep's GGX levels)."""
+    return family.startswith("fis")
 
 
 def setting(meta):
@@ -75,7 +80,8 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
     for name, (err, ms, meta) in points.items():
         key = {"table": f"table ({meta['form']}{', per-level mix' if 'mix' in name else ''})", "fis": f"FIS {setting(meta)}",
                "fis-mix": f"FIS per-level mix, {setting(meta)}",
-               "fis-paraboloid": f"FIS dual-paraboloid, bias {float(meta['bias']):g}"}[meta["family"]]
+               "fis-paraboloid": f"FIS dual-paraboloid, bias {float(meta['bias']):g}",
+               "ggx-levels": "GGX levels in its place"}[meta["family"]]
         groups[key].append((ms, err, meta, name))
     for key, pts in sorted(groups.items()):
         pts.sort(key=lambda p: p[0])
@@ -93,7 +99,7 @@ def plot(ax, points, title, best_setting, ratios=(), xlabel="GPU time, all level
             ax.annotate(count, (ms, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
     front = pareto(points)
     ax.plot([p[0] for p in front], [p[1] for p in front], "k--", linewidth=1, label="Pareto front")
-    fis_front = pareto({m: p for m, p in points.items() if p[2]["family"] != "table"})
+    fis_front = pareto({m: p for m, p in points.items() if is_fis(p[2]["family"])})
     ax.plot([p[0] for p in fis_front], [p[1] for p in fis_front], color="tab:red", linestyle=":", linewidth=1.6,
             label="FIS front (every FIS method)")
     ax.set_xscale("log")
@@ -124,7 +130,7 @@ def plot_cost(report, cost, path):
         groups = defaultdict(list)
         for m in report["methods"]:
             family = m["family"]
-            group = "table" if family == "table" else f"{family}, {setting(m)}"
+            group = f"{family}, {setting(m)}" if is_fis(family) else family
             groups[group].append((m[key_x], m[key], m))
         for group, pts in sorted(groups.items()):
             pts.sort(key=lambda p: p[0])
@@ -135,7 +141,7 @@ def plot_cost(report, cost, path):
             if table:
                 for x, err, m in pts:
                     ax.annotate(m["method"].split("_", 1)[-1], (x, err), fontsize=6, xytext=(3, 3), textcoords="offset points")
-        front = pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if m["family"] != "table"})
+        front = pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if is_fis(m["family"])})
         ax.plot([p[0] for p in front], [p[1] for p in front], color="tab:red", linestyle=":", linewidth=1.6,
                 label=f"FIS front over {noun}")
         ax.set_xscale("log")
@@ -179,7 +185,7 @@ def cost_table(report, cost):
     key_x, _, column, noun, _ = cost
     lines = [f"| table | {column} | image L1 | / FIS front's at that cost | front's {noun} at that error | impulse L1 | "
              f"/ FIS front's at that cost | front's {noun} at that error |", "|---|---|---|---|---|---|---|---|"]
-    fronts = {key: pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if m["family"] != "table"})
+    fronts = {key: pareto({m["method"]: (m[key], m[key_x], m) for m in report["methods"] if is_fis(m["family"])})
               for key in ("image_l1", "impulse_l1")}
     for m in sorted((m for m in report["methods"] if m["family"] == "table"), key=lambda m: m[key_x]):
         cells = [f"`{m['method']}`", f"{m[key_x]:.1f}" if key_x == "reads_per_texel" else f"{m[key_x]:.0f}"]
@@ -209,7 +215,7 @@ def instructions_markdown(report, instructions):
     return "\n".join(lines) + "\n"
 
 
-def level_table(rows, best_setting):
+def level_table(rows, best_setting, first_level):
     """Per table, level and probe: the table's image L1 against FIS whose pass 2 for that level is no
     slower than the table's (level_gpu_ms), and every pair it loses: against the most accurate FIS
     method of the sweep for that very probe and level (any sample count, bias and pyramid), and
@@ -221,13 +227,13 @@ def level_table(rows, best_setting):
     error, level_ms, family, setting = defaultdict(dict), defaultdict(dict), {}, {}
     for r in rows:
         level = int(r["level"])
-        if level == 0:
+        if level < first_level:
             continue
         family[r["method"]] = r["family"]
         setting[r["method"]] = f"bias {float(r['bias']):g}, {r['pyramid']}"
         level_ms[r["method"]][level] = float(r["level_gpu_ms"])
         error[r["method"]][(r["probe"], level)] = float(r["image_l1"])
-    fis = [m for m in family if family[m] != "table"]
+    fis = [m for m in family if is_fis(family[m])]
     at_best = [m for m in fis if family[m] == "fis" and setting[m] == best_setting]
     tables = sorted((m for m in family if family[m] == "table"), key=lambda m: sum(level_ms[m].values()))
 
@@ -281,13 +287,15 @@ def main(folder):
     best = report["best_fis_setting"]
     device = report["device"]["name"]
     fig, ax = plt.subplots(figsize=(8, 6))
-    plot(ax, scores(rows), f"{report['face_size']}^2, levels 1..{report['level_count'] - 1}, {device}", best,
+    first = report.get("first_level", 1)
+    plot(ax, scores(rows, first_level=first),
+         f"{report['face_size']}^2, levels {first}..{report['level_count'] - 1}, {report.get('lobe', 'ggx')} lobe, {device}", best,
          [r for r in (report.get("images"),) if r])
     ax.legend(fontsize=6, loc="upper right")
     fig.tight_layout()
     fig.savefig(folder / "error_vs_time.png", dpi=130)
 
-    levels = range(1, report["level_count"])
+    levels = range(first, report["level_count"])
     cols = 3
     fig, axes = plt.subplots(math.ceil(len(levels) / cols), cols, figsize=(12, 3.6 * math.ceil(len(levels) / cols)), squeeze=False)
     for ax, level in zip(axes.flat, levels):
@@ -299,7 +307,7 @@ def main(folder):
     fig.savefig(folder / "error_vs_time_per_level.png", dpi=110)
     plot_cost(report, READS, folder / "error_vs_reads.png")
     (folder / "reads.md").write_text(cost_table(report, READS))
-    (folder / "levels.md").write_text(level_table(rows, best))
+    (folder / "levels.md").write_text(level_table(rows, best, report.get("first_level", 1)))
     written = ["error_vs_time.png", "error_vs_time_per_level.png", "error_vs_reads.png", "reads.md", "levels.md"]
     # bench/scripts/shader-stats --sweep DIR writes it (bench/scripts/sweep runs it).
     if (folder / "instructions.json").exists():
