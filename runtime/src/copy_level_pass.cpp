@@ -22,7 +22,7 @@ struct CopyLevelConstants {
 } // namespace
 
 std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std::span<const uint32_t>, 3> variants) {
-    if (impl.convertOutput) return variants[0];
+    if (impl.plan.convertOutput) return variants[0];
     switch (impl.settings.outputFormat) {
     case VK_FORMAT_R16G16B16A16_SFLOAT: return variants[1];
     case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return variants[2];
@@ -35,9 +35,9 @@ std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl)
 }
 
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {
-    const CopyLevelConstants constants{impl.settings.faceSize, level, impl.outputOffsets[level], impl.outputOffsets[level + 1]};
+    const CopyLevelConstants constants{impl.settings.faceSize, level, impl.plan.outputOffsets[level], impl.plan.outputOffsets[level + 1]};
     dispatchPass(impl, commandBuffer, *impl.copy, methodKindName(impl.settings.method.kind), level, constants,
-                 groupsFor(impl.outputOffsets[level + 1] - impl.outputOffsets[level]));
+                 groupsFor(impl.plan.outputOffsets[level + 1] - impl.plan.outputOffsets[level]));
 }
 
 } // namespace probe::gpu

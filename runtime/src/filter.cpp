@@ -18,20 +18,6 @@ namespace {
 
 constexpr VkDeviceSize kTexelBytes = 4 * sizeof(float); // RGBA32F, the buffers' texels
 
-// First texel of each level of a packed cube with `levels` levels from `faceSize`, and the total.
-std::vector<uint32_t> packedOffsets(int faceSize, int levels) {
-    std::vector<uint32_t> offsets{0};
-    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(texelCount(faceSize >> m)));
-    return offsets;
-}
-
-// First texel of each level of the bordered pyramid (buffer.h), and the total.
-std::vector<uint32_t> pyramidOffsetsFor(int faceSize, int levels) {
-    std::vector<uint32_t> offsets{0};
-    for (int m = 0; m < levels; ++m) offsets.push_back(offsets.back() + static_cast<uint32_t>(pyramidLevelTexels(faceSize >> m)));
-    return offsets;
-}
-
 // Per pyramid level: the unit texel-centre directions and exact solid angles, from probecore.
 std::vector<float> geometryTexels(int faceSize, int levels) {
     std::vector<float> texels;
@@ -42,63 +28,6 @@ std::vector<float> geometryTexels(int faceSize, int levels) {
                 texels.push_back(static_cast<float>(value));
     }
     return texels;
-}
-
-bool has(const Device& device, VkFormat format, VkFormatFeatureFlags needed) { return (device.impl().features(format) & needed) == needed; }
-
-// The dual-paraboloid map (shaders/paraboloid.glsl): both images of every level, down to 1x1.
-std::size_t paraboloidMapTexels(int faceSize) {
-    std::size_t texels = 0;
-    for (int size = paraboloidSize(faceSize); size >= 1; size /= 2) texels += 2 * static_cast<std::size_t>(size) * size;
-    return texels;
-}
-
-bool readsParaboloid(const FilterMethod& method) { return method.kind == MethodKind::fis && method.fis.map == FisMap::paraboloid; }
-
-Sampling resolveSampling(const Device& device, const FilterSettings& s) {
-    if (s.method.kind == MethodKind::reference) return Sampling::exact; // it reads every texel as it is
-    if (readsParaboloid(s.method)) {
-        // The map lives in a buffer and is read with the shader's own arithmetic.
-        if (s.sampling == Sampling::hardware)
-            throw ParameterError("sampling", "hardware: FIS on a paraboloid map reads it exactly (use exact or automatic)");
-        return Sampling::exact;
-    }
-    if (s.sampling != Sampling::automatic) return s.sampling;
-    return device.info().type == "cpu" ? Sampling::exact : Sampling::hardware;
-}
-
-// The requested format, where the device filters and stores it. By default RGBA16F, the format
-// engines filter in: the sampler reads half the bytes per tap (docs/benchmarks.md times both), and
-// run() scales a source brighter than 65504 into its range; RGBA32F where a device lacks it.
-VkFormat choosePyramidFormat(const Device& device, VkFormat requested) {
-    const VkFormatFeatureFlags needed =
-        VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
-    if (requested != VK_FORMAT_UNDEFINED) {
-        if (!has(device, requested, needed))
-            throw ProbeError(fmt::format("Vulkan: {} cannot filter and store {} images, which the pyramid needs (use the other format)",
-                                         device.info().name, formatName(requested)));
-        return requested;
-    }
-    for (VkFormat format : {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT})
-        if (has(device, format, needed)) return format;
-    throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R16G16B16A16_SFLOAT nor R32G32B32A32_SFLOAT images, which "
-                                 "the pyramid of hardware sampling needs (use exact sampling)",
-                                 device.info().name));
-}
-
-// Whether a B10G11R11 output goes through the conversion pass; throws for a format the runtime
-// cannot write.
-bool checkOutputFormat(const Device& device, VkFormat format) {
-    if (format != VK_FORMAT_R32G32B32A32_SFLOAT && format != VK_FORMAT_R16G16B16A16_SFLOAT && format != VK_FORMAT_B10G11R11_UFLOAT_PACK32)
-        throw ParameterError("outputFormat", fmt::format("{}: the output cube is R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT or "
-                                                         "B10G11R11_UFLOAT_PACK32",
-                                                         int(format)));
-    if (has(device, format, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT)) return false;
-    if (format == VK_FORMAT_B10G11R11_UFLOAT_PACK32 && has(device, format, VK_FORMAT_FEATURE_TRANSFER_DST_BIT) &&
-        has(device, VK_FORMAT_R32_UINT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT))
-        return true;
-    throw ProbeError(fmt::format("Vulkan: {} cannot store {} images (storage image usage), which the output cube needs", device.info().name,
-                                 formatName(format)));
 }
 
 } // namespace
@@ -140,116 +69,11 @@ VkFormat parseFormat(std::string_view name) {
     throw ParameterError("outputFormat", fmt::format("{}: expected rgba16f, rgba32f or b10g11r11", name));
 }
 
-namespace {
+void Filter::checkLimits(const Device& device, const FilterSettings& settings) { planFilter(settings, capabilitiesOf(device)); }
 
-// What a Filter of `s` computes and the texel counts of its large buffers, from the settings and the
-// device's features alone: nothing is allocated. Throws for settings the method or the device refuses.
-struct FilterShape {
-    int pyramidLevels = 0, pyramidDepth = 0;
-    std::vector<int> computedLevels;
-    uint32_t copyLevels = 0;
-    bool filters = false; // a computed level is filtered, not copied
-    bool buildsPyramid = false, paraboloid = false, convertOutput = false;
-    Sampling sampling = Sampling::exact;
-    std::vector<uint32_t> outputOffsets, pyramidOffsets;
-    // The geometry buffer holds every pyramid level's directions and solid angles where exact sampling
-    // or the box pyramid reads them (hardware sampling computes its directions), else one texel.
-    bool geometry = false;
-    std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 1;
-};
-
-FilterShape shapeOf(const Device& d, const FilterSettings& s) {
-    validateSizeAndLevels(s.faceSize, s.levelCount);
-    validateMappingLevels(s.mapping, s.levelCount);
-    validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
-    if (s.inFlight < 1 || s.inFlight > 64)
-        throw ParameterError("inFlight", fmt::format("{}: recordings in flight are 1 to 64", s.inFlight));
-    FilterShape shape;
-    shape.pyramidLevels = pyramidLevelCount(s.faceSize);
-    shape.pyramidDepth = s.pyramidDepth < 0 ? shape.pyramidLevels - 1 : s.pyramidDepth;
-    if (shape.pyramidDepth > shape.pyramidLevels - 1)
-        throw ParameterError("pyramidDepth", fmt::format("{}: a {}^2 pyramid has levels 1..{} below the source", s.pyramidDepth, s.faceSize,
-                                                         shape.pyramidLevels - 1));
-    for (int m = 0; m < s.levelCount; ++m) shape.computedLevels.push_back(m);
-    if (!s.computedLevels.empty()) {
-        for (std::size_t k = 0; k < s.computedLevels.size(); ++k)
-            if (s.computedLevels[k] < 0 || s.computedLevels[k] >= s.levelCount || (k > 0 && s.computedLevels[k] <= s.computedLevels[k - 1]))
-                throw ParameterError("computedLevels",
-                                     fmt::format("{}: not one of 0..{} in ascending order", s.computedLevels[k], s.levelCount - 1));
-        shape.computedLevels = s.computedLevels;
-    }
-    shape.outputOffsets = packedOffsets(s.faceSize, s.levelCount);
-    for (int m = 0; m < s.levelCount; ++m)
-        if (lobeAlpha(s.method.lobe, levelAlpha(s.mapping, m, s.levelCount)) <= 0.0) shape.copyLevels |= 1u << m;
-    const bool filters =
-        std::any_of(shape.computedLevels.begin(), shape.computedLevels.end(), [&](int m) { return (shape.copyLevels & (1u << m)) == 0; });
-    shape.filters = filters;
+Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization)
+    : device(d), settings(s), plan(planFilter(s, capabilitiesOf(d))) {
     const MethodKind kind = s.method.kind;
-    shape.buildsPyramid = kind != MethodKind::reference && filters;
-    shape.paraboloid = readsParaboloid(s.method) && filters;
-    if (shape.paraboloid) shape.pyramidDepth = 0; // the map reads the source alone
-    shape.sampling = resolveSampling(d, s);
-    if (s.pyramidFormat != VK_FORMAT_UNDEFINED) {
-        if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT)
-            throw ParameterError("pyramidFormat",
-                                 fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT", int(s.pyramidFormat)));
-        if (shape.sampling == Sampling::exact)
-            throw ParameterError("pyramidFormat",
-                                 fmt::format("{}: only hardware sampling's pyramid is an image; exact sampling's is a float32 "
-                                             "buffer (choose hardware sampling)",
-                                             formatName(s.pyramidFormat)));
-    }
-    if (kind == MethodKind::table && shape.sampling == Sampling::exact && !d.impl().computeSubgroupVote)
-        throw ProbeError(fmt::format("Vulkan: {} has no subgroup vote operations in compute shaders, which the table method's exact "
-                                     "sampling needs (use hardware sampling)",
-                                     d.info().name));
-    shape.convertOutput = checkOutputFormat(d, s.outputFormat);
-
-    // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
-    shape.pyramidOffsets = pyramidOffsetsFor(s.faceSize, shape.pyramidLevels);
-    if (shape.buildsPyramid && shape.sampling == Sampling::exact) shape.pyramidTexels = shape.pyramidOffsets.back();
-    else if (kind == MethodKind::reference && filters) shape.pyramidTexels = shape.pyramidOffsets[1];
-    if (kind == MethodKind::reference) shape.accumulatorTexels = shape.outputOffsets.back();
-    if (shape.paraboloid) shape.accumulatorTexels = paraboloidMapTexels(s.faceSize);
-    shape.geometry = shape.sampling == Sampling::exact || s.method.pyramid().kind == PyramidKind::box;
-    if (shape.geometry) {
-        shape.geometryTexels = 0;
-        for (int m = 0; m < shape.pyramidLevels; ++m) shape.geometryTexels += texelCount(s.faceSize >> m);
-    }
-
-    // Every storage buffer within the device's range, and the texel buffers within its element count.
-    const VkPhysicalDeviceLimits& limits = d.impl().limits;
-    for (const std::size_t texels : {shape.pyramidTexels, shape.accumulatorTexels, shape.geometryTexels})
-        if (texels * kTexelBytes > limits.maxStorageBufferRange)
-            throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {:.1f} MiB at {}^2, over its maxStorageBufferRange of "
-                                         "{:.1f} MiB; use a smaller --size",
-                                         d.info().name, static_cast<double>(texels * kTexelBytes) / (1 << 20), s.faceSize,
-                                         static_cast<double>(limits.maxStorageBufferRange) / (1 << 20)));
-    if (shape.pyramidTexels > limits.maxTexelBufferElements)
-        throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size",
-                                     d.info().name, limits.maxTexelBufferElements, shape.pyramidTexels));
-    return shape;
-}
-
-} // namespace
-
-void Filter::checkLimits(const Device& device, const FilterSettings& settings) { shapeOf(device, settings); }
-
-Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization) : device(d), settings(s) {
-    FilterShape shape = shapeOf(d, s);
-    pyramidLevels = shape.pyramidLevels;
-    pyramidDepth = shape.pyramidDepth;
-    computedLevels = std::move(shape.computedLevels);
-    copyLevels = shape.copyLevels;
-    buildsPyramid = shape.buildsPyramid;
-    paraboloid = shape.paraboloid;
-    sampling = shape.sampling;
-    convertOutput = shape.convertOutput;
-    outputOffsets = std::move(shape.outputOffsets);
-    pyramidOffsets = std::move(shape.pyramidOffsets);
-    const MethodKind kind = s.method.kind;
-    const bool filters = shape.filters;
-
     std::vector<float> tableData(4, 0.0f);
     if (kind == MethodKind::table) {
         tableData = tableBufferData(*s.method.table);
@@ -257,7 +81,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     } else if (kind == MethodKind::fis) {
         tableData = fisBufferData(s, sampleOffsets);
     }
-    const std::vector<float> geometryData = shape.geometry ? geometryTexels(s.faceSize, pyramidLevels) : std::vector<float>(4, 0.0f);
+    const std::vector<float> geometryData = plan.geometry ? geometryTexels(s.faceSize, plan.pyramidLevels) : std::vector<float>(4, 0.0f);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
     if (table.bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
@@ -266,11 +90,6 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     tableView = BufferView(d.device(), table);
 
     const VkDevice vk = d.device();
-    if (buildsPyramid && sampling == Sampling::hardware) {
-        pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
-        // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
-        pyramidTailLevel = std::max(1, pyramidLevels - kPyramidTailMipCount);
-    }
     placeholder = CubeImageResource(d, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
     placeholderCube = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
     placeholderArray = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
@@ -278,18 +97,16 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     nearest = std::make_unique<Sampler>(vk, false);
     descriptors = std::make_unique<FilterDescriptors>(vk);
 
-    if (buildsPyramid || (kind == MethodKind::reference && filters)) makePyramidPipelines(*this);
+    if (plan.buildsPyramid || (kind == MethodKind::reference && plan.filters)) makePyramidPipelines(*this);
     switch (kind) {
     case MethodKind::table: pass2 = makeTablePipeline(*this); break;
     case MethodKind::fis: pass2 = makeFisPipeline(*this); break;
     case MethodKind::reference: pass2 = makeReferencePipeline(*this); break;
     }
-    if (std::any_of(computedLevels.begin(), computedLevels.end(), [&](int m) { return (copyLevels & (1u << m)) != 0; }))
+    if (std::any_of(plan.computedLevels.begin(), plan.computedLevels.end(), [&](int m) { return plan.isCopy(m); }))
         copy = makeCopyLevelPipeline(*this);
-    if (convertOutput) convert = makeConvertPipeline(*this);
+    if (plan.convertOutput) convert = makeConvertPipeline(*this);
 
-    pyramidTexels = shape.pyramidTexels;
-    accumulatorTexels = shape.accumulatorTexels;
     recordings.push_back(makeRecording());
     current = recordings.front().get();
     batchTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"batch"});
@@ -351,20 +168,20 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     const FilterSettings& s = settings;
     const Device& d = device;
     const VkDevice vk = d.device();
-    r.pyramidBuffer = Buffer(d, pyramidTexels * kTexelBytes, Buffer::Kind::storage);
-    r.accumulator = Buffer(d, accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
+    r.pyramidBuffer = Buffer(d, plan.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    r.accumulator = Buffer(d, plan.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     r.pyramidView = BufferView(vk, r.pyramidBuffer);
-    if (buildsPyramid && sampling == Sampling::hardware) {
-        const int mips = pyramidDepth + 1;
-        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, pyramidFormat,
+    if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
+        const int mips = plan.pyramidDepth + 1;
+        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, plan.pyramidFormat,
                                            VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
+        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
         for (int k = 0; k < mips; ++k) {
-            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
-            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
+            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
+            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
         }
     }
-    if (convertOutput) {
+    if (plan.convertOutput) {
         r.intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
                                            VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
         r.packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
@@ -375,17 +192,17 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
             r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
         }
     }
-    r.pool = descriptors->makePool(uint32_t(pyramidLevels + 2 * s.levelCount));
+    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + 2 * s.levelCount));
 
     const auto segments = [&](std::size_t pass2Segments) {
         std::vector<std::string> passes;
         if (pass1) passes.emplace_back("pyramid");
         passes.resize(passes.size() + pass2Segments, std::string(methodKindName(s.method.kind)));
-        if (convertOutput) passes.emplace_back("convert");
+        if (plan.convertOutput) passes.emplace_back("convert");
         return passes;
     };
     r.passTimer = std::make_unique<GpuTimer>(d, segments(1));
-    r.levelTimer = std::make_unique<GpuTimer>(d, segments(computedLevels.size()));
+    r.levelTimer = std::make_unique<GpuTimer>(d, segments(plan.computedLevels.size()));
     r.sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
     r.timer = r.passTimer.get();
     return set;
@@ -438,10 +255,10 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         descriptors->writeSampled(set, kPyramidCube, placeholderCube.handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
         descriptors->writeMips(set, std::array{placeholderArray.handle()});
     };
-    const bool hardware = buildsPyramid && sampling == Sampling::hardware;
+    const bool hardware = plan.buildsPyramid && plan.sampling == Sampling::hardware;
     r.pyramidSets.clear();
     if (pass1)
-        for (int k = 0; k <= pyramidDepth; ++k) {
+        for (int k = 0; k <= plan.pyramidDepth; ++k) {
             const VkDescriptorSet set = r.pool->allocate();
             common(set);
             if (hardware) {
@@ -450,8 +267,8 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
                                               VK_IMAGE_LAYOUT_GENERAL);
                 // The tail writes its mips (down to the depth); any other dispatch its one mip.
                 std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
-                if (k == pyramidTailLevel)
-                    for (int e = k + 1; e <= pyramidDepth && e < k + kPyramidTailMipCount; ++e)
+                if (k == plan.pyramidTailLevel)
+                    for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
                         mips.push_back(r.pyramidMipArrays[e].handle());
                 descriptors->writeMips(set, mips);
             }
@@ -459,9 +276,9 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         }
     r.levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
     r.convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
-    for (int m : computedLevels) {
+    for (int m : plan.computedLevels) {
         VkImageView target = VK_NULL_HANDLE;
-        if (convertOutput) {
+        if (plan.convertOutput) {
             target = r.intermediateMips[m].handle();
         } else {
             r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
@@ -472,7 +289,7 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         if (hardware) descriptors->writeSampled(set, kPyramidCube, r.pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
         descriptors->writeMips(set, std::array{target});
         r.levelSets[m] = set;
-        if (convertOutput) {
+        if (plan.convertOutput) {
             const VkDescriptorSet c = r.pool->allocate();
             common(c);
             descriptors->writeSampled(c, kPyramidCube, r.intermediateMips[m].handle(), nearest->handle(), VK_IMAGE_LAYOUT_GENERAL);
@@ -491,7 +308,7 @@ void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
 
 void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
     descriptors->bind(commandBuffer, current->levelSets[m]);
-    if (copyLevels & (1u << m)) recordCopyLevel(*this, commandBuffer, m);
+    if (plan.isCopy(m)) recordCopyLevel(*this, commandBuffer, m);
     else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
     else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
     else recordReferenceLevel(*this, commandBuffer, m);
@@ -516,13 +333,13 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         barrier(commandBuffer);
         mark();
     }
-    for (int m : computedLevels) {
+    for (int m : plan.computedLevels) {
         recordLevel(commandBuffer, m);
         if (perLevel) mark();
     }
     if (!perLevel) mark();
-    if (convertOutput) {
-        recordConversion(*this, commandBuffer, r.boundOutput, computedLevels);
+    if (plan.convertOutput) {
+        recordConversion(*this, commandBuffer, r.boundOutput, plan.computedLevels);
         mark();
     }
 }
@@ -541,7 +358,7 @@ void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, cons
         barrier(commandBuffer);
     }
     for (int m : levels) recordLevel(commandBuffer, m);
-    if (convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, r.boundOutput, levels);
+    if (plan.convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, r.boundOutput, levels);
     if (r.timed) r.timer->boundary(commandBuffer, 1);
 }
 
@@ -580,7 +397,7 @@ void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, 
                                                     int(source.viewType), int(VK_IMAGE_VIEW_TYPE_CUBE)));
     if (source.faceSize != faceSize)
         throw refuse("source.faceSize", fmt::format("is {}, but the filter was built for S_0 = {}", source.faceSize, faceSize));
-    if (!has(f.device, source.format, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
+    if (!(f.device.impl().features(source.format) & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
         throw refuse("source.format",
                      fmt::format("{} cannot be sampled on {} (sampled image usage)", int(source.format), f.device.info().name));
     if (output.image == VK_NULL_HANDLE) throw refuse("output.image", "is VK_NULL_HANDLE");
@@ -592,17 +409,17 @@ void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, 
     if (output.mipLevels < levelCount)
         throw refuse("output.mipLevels", fmt::format("is {}, but the filter writes {} levels", output.mipLevels, levelCount));
     if (output.arrayLayers != 6) throw refuse("output.arrayLayers", fmt::format("is {}, not the 6 faces of a cube", output.arrayLayers));
-    const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+    const VkImageUsageFlags written = f.plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
     if ((output.usage & written) == 0)
-        throw refuse("output.usage", f.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
-                                                     : "lacks STORAGE, which the passes write the output with");
+        throw refuse("output.usage", f.plan.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
+                                                          : "lacks STORAGE, which the passes write the output with");
 }
 
 // The texel-taps of output level m (Filter::slices).
 double levelTexelTaps(const Filter::Impl& f, int m) {
     const FilterSettings& s = f.settings;
     const double texels = double(texelCount(s.faceSize >> m));
-    if (f.copyLevels & (1u << m)) return texels;
+    if (f.plan.isCopy(m)) return texels;
     switch (s.method.kind) {
     case MethodKind::table: return texels * tapsInUse(*s.method.table, m) * (2.0 + 7.0 / 16.0);
     case MethodKind::fis: return texels * s.method.fis.samplesAt(m);
@@ -612,8 +429,8 @@ double levelTexelTaps(const Filter::Impl& f, int m) {
 }
 
 uint32_t levelDispatchCount(const Filter::Impl& f, int m) {
-    const bool copy = (f.copyLevels & (1u << m)) != 0;
-    return (!copy && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u) + (f.convertOutput ? 1u : 0u);
+    const bool copy = f.plan.isCopy(m);
+    return (!copy && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u) + (f.plan.convertOutput ? 1u : 0u);
 }
 
 // A set for a recording from `source` to `output`, bound; its descriptor sets and views are the
@@ -649,7 +466,7 @@ std::vector<Slice> Filter::slices(int count) const {
     if (f.pass1) out.push_back({true, {}, pyramidDispatchCount(f), pyramidTexelTaps(f)});
     if (count == 1) { // the whole update, pass 1 and every level
         if (out.empty()) out.push_back({});
-        for (int m : f.computedLevels) {
+        for (int m : f.plan.computedLevels) {
             out.back().levels.push_back(m);
             out.back().dispatches += levelDispatchCount(f, m);
             out.back().texelTaps += levelTexelTaps(f, m);
@@ -657,11 +474,11 @@ std::vector<Slice> Filter::slices(int count) const {
         return out;
     }
     double total = 0.0;
-    for (int m : f.computedLevels) total += levelTexelTaps(f, m);
+    for (int m : f.plan.computedLevels) total += levelTexelTaps(f, m);
     const int levelSlices = std::max(1, count - int(out.size()));
     // Cut the levels, in order, where their running texel-taps pass each k / levelSlices of the total.
     double done = 0.0;
-    for (int m : f.computedLevels) {
+    for (int m : f.plan.computedLevels) {
         const int k = std::min(levelSlices - 1, int(done * levelSlices / std::max(total, 1e-300)));
         if (out.empty() || out.back().pyramid || int(out.size()) - (f.pass1 ? 1 : 0) <= k) out.push_back({});
         out.back().levels.push_back(m);
@@ -677,7 +494,7 @@ Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& sourc
     Impl& f = *impl_;
     checkRecordArguments(f, commandBuffer, source, output);
     for (std::size_t k = 0; k < slice.levels.size(); ++k)
-        if (std::find(f.computedLevels.begin(), f.computedLevels.end(), slice.levels[k]) == f.computedLevels.end() ||
+        if (std::find(f.plan.computedLevels.begin(), f.plan.computedLevels.end(), slice.levels[k]) == f.plan.computedLevels.end() ||
             (k > 0 && slice.levels[k] <= slice.levels[k - 1]))
             throw ProbeError(fmt::format(
                 "Filter::record: slice.levels: {} is not one of the levels the filter computes, in ascending order", slice.levels[k]));
@@ -701,11 +518,11 @@ Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& sourc
     return finishRecording(f);
 }
 
-Sampling Filter::sampling() const { return impl_->sampling; }
+Sampling Filter::sampling() const { return impl_->plan.sampling; }
 VkFormat Filter::pyramidFormat() const {
-    return impl_->sampling == Sampling::hardware ? impl_->pyramidFormat : VK_FORMAT_R32G32B32A32_SFLOAT;
+    return impl_->plan.sampling == Sampling::hardware ? impl_->plan.pyramidFormat : VK_FORMAT_R32G32B32A32_SFLOAT;
 }
-bool Filter::outputNeedsTransfer() const { return impl_->convertOutput; }
+bool Filter::outputNeedsTransfer() const { return impl_->plan.convertOutput; }
 
 std::vector<PassTime> Filter::timings() const {
     if (impl_->batched) return impl_->batchTimer->timings();
@@ -721,8 +538,8 @@ std::vector<PassTime> Filter::levelTimings() const {
     if (!r.timed || r.timer != r.levelTimer.get()) return {};
     std::vector<std::string> names;
     if (impl_->pass1) names.push_back("pass 1");
-    for (int m : impl_->computedLevels) names.push_back(fmt::format("level {}", m));
-    if (impl_->convertOutput) names.push_back("convert");
+    for (int m : impl_->plan.computedLevels) names.push_back(fmt::format("level {}", m));
+    if (impl_->plan.convertOutput) names.push_back("convert");
     std::vector<PassTime> segments = r.timer->segmentTimings(names);
     std::erase_if(segments, [](const PassTime& p) { return p.name == "pass 1" || p.name == "convert"; });
     return segments;

@@ -11,6 +11,7 @@
 #include "buffer.h"
 #include "compute_pipeline.h"
 #include "filter_descriptors.h"
+#include "filter_plan.h"
 #include "gpu_timer.h"
 #include "image.h"
 #include "probe/runtime.h"
@@ -58,18 +59,7 @@ struct Recording {
 struct Filter::Impl {
     const Device& device;
     FilterSettings settings;
-    Sampling sampling = Sampling::exact;                    // resolved; the reference reads exact texels
-    VkFormat pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // hardware sampling's pyramid image
-    bool convertOutput = false;                             // B10G11R11 through the conversion pass
-    int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
-    int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
-    int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
-    std::vector<int> computedLevels;      // the output levels computed, ascending
-    std::vector<uint32_t> pyramidOffsets; // exact sampling: first texel of each bordered pyramid level, and the total
-    std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
-    uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
-    bool buildsPyramid = false;           // pass 1 runs (table or fis with a filtered level computed)
-    bool paraboloid = false;              // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
+    const FilterPlan plan;
 
     // Buffers (shaders/buffers.glsl) that every recording reads and none writes.
     Buffer geometry; // per pyramid level, (texel direction, solid angle)
@@ -85,7 +75,6 @@ struct Filter::Impl {
     // The sets of what one recording writes (at most FilterSettings::inFlight), used in turn; `current`
     // is the last recording's.
     std::vector<std::unique_ptr<Recording>> recordings;
-    std::size_t pyramidTexels = 1, accumulatorTexels = 1; // a set's buffers, in RGBA32F texels
     Recording* current = nullptr;
     Recording* slicedUpdate = nullptr; // the set of the last pyramid slice, until another recording takes it
     // The Filter's timeline semaphore: recording n (from 1) has completed once it reaches n.

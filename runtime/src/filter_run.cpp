@@ -40,7 +40,7 @@ void makeRunImages(const Filter::Impl& f, Recording& r) {
     r.runSource =
         CubeImageResource(d, s.faceSize, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
     r.runSourceView = ImageView(d.device(), r.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
-    const VkImageUsageFlags written = f.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+    const VkImageUsageFlags written = f.plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
     r.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
 }
 
@@ -51,7 +51,8 @@ void makeRunImages(const Filter::Impl& f, Recording& r) {
 // shaders clamp what they read of it to 2^64).
 int uploadRunSource(Filter::Impl& f, const Recording& r, const CubeImage& source) {
     const FilterSettings& s = f.settings;
-    const bool halfPyramid = f.buildsPyramid && f.sampling == Sampling::hardware && f.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+    const bool halfPyramid =
+        f.plan.buildsPyramid && f.plan.sampling == Sampling::hardware && f.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
     const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
     const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
     const std::vector<float> texels = rgbaTexels(shifted(source, -shift));
@@ -78,7 +79,7 @@ CubeLevels readBackRunOutput(Filter::Impl& f, const Recording& r) {
     const uint32_t bytesPerTexel = texelBytes(s.outputFormat);
     std::vector<VkBufferImageCopy> regions;
     VkDeviceSize offset = 0;
-    for (int m : f.computedLevels) {
+    for (int m : f.plan.computedLevels) {
         VkBufferImageCopy region{};
         region.bufferOffset = offset;
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
@@ -94,9 +95,9 @@ CubeLevels readBackRunOutput(Filter::Impl& f, const Recording& r) {
     f.submission->submitAndWait(download);
     f.submission->release(download);
     CubeLevels result(s.levelCount);
-    for (std::size_t k = 0; k < f.computedLevels.size(); ++k) {
-        CubeImage& level = result[f.computedLevels[k]];
-        level.size = s.faceSize >> f.computedLevels[k];
+    for (std::size_t k = 0; k < f.plan.computedLevels.size(); ++k) {
+        CubeImage& level = result[f.plan.computedLevels[k]];
+        level.size = s.faceSize >> f.plan.computedLevels[k];
         level.rgb.clear();
         unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(level.size), s.outputFormat,
                      level.rgb);
@@ -127,7 +128,7 @@ Recording& runSet(Filter::Impl& f) {
 // The run's output cube as an engine's would be laid out: made writable by the passes before them,
 // and readable by the read-back after them.
 VkImageLayout runOutputLayout(const Filter::Impl& f) {
-    return f.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+    return f.plan.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
 }
 void runOutputBeforePasses(const Filter::Impl& f, const Recording& r, VkCommandBuffer commandBuffer) {
     imageBarrier(commandBuffer, r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), VK_IMAGE_LAYOUT_UNDEFINED, runOutputLayout(f),
@@ -236,17 +237,17 @@ std::vector<CubeLevels> Filter::run(const std::vector<CubeImage>& sources, int r
 
 CubeLevels Filter::downloadPyramid() const {
     Impl& f = *impl_;
-    if (!f.buildsPyramid) return {};
+    if (!f.plan.buildsPyramid) return {};
     const Recording& r = *f.current;
-    if (f.sampling == Sampling::exact) {
+    if (f.plan.sampling == Sampling::exact) {
         std::vector<float> texels(r.pyramidBuffer.bytes() / sizeof(float));
         f.submission->download(r.pyramidBuffer, texels.data(), r.pyramidBuffer.bytes());
-        return unpackPyramid(texels.data(), f.pyramidOffsets, f.settings.faceSize, f.pyramidDepth);
+        return unpackPyramid(texels.data(), f.plan.pyramidOffsets, f.settings.faceSize, f.plan.pyramidDepth);
     }
-    const uint32_t bytesPerTexel = texelBytes(f.pyramidFormat);
+    const uint32_t bytesPerTexel = texelBytes(f.plan.pyramidFormat);
     std::vector<VkBufferImageCopy> regions;
     VkDeviceSize offset = 0;
-    for (int k = 0; k <= f.pyramidDepth; ++k) {
+    for (int k = 0; k <= f.plan.pyramidDepth; ++k) {
         VkBufferImageCopy region{};
         region.bufferOffset = offset;
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(k), 0, kFaceCount};
@@ -268,11 +269,11 @@ CubeLevels Filter::downloadPyramid() const {
     hostReadBarrier(download);
     f.submission->submitAndWait(download);
     f.submission->release(download);
-    CubeLevels result(f.pyramidDepth + 1);
-    for (int k = 0; k <= f.pyramidDepth; ++k) {
+    CubeLevels result(f.plan.pyramidDepth + 1);
+    for (int k = 0; k <= f.plan.pyramidDepth; ++k) {
         result[k].size = f.settings.faceSize >> k;
         unpackTexels(static_cast<const unsigned char*>(readBack.mapped()) + regions[k].bufferOffset, texelCount(result[k].size),
-                     f.pyramidFormat, result[k].rgb);
+                     f.plan.pyramidFormat, result[k].rgb);
     }
     return result;
 }

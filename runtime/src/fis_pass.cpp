@@ -34,8 +34,8 @@ struct FisConstants {
 
 std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
     const std::span<const uint32_t> spirv =
-        impl.paraboloid ? outputVariant(impl, {kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
-        : impl.sampling == Sampling::hardware
+        impl.plan.paraboloid ? outputVariant(impl, {kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
+        : impl.plan.sampling == Sampling::hardware
             ? outputVariant(impl, {kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv})
             : outputVariant(impl, {kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
     return impl.pipeline(spirv);
@@ -58,13 +58,14 @@ void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
     const uint32_t firstSample = impl.sampleOffsets[m];
     const FisConstants constants{s.faceSize,
-                                 impl.pyramidDepth + 1,
+                                 impl.plan.pyramidDepth + 1,
                                  m,
-                                 impl.outputOffsets[m],
-                                 impl.outputOffsets[m + 1],
+                                 impl.plan.outputOffsets[m],
+                                 impl.plan.outputOffsets[m + 1],
                                  firstSample,
                                  impl.sampleOffsets[m + 1] - firstSample};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", m, constants, groupsFor(impl.outputOffsets[m + 1] - impl.outputOffsets[m]));
+    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", m, constants,
+                 groupsFor(impl.plan.outputOffsets[m + 1] - impl.plan.outputOffsets[m]));
 }
 
 } // namespace probe::gpu

@@ -45,10 +45,10 @@ void makePyramidPipelines(Filter::Impl& impl) {
     // The shaders' kBoxKind and kInverseSolidAngle.
     const std::array<int32_t, 2> specialization{pyramid.kind == PyramidKind::box ? 1 : 0,
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
-    if (impl.sampling == Sampling::hardware) {
-        const bool half = impl.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+    if (impl.plan.sampling == Sampling::hardware) {
+        const bool half = impl.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
         impl.pass1 = impl.pipeline(half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
-        if (impl.pyramidDepth >= impl.pyramidTailLevel) {
+        if (impl.plan.pyramidDepth >= impl.plan.pyramidTailLevel) {
             // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
             const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
             const auto lanes = int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
@@ -59,13 +59,13 @@ void makePyramidPipelines(Filter::Impl& impl) {
         return;
     }
     impl.pass1 = impl.pipeline(kPyramidSpv, specialization);
-    if (impl.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
-    if (impl.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
+    if (impl.plan.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
+    if (impl.plan.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
 }
 
 uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
-    const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
-    const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
+    const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
+    const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
     uint32_t count = uint32_t(lastSingle + 1) * (impl.pass1Corners ? 2 : 1) + (impl.pass1Tail ? 1 : 0);
     if (impl.paraboloidMap)
         for (int level = 0; (paraboloidSize(impl.settings.faceSize) >> level) >= 1; ++level) ++count;
@@ -74,7 +74,7 @@ uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
 
 double pyramidTexelTaps(const Filter::Impl& impl) {
     double taps = double(texelCount(impl.settings.faceSize)); // level 0: the source, one read a texel
-    for (int level = 1; level <= (impl.buildsPyramid ? impl.pyramidDepth : 0); ++level)
+    for (int level = 1; level <= (impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0); ++level)
         taps += 4.0 * double(texelCount(impl.settings.faceSize >> level));
     if (impl.paraboloidMap)
         for (int size = paraboloidSize(impl.settings.faceSize); size >= 1; size /= 2) taps += 4.0 * 2.0 * size * size;
@@ -83,9 +83,9 @@ double pyramidTexelTaps(const Filter::Impl& impl) {
 
 void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    const bool hardware = impl.sampling == Sampling::hardware;
-    const int depth = impl.buildsPyramid ? impl.pyramidDepth : 0;
-    const int lastSingle = impl.pass1Tail ? impl.pyramidTailLevel - 1 : depth;
+    const bool hardware = impl.plan.sampling == Sampling::hardware;
+    const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
+    const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
     for (int level = 0; level <= lastSingle; ++level) {
         if (level > 0) impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
@@ -100,9 +100,9 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     }
     if (impl.pass1Tail) {
         impl.barrier(commandBuffer);
-        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.pyramidTailLevel]);
-        const PyramidTailConstants constants{s.faceSize, impl.pyramidTailLevel, depth};
-        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.pyramidTailLevel, constants, 1);
+        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.plan.pyramidTailLevel]);
+        const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth};
+        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1);
     }
     if (!impl.paraboloidMap) return;
     for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {

@@ -29,7 +29,7 @@ struct TableConstants {
 
 std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
     const std::span<const uint32_t> spirv =
-        impl.sampling == Sampling::hardware
+        impl.plan.sampling == Sampling::hardware
             ? outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv})
             : outputVariant(impl, {kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
     // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
@@ -54,10 +54,10 @@ uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(t
 
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize, impl.pyramidDepth + 1, m, impl.outputOffsets[m], impl.tableUsageFirst};
+    const TableConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, m, impl.plan.outputOffsets[m], impl.tableUsageFirst};
     // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp).
     const uint32_t size = uint32_t(s.faceSize >> m);
-    if (impl.sampling == Sampling::hardware)
+    if (impl.plan.sampling == Sampling::hardware)
         dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(size * size), kFaceCount);
     else dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(kFaceCount * size * size));
 }

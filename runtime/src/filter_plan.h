@@ -1,0 +1,60 @@
+// What a Filter of given settings computes on a device, and the sizes of what it allocates: a pure
+// function of the settings and of what the device offers (DeviceCapabilities), which the Filter's
+// resources and passes follow and which a test checks without a device.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "probe/runtime.h"
+
+namespace probe::gpu {
+
+// What the plan needs of a device: its name (for messages), whether it is a CPU device (automatic
+// sampling reads exactly there), subgroup votes in compute shaders, the buffer limits and the
+// optimal-tiling features of the formats the runtime uses.
+struct DeviceCapabilities {
+    std::string name;
+    bool cpu = false;
+    bool computeSubgroupVote = true;
+    VkDeviceSize maxStorageBufferRange = 0;
+    uint32_t maxTexelBufferElements = 0;
+    std::map<VkFormat, VkFormatFeatureFlags> formatFeatures;
+
+    bool has(VkFormat format, VkFormatFeatureFlags needed) const;
+};
+DeviceCapabilities capabilitiesOf(const Device& device);
+
+struct FilterPlan {
+    Sampling sampling = Sampling::exact;                    // resolved: the reference and the paraboloid map read exactly
+    VkFormat pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT; // hardware sampling's pyramid image
+    bool convertOutput = false;                             // B10G11R11 through the conversion pass
+    int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
+    int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
+    int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
+    std::vector<int> computedLevels;      // the output levels computed, ascending
+    uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
+    bool filters = false;                 // a computed level is filtered, not copied
+    bool buildsPyramid = false;           // pass 1 builds a pyramid (table or fis with a filtered level computed)
+    bool paraboloid = false;              // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
+    std::vector<uint32_t> outputOffsets;  // first texel of each output level (packed), and the total
+    std::vector<uint32_t> pyramidOffsets; // first texel of each bordered pyramid level (buffer.h), and the total
+    // The geometry buffer holds every pyramid level's directions and solid angles where exact sampling
+    // or the box pyramid reads them (hardware sampling computes its directions), else one texel.
+    bool geometry = false;
+    // Each recording's buffers and the geometry buffer, in RGBA32F texels (1: unused).
+    std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 1;
+
+    bool isCopy(int level) const { return (copyLevels & (1u << level)) != 0; }
+};
+
+// Throws ParameterError naming the setting the method or the runtime refuses, and ProbeError naming
+// the device and what it lacks (a format feature, subgroup votes, a buffer range) for the rest.
+FilterPlan planFilter(const FilterSettings& settings, const DeviceCapabilities& device);
+
+} // namespace probe::gpu

@@ -1,0 +1,162 @@
+// What a Filter computes and allocates for its settings on a device (runtime/src/filter_plan.h),
+// planned without a device from capabilities set by hand: the same function that the Filter and
+// Filter::checkLimits follow.
+#include <gtest/gtest.h>
+
+#include "filter_plan.h"
+#include "probe/error.h"
+
+namespace {
+
+using namespace probe;
+using namespace probe::gpu;
+
+constexpr VkFormatFeatureFlags kEverything = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT |
+                                             VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT |
+                                             VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+
+// A GPU with every feature the runtime asks for and Vulkan's least buffer range (128 MiB).
+DeviceCapabilities gpu() {
+    DeviceCapabilities d;
+    d.name = "test GPU";
+    d.maxStorageBufferRange = 1u << 27;
+    d.maxTexelBufferElements = 1u << 27;
+    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT})
+        d.formatFeatures[f] = kEverything;
+    return d;
+}
+
+FilterSettings fisSettings(int size, Lobe lobe = Lobe::ggx) {
+    FilterSettings s;
+    s.method.kind = MethodKind::fis;
+    s.method.lobe = lobe;
+    s.faceSize = size;
+    s.levelCount = defaultLevelCount(size);
+    return s;
+}
+
+TEST(FilterPlan, GgxLevelZeroIsACopyAndCharlieHasNone) {
+    const FilterPlan ggx = planFilter(fisSettings(128), gpu());
+    EXPECT_EQ(ggx.copyLevels, 1u);
+    EXPECT_TRUE(ggx.isCopy(0));
+    EXPECT_FALSE(ggx.isCopy(1));
+    EXPECT_EQ(ggx.computedLevels, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+    EXPECT_TRUE(ggx.filters && ggx.buildsPyramid);
+    EXPECT_EQ(ggx.pyramidLevels, 8);
+    EXPECT_EQ(ggx.pyramidDepth, 7);
+    EXPECT_EQ(ggx.outputOffsets.size(), 8u);
+    EXPECT_EQ(ggx.outputOffsets.back(), uint32_t(6 * (128 * 128 + 64 * 64 + 32 * 32 + 16 * 16 + 8 * 8 + 4 * 4 + 2 * 2)));
+    EXPECT_EQ(planFilter(fisSettings(128, Lobe::charlie), gpu()).copyLevels, 0u);
+
+    // Level 0 alone is a copy: no pyramid.
+    FilterSettings s = fisSettings(128);
+    s.computedLevels = {0};
+    const FilterPlan copy = planFilter(s, gpu());
+    EXPECT_FALSE(copy.filters || copy.buildsPyramid);
+}
+
+TEST(FilterPlan, SamplingByDeviceAndMethod) {
+    DeviceCapabilities cpu = gpu();
+    cpu.cpu = true;
+    const FilterPlan onGpu = planFilter(fisSettings(64), gpu());
+    EXPECT_EQ(onGpu.sampling, Sampling::hardware);
+    EXPECT_EQ(onGpu.pyramidFormat, VK_FORMAT_R16G16B16A16_SFLOAT);         // the format engines filter in
+    EXPECT_EQ(onGpu.pyramidTailLevel, 3);                                  // the 8^2 level of a 64^2 pyramid
+    EXPECT_EQ(onGpu.pyramidTexels, 1u);                                    // the pyramid is an image
+    EXPECT_EQ(planFilter(fisSettings(64), cpu).sampling, Sampling::exact); // a CPU device reads exactly
+    EXPECT_GT(planFilter(fisSettings(64), cpu).pyramidTexels, 1u);         // into a bordered buffer
+
+    // Without RGBA16F filtering, the RGBA32F pyramid.
+    DeviceCapabilities noHalf = gpu();
+    noHalf.formatFeatures[VK_FORMAT_R16G16B16A16_SFLOAT] = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+    EXPECT_EQ(planFilter(fisSettings(64), noHalf).pyramidFormat, VK_FORMAT_R32G32B32A32_SFLOAT);
+
+    // The reference reads every texel exactly and sums into the accumulator; no pyramid is built.
+    FilterSettings reference = fisSettings(32);
+    reference.method.kind = MethodKind::reference;
+    const FilterPlan r = planFilter(reference, gpu());
+    EXPECT_EQ(r.sampling, Sampling::exact);
+    EXPECT_FALSE(r.buildsPyramid);
+    EXPECT_EQ(r.accumulatorTexels, r.outputOffsets.back());
+
+    // FIS on the dual-paraboloid map reads the source alone; hardware sampling is refused there.
+    FilterSettings paraboloid = fisSettings(32);
+    paraboloid.method.fis.map = FisMap::paraboloid;
+    const FilterPlan p = planFilter(paraboloid, gpu());
+    EXPECT_TRUE(p.paraboloid);
+    EXPECT_EQ(p.pyramidDepth, 0);
+    EXPECT_EQ(p.sampling, Sampling::exact);
+    paraboloid.sampling = Sampling::hardware;
+    EXPECT_THROW(planFilter(paraboloid, gpu()), ParameterError);
+}
+
+TEST(FilterPlan, OutputFormatsThroughTheConversionWhereStorageIsMissing) {
+    FilterSettings s = fisSettings(16);
+    s.outputFormat = VK_FORMAT_B10G11R11_UFLOAT_PACK32;
+    EXPECT_FALSE(planFilter(s, gpu()).convertOutput);
+    DeviceCapabilities noStorage = gpu();
+    noStorage.formatFeatures[VK_FORMAT_B10G11R11_UFLOAT_PACK32] = VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+    EXPECT_TRUE(planFilter(s, noStorage).convertOutput);
+    noStorage.formatFeatures[VK_FORMAT_R32_UINT] = 0;
+    EXPECT_THROW(planFilter(s, noStorage), ProbeError);
+    s.outputFormat = VK_FORMAT_R8G8B8A8_UNORM;
+    EXPECT_THROW(planFilter(s, gpu()), ParameterError);
+}
+
+TEST(FilterPlan, RefusesWhatTheDeviceCannotHold) {
+    // Exact sampling at 2048^2: a pyramid buffer over 128 MiB.
+    FilterSettings s = fisSettings(2048);
+    s.sampling = Sampling::exact;
+    try {
+        planFilter(s, gpu());
+        ADD_FAILURE() << "a 2048^2 exact pyramid was planned within 128 MiB";
+    } catch (const ProbeError& e) {
+        EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+    }
+    // Hardware sampling computes its directions and keeps its pyramid in an image: it fits.
+    s.sampling = Sampling::hardware;
+    EXPECT_NO_THROW(planFilter(s, gpu()));
+
+    // The table method's exact sampling needs subgroup votes.
+    TapTable table;
+    table.faceSize = 16;
+    table.levelCount = 4;
+    table.taps = 4;
+    table.form = TableForm::constant;
+    table.levels.resize(4);
+    for (TableLevel& level : table.levels) level.coefficients.assign(std::size_t(table.coefficientsPerLevel()), 0.0);
+    FilterSettings t = fisSettings(16);
+    t.method = {MethodKind::table, &table, {}};
+    t.sampling = Sampling::exact;
+    DeviceCapabilities noVote = gpu();
+    noVote.computeSubgroupVote = false;
+    EXPECT_THROW(planFilter(t, noVote), ProbeError);
+    t.sampling = Sampling::hardware;
+    EXPECT_NO_THROW(planFilter(t, noVote));
+}
+
+TEST(FilterPlan, RefusesSettingsNamingThem) {
+    const auto field = [](FilterSettings s) {
+        try {
+            planFilter(s, gpu());
+        } catch (const ParameterError& e) {
+            return e.parameter;
+        }
+        return std::string("none");
+    };
+    FilterSettings s = fisSettings(64);
+    s.inFlight = 0;
+    EXPECT_EQ(field(s), "inFlight");
+    s = fisSettings(64);
+    s.computedLevels = {2, 1};
+    EXPECT_EQ(field(s), "computedLevels");
+    s = fisSettings(64);
+    s.pyramidDepth = 7;
+    EXPECT_EQ(field(s), "pyramidDepth");
+    s = fisSettings(64);
+    s.sampling = Sampling::exact;
+    s.pyramidFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    EXPECT_EQ(field(s), "pyramidFormat");
+}
+
+} // namespace
