@@ -315,9 +315,9 @@ int runSelect(const std::vector<std::string>& paths, const std::string& out, boo
         const probefit::LevelSelection& level = selection.levels[m];
         std::string ratios;
         for (std::size_t k = 0; k < candidates.size(); ++k)
-            ratios +=
-                fmt::format("  {} {:.4f} (edge steps {:.3f}x the reference's, L1 {:.4f}{})", candidates[k].name, level.seamRatios[k],
-                            level.edgeSteps[k], candidates[k].table.levels[m].all.mean, level.tailReached[k] ? "" : ", misses the tail");
+            ratios += fmt::format("  {} {:.4f} (steps over the reference's: edges {:.3f}x, quarter lines {:.3f}x; L1 {:.4f}{})",
+                                  candidates[k].name, level.seamRatios[k], level.edgeSteps[k], level.quarterSteps[k],
+                                  candidates[k].table.levels[m].all.mean, level.tailReached[k] ? "" : ", misses the tail");
         fmt::print("level {} bound {:.4f}:{}\n  -> {}{}\n", m, level.bound, ratios, candidates[level.chosen].name,
                    level.withinBound ? "" : " (no fit within the bound: the nearest)");
         allWithin = allWithin && level.withinBound;

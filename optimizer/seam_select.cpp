@@ -69,7 +69,10 @@ SeamSelection selectWithinSeamBound(const std::vector<SeamCandidate>& candidates
         for (int k = 0; k < static_cast<int>(candidates.size()); ++k) {
             const CubeImage& out = filtered[k][m];
             level.seamRatios.push_back(level.bound > 0.0 ? seamRatio(out) : 0.0);
-            level.edgeSteps.push_back(level.bound > 0.0 ? edgeStepRatio(out, reference[m]) : 0.0);
+            const SeamSteps steps = steepestSteps(out), exact = steepestSteps(reference[m]);
+            const bool measured = level.bound > 0.0 && exact.edge > 0.0 && exact.quarterLine > 0.0;
+            level.edgeSteps.push_back(measured ? steps.edge / exact.edge : 0.0);
+            level.quarterSteps.push_back(measured ? steps.quarterLine / exact.quarterLine : 0.0);
             level.within.push_back(withinSeamBound(out, level.bound, &reference[m]));
             level.tailReached.push_back(tails[k][m]);
             if (level.seamRatios[k] < level.seamRatios[nearest]) nearest = k;

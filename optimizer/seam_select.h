@@ -19,13 +19,14 @@ struct SeamCandidate {
 
 // Per level, what was measured and which candidate was kept.
 struct LevelSelection {
-    int chosen = 0;                 // index into the candidates
-    std::vector<double> seamRatios; // per candidate (0 where the level has no bound)
-    std::vector<double> edgeSteps;  // per candidate: its steepest edge step over the reference's
-    std::vector<bool> within;       // per candidate: within the bound (probe::withinSeamBound)
-    std::vector<bool> tailReached;  // per candidate
-    double bound = 0.0;             // 0: faces under 4 texels, chosen by L1 alone
-    bool withinBound = true;        // false: no candidate was; the one nearest the bound was kept
+    int chosen = 0;                   // index into the candidates
+    std::vector<double> seamRatios;   // per candidate (0 where the level has no bound)
+    std::vector<double> edgeSteps;    // per candidate: its steepest edge step over the reference's
+    std::vector<double> quarterSteps; // per candidate: its steepest quarter-line step over the reference's
+    std::vector<bool> within;         // per candidate: within the bound (probe::withinSeamBound)
+    std::vector<bool> tailReached;    // per candidate
+    double bound = 0.0;               // 0: faces under 4 texels, chosen by L1 alone
+    bool withinBound = true;          // false: no candidate was; the one nearest the bound was kept
 };
 
 struct SeamSelection {

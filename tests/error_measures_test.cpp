@@ -67,10 +67,43 @@ TEST(SeamMeasure, WithinTheBoundByTheRatioOrByTheReferencesEdgeSteps) {
     EXPECT_GT(seamRatio(smoother), bound);
     EXPECT_TRUE(withinSeamBound(smoother, bound, &reference));
     EXPECT_FALSE(withinSeamBound(smoother, bound, nullptr));
-    EXPECT_NEAR(edgeStepRatio(smoother, reference), 1.0, 1e-5);
+    EXPECT_NEAR(steepestSteps(smoother).edge, steepestSteps(reference).edge, 1e-6);
     // Seams 1.2x the reference's: outside, whatever its interior.
     EXPECT_FALSE(withinSeamBound(steppedCube(1.12f, 0.2f), bound, &reference));
     EXPECT_FALSE(withinSeamBound(steppedCube(1.12f, 1.0f), bound, &reference));
     // The ratio alone still admits a level that steps hard everywhere alike.
     EXPECT_TRUE(withinSeamBound(steppedCube(1.2f, 2.0f), bound, &reference));
+}
+
+TEST(SeamMeasure, EdgeStepsAgainstHowHardTheLevelStepsInsideItsFaces) {
+    // The sky's exact filter: its steepest step across the quarter lines, and across the edges.
+    const int size = 16, levels = 2;
+    const CubeLevels reference = skyReference(size, levels, RoughnessMapping::gltf, Lobe::ggx);
+    const CubeImage& exact = reference[1];
+    const SeamSteps e = steepestSteps(exact);
+    ASSERT_GT(e.quarterLine, 0.0);
+    ASSERT_GT(e.edge, 0.0);
+    // Every step 1.3x the reference's (its contrast about the mean raised): edges and quarter lines
+    // alike, within the bound by the edge steps; a step at the edges alone is not.
+    const glm::vec3 mean = [&] {
+        glm::dvec3 sum(0.0);
+        for (std::size_t t = 0; t < texelCount(exact.size); ++t) sum += glm::dvec3(exact.texel(t));
+        return glm::vec3(sum / double(texelCount(exact.size)));
+    }();
+    CubeImage everywhere = exact;
+    for (std::size_t t = 0; t < texelCount(exact.size); ++t) everywhere.set(t, mean + 1.3f * (exact.texel(t) - mean));
+    EXPECT_NEAR(steepestSteps(everywhere).edge / e.edge, 1.3, 1e-4);
+    const double noRatio = 1e-9; // a bound no ratio meets: the edge steps decide
+    EXPECT_TRUE(withinSeamBound(everywhere, noRatio, &exact));
+    // Face +X raised by half the reference's steepest edge step: a step of its own at +X's edges,
+    // nothing inside the faces.
+    CubeImage seams = exact;
+    for (int j = 0; j < exact.size; ++j)
+        for (int i = 0; i < exact.size; ++i) {
+            const std::size_t t = texelIndex({0, i, j}, exact.size);
+            seams.set(t, exact.texel(t) + glm::vec3(float(0.5 * e.edge)));
+        }
+    EXPECT_GT(steepestSteps(seams).edge, 1.1 * e.edge);
+    EXPECT_DOUBLE_EQ(steepestSteps(seams).quarterLine, e.quarterLine);
+    EXPECT_FALSE(withinSeamBound(seams, noRatio, &exact));
 }

@@ -58,14 +58,13 @@ std::vector<double> seamBounds(const CubeLevels& reference, double cap) {
     return bounds;
 }
 
-double edgeStepRatio(const CubeImage& level, const CubeImage& reference) {
-    const double exact = steepestSteps(reference).edge;
-    return exact > 0.0 ? steepestSteps(level).edge / exact : 0.0;
-}
-
 bool withinSeamBound(const CubeImage& level, double bound, const CubeImage* reference) {
     if (bound == 0.0 || seamRatio(level) <= bound) return true;
-    return reference && steepestSteps(level).edge <= kSeamMargin * steepestSteps(*reference).edge;
+    if (!reference) return false;
+    const SeamSteps steps = steepestSteps(level), exact = steepestSteps(*reference);
+    // How much steeper than the reference the level steps inside its faces, where it has no edge.
+    const double inside = exact.quarterLine > 0.0 ? std::max(1.0, steps.quarterLine / exact.quarterLine) : 1.0;
+    return steps.edge <= kSeamMargin * inside * exact.edge;
 }
 
 } // namespace probe

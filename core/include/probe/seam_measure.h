@@ -5,9 +5,11 @@
 // own ratio on the smooth sky at the same size, level count, mapping and lobe, and never more than one
 // k per lobe: 1.1x the largest ratio of that lobe's 64^2 exact reference (default levels, glTF).
 // Where the reference's level is at hand, a level whose steepest edge step is within 1.1x the
-// reference's own is within the bound too: a filter smoother inside its faces than the reference
-// lowers the interior step its ratio divides by (a thin Charlie ring's reference steps hardest at
-// the pole of a sharp horizon, inside a face), while its seams are no steeper than the reference's.
+// reference's own, times how much steeper than the reference's its steps across the lines a quarter
+// of the way into each face are (at least 1), is within the bound too: a filter smoother inside its
+// faces than the reference lowers the interior step its ratio divides by (a thin Charlie ring's
+// reference steps hardest at the pole of a sharp horizon, inside a face), while its seams step no
+// harder, against the reference, than its own faces do away from their edges.
 #pragma once
 
 #include <vector>
@@ -40,11 +42,9 @@ double seamBoundCap(Lobe lobe);
 // Per level, min(1.1x the seam ratio of `reference` at that level, cap); 0 where faces are under 4.
 std::vector<double> seamBounds(const CubeLevels& reference, double cap);
 
-// The level's steepest edge step over that of the reference's same level (0 for a flat reference).
-double edgeStepRatio(const CubeImage& level, const CubeImage& reference);
-
 // Whether a level is within its bound (from seamBounds; 0: no bound): its seam ratio at most the
-// bound, or, given the reference's level, its steepest edge step at most 1.1x the reference's.
+// bound, or, given the reference's level, its steepest edge step at most 1.1x the reference's times
+// max(1, its quarter-line steps over the reference's).
 bool withinSeamBound(const CubeImage& level, double bound, const CubeImage* reference);
 
 } // namespace probe
