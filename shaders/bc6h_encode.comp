@@ -17,8 +17,15 @@
 layout(local_size_x = 64) in;
 
 layout(std430, set = 0, binding = 0) writeonly buffer Blocks { uvec4 blocks[]; };
-// The levels packed one after another, each face-major and row-major (probe::texelIndex).
-layout(std430, set = 0, binding = 1) readonly buffer Texels { vec4 texels[]; };
+// The levels packed one after another, each face-major and row-major (probe::texelIndex): RGBA32F
+// texels, or with kHalfTexels RGBA16F ones (an engine's output cube, copied as it is).
+layout(constant_id = 0) const bool kHalfTexels = false;
+layout(std430, set = 0, binding = 1) readonly buffer Texels { uint words[]; };
+
+vec3 texel(uint index) {
+    if (kHalfTexels) return vec3(unpackHalf2x16(words[2u * index]), unpackHalf2x16(words[2u * index + 1u]).x);
+    return uintBitsToFloat(uvec3(words[4u * index], words[4u * index + 1u], words[4u * index + 2u]));
+}
 
 layout(push_constant) uniform Params {
     int faceSize;    // level 0
@@ -426,7 +433,7 @@ void main() {
     uint face = inLevel / (across * across), row = (inLevel / across) % across, column = inLevel % across;
     for (int i = 0; i < 16; ++i) {
         int x = min(int(column) * 4 + (i & 3), size - 1), y = min(int(row) * 4 + (i >> 2), size - 1);
-        vec3 value = texels[texelFirst + face * uint(size * size) + uint(y * size + x)].rgb;
+        vec3 value = texel(texelFirst + face * uint(size * size) + uint(y * size + x));
         texelHalves[i] = ivec3(halfBits(value.r), halfBits(value.g), halfBits(value.b));
     }
 

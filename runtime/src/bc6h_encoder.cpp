@@ -1,5 +1,6 @@
-// BC6H encoding on the GPU (shaders/bc6h_encode.comp): the levels uploaded packed, one dispatch over
-// every block of every level, the blocks read back level by level.
+// BC6H encoding on the GPU (shaders/bc6h_encode.comp): the levels packed in a buffer (uploaded by the
+// tools, copied from an engine's output cube by record()), one dispatch over every block of every
+// level, the blocks read back level by level or copied into the engine's BC6H cube.
 #include <algorithm>
 #include <cstdint>
 
@@ -8,6 +9,7 @@
 
 #include "compute_pipeline.h"
 #include "gpu_timer.h"
+#include "image.h"
 #include "probe/bc6h.h"
 #include "probe/error.h"
 #include "submission.h"
@@ -31,9 +33,11 @@ struct Bc6hEncoder::Impl {
     const Device& device;
     int faceSize, levelCount;
     std::vector<std::size_t> levelBytes;
+    std::vector<std::size_t> levelTexels; // first texel of each level in `texels`
     Buffer texels, blocks, unused;
     std::unique_ptr<PipelineLayout> layout;
-    std::unique_ptr<ComputePipeline> pipeline;
+    std::unique_ptr<ComputePipeline> pipeline;     // RGBA32F texels
+    std::unique_ptr<ComputePipeline> halfPipeline; // RGBA16F texels: made at the first record() of such a cube
     std::unique_ptr<GpuTimer> timer;
     std::unique_ptr<Submission> submission;
 
@@ -41,6 +45,7 @@ struct Bc6hEncoder::Impl {
         validateSizeAndLevels(size, levels);
         std::size_t texelTotal = 0, blockBytes = 0;
         for (int m = 0; m < levels; ++m) {
+            levelTexels.push_back(texelTotal);
             texelTotal += texelCount(std::max(size >> m, 1));
             levelBytes.push_back(bc6hLevelBytes(std::max(size >> m, 1)));
             blockBytes += levelBytes.back();
@@ -101,6 +106,64 @@ std::vector<std::vector<uint8_t>> Bc6hEncoder::encode(const CubeLevels& levels) 
         offset += bytes;
     }
     return result;
+}
+
+void Bc6hEncoder::record(VkCommandBuffer commandBuffer, const OutputCube& source, VkImage target) {
+    Impl& e = *impl_;
+    const auto refuse = [](const std::string& field, const std::string& problem) {
+        return ProbeError(fmt::format("Bc6hEncoder::record: {} {}", field, problem));
+    };
+    if (source.image == VK_NULL_HANDLE) throw refuse("source.image", "is VK_NULL_HANDLE");
+    if (source.format != VK_FORMAT_R32G32B32A32_SFLOAT && source.format != VK_FORMAT_R16G16B16A16_SFLOAT)
+        throw refuse("source.format", fmt::format("is {}: the encoder reads RGBA32F or RGBA16F cubes", int(source.format)));
+    if (source.faceSize != uint32_t(e.faceSize))
+        throw refuse("source.faceSize", fmt::format("is {}, but the encoder was built for {}", source.faceSize, e.faceSize));
+    if (source.mipLevels < uint32_t(e.levelCount))
+        throw refuse("source.mipLevels", fmt::format("is {}, but the encoder reads {} levels", source.mipLevels, e.levelCount));
+    if (source.arrayLayers != 6) throw refuse("source.arrayLayers", fmt::format("is {}, not the 6 faces of a cube", source.arrayLayers));
+    if (!(source.usage & VK_IMAGE_USAGE_TRANSFER_SRC_BIT))
+        throw refuse("source.usage", "lacks TRANSFER_SRC, which the encoder copies it by");
+    if (target == VK_NULL_HANDLE) throw refuse("target", "is VK_NULL_HANDLE");
+
+    // The source's writes (a filter's compute writes, or its conversion's copy) and this encoder's
+    // earlier use of its buffers, before the copies; the source in TRANSFER_SRC_OPTIMAL for its copy.
+    const VkPipelineStageFlags computeAndTransfer = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    const VkAccessFlags written = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    const auto barrier = [&](VkPipelineStageFlags from, VkAccessFlags made, VkPipelineStageFlags to, VkAccessFlags accessed) {
+        VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, made, accessed};
+        vkCmdPipelineBarrier(commandBuffer, from, to, 0, 1, &memory, 0, nullptr, 0, nullptr);
+    };
+    barrier(computeAndTransfer, written, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    imageBarrier(commandBuffer, source.image, 0, uint32_t(e.levelCount), VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 computeAndTransfer, written, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    const VkDeviceSize texelBytes = source.format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8 : 16;
+    std::vector<VkBufferImageCopy> reads, writes;
+    VkDeviceSize blockOffset = 0;
+    for (int m = 0; m < e.levelCount; ++m) {
+        const uint32_t size = uint32_t(std::max(e.faceSize >> m, 1));
+        const VkImageSubresourceLayers faces{VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
+        reads.push_back({e.levelTexels[m] * texelBytes, 0, 0, faces, {0, 0, 0}, {size, size, 1}});
+        writes.push_back({blockOffset, 0, 0, faces, {0, 0, 0}, {size, size, 1}});
+        blockOffset += e.levelBytes[m];
+    }
+    vkCmdCopyImageToBuffer(commandBuffer, source.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, e.texels.handle(), uint32_t(reads.size()),
+                           reads.data());
+    imageBarrier(commandBuffer, source.image, 0, uint32_t(e.levelCount), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT, 0, computeAndTransfer,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    barrier(VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    e.layout->bind(commandBuffer);
+    const auto blockCount = static_cast<uint32_t>(e.blocks.bytes() / kBlockBytes);
+    const Bc6hConstants constants{e.faceSize, e.levelCount, blockCount};
+    if (texelBytes == 8 && !e.halfPipeline) {
+        const std::array<int32_t, 1> half{1}; // the shader's kHalfTexels
+        e.halfPipeline = std::make_unique<ComputePipeline>(e.device.device(), *e.layout, kBc6hEncodeSpv, half);
+    }
+    const ComputePipeline& pipeline = texelBytes == 8 ? *e.halfPipeline : *e.pipeline;
+    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), (blockCount + kBlocksPerGroup - 1) / kBlocksPerGroup);
+    barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    vkCmdCopyBufferToImage(commandBuffer, e.blocks.handle(), target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(writes.size()),
+                           writes.data());
 }
 
 std::vector<PassTime> Bc6hEncoder::timings() const { return impl_->timer->timings(); }

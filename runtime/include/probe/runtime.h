@@ -381,6 +381,21 @@ public:
     // Each level's blocks (probe::bc6hLevelBytes, probe/bc6h.h); a level left empty (not computed) encodes
     // as black.
     std::vector<std::vector<uint8_t>> encode(const CubeLevels& levels);
+    // Engines: records the encoding of `source`, the output cube a Filter wrote (every level), into
+    // `target`, in the same command buffer after Filter::record (or in a later one on the same queue).
+    // What the caller owes:
+    // - source: RGBA32F or RGBA16F, usage TRANSFER_SRC, mips 0..M-1 in VK_IMAGE_LAYOUT_GENERAL, as
+    //   Filter::record leaves them (its writes need no barrier of the caller's: record() makes them
+    //   visible to its copy, for which it moves them to TRANSFER_SRC_OPTIMAL and back to GENERAL).
+    // - target: a VK_FORMAT_BC6H_UFLOAT_BLOCK cube of the encoder's face size, at least M mips and 6
+    //   layers, usage TRANSFER_DST, its mips 0..M-1 in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL.
+    // - after: the blocks are written at VK_PIPELINE_STAGE_TRANSFER_BIT / VK_ACCESS_TRANSFER_WRITE_BIT:
+    //   the caller's barrier (and layout transition) makes them visible to its readers.
+    // The encoder orders its own work (a barrier before its copy covers its buffers' use by an earlier
+    // recording on the same queue), binds its own pipeline and descriptor set, and writes no timestamps.
+    // The blocks equal encode()'s of the same levels. Throws ProbeError naming a field of the source
+    // that does not match.
+    void record(VkCommandBuffer commandBuffer, const OutputCube& source, VkImage target);
     // GPU time of the last encode(): "bc6h" and "total". Empty when the queue has no timestamps.
     std::vector<PassTime> timings() const;
 
