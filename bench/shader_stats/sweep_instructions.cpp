@@ -9,7 +9,9 @@
 namespace probe::stats {
 
 std::string sweepMethodLoop(const std::string& family, const std::string& form) {
-    if (family == "table" && (form == "quad" || form == "const")) return "table_filter_hardware_rgba32f " + form;
+    // A Charlie sweep's GGX levels are a GGX table's, filtered by the same shader.
+    if ((family == "table" || family == "ggx-levels") && (form == "quad" || form == "const"))
+        return "table_filter_hardware_rgba32f " + form;
     if (family == "fis" || family == "fis-mix") return "fis_hardware_rgba32f";
     if (family == "fis-paraboloid") return "fis_paraboloid_rgba32f";
     throw ProbeError(fmt::format("a sweep method of family '{}' and form '{}': no filter shader costs it", family, form));
