@@ -121,10 +121,16 @@ INSTRUCTIONS = ("instructions_per_texel", "RDNA2 instructions per output texel (
                 " (filter pass, hardware sampling; the paraboloid map's exact reads, its only path)")
 
 
+def levels_measured(report, text):
+    """`text` with "levels >= 1" as the sweep measured: every level where none is a copy (Charlie)."""
+    return text if report.get("first_level", 1) > 0 else text.replace("levels >= 1", "every level")
+
+
 def plot_cost(report, cost, path):
     """Error against a cost per output texel that does not depend on the device: image L1 and impulse
     L1 side by side, the FIS front of each marked."""
     key_x, xlabel, _, noun, note = cost
+    xlabel = levels_measured(report, xlabel)
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
     for ax, key, label in zip(axes, ("image_l1", "impulse_l1"), ("image L1 vs exact reference", "impulse L1")):
         groups = defaultdict(list)
@@ -201,7 +207,7 @@ def instructions_markdown(report, instructions):
     """instructions.md: every table against the FIS front over instructions per texel, then every
     method's cost."""
     device = instructions["device"]
-    lines = [f"Instructions per output texel of levels >= 1, from the compiled filter shaders on {device['name']} "
+    lines = [levels_measured(report, "Instructions per output texel of levels >= 1") + f", from the compiled filter shaders on {device['name']} "
              f"({device['driver']}): the code outside the tap or sample loop once, the runtime loop per tap or sample "
              "(bench/shader_stats/shader_stats). Hardware sampling, which a GPU runs; FIS on the dual-paraboloid map reads a buffer "
              "exactly, its only path. The filter pass alone: the pyramid pass is not counted.", "",
