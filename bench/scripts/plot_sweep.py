@@ -207,7 +207,8 @@ def instructions_markdown(report, instructions):
     """instructions.md: every table against the FIS front over instructions per texel, then every
     method's cost."""
     device = instructions["device"]
-    lines = [levels_measured(report, "Instructions per output texel of levels >= 1") + f", from the compiled filter shaders on {device['name']} "
+    lines = [levels_measured(report, "Instructions per output texel of levels >= 1")
+             + f", from the compiled filter shaders on {device['name']} "
              f"({device['driver']}): the code outside the tap or sample loop once, the runtime loop per tap or sample "
              "(bench/shader_stats/shader_stats). Hardware sampling, which a GPU runs; FIS on the dual-paraboloid map reads a buffer "
              "exactly, its only path. The filter pass alone: the pyramid pass is not counted.", "",
