@@ -155,8 +155,8 @@ double estimateReferenceSeconds(int faceSize, int levelCount, const RoughnessMap
     // Every filtered output texel sums over every source texel (less the faces behind it): the time
     // of one output texel grows with the source's texel count. Measured on one thread over a
     // 128^2 source at directions spread over the cube, then scaled. At alpha 0.3: Charlie's power
-    // there, 1 / (2 alpha), is not 1, for which the math library takes a short path (at alpha 0.5 the
-    // estimate of a 128^2 Charlie reference was a quarter of its time).
+    // there, 1 / (2 alpha), is not 1, for which the math library takes a short path (timed at alpha
+    // 0.5, a 128^2 Charlie reference would be estimated at a quarter of its time).
     constexpr int kSampleSize = 128, kSampleDirections = 24;
     constexpr double kSampleAlpha = 0.3;
     const SourceTexels src{CubeImage(kSampleSize)};
