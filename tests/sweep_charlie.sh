@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # probebench sweep --lobe charlie at 16^2: every method against the exact Charlie reference at every
 # level (none is a copy); the Charlie table beside FIS for Charlie and the stand-in engines use (a GGX
-# table's levels), which misses the ring: its impulse L1 is above the Charlie table's.
+# table's levels), which misses the ring: its impulse L1 is above the Charlie table's. Another lobe
+# name is refused with exit 2 and one line, before anything is written.
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -25,3 +26,10 @@ assert levels == {0, 1, 2, 3}, levels
 assert "charlie lobe" in open(sys.argv[3]).read()
 print(f"charlie sweep: impulse L1 table {table['impulse_l1']:.4f}, ggx levels {stand_in['impulse_l1']:.4f}")
 PY
+set +e
+message=$(timeout 60 "$PROBEBENCH" sweep --size 16 --lobe sheen --tables "$work/tables" --out "$work/refused" 2>&1)
+status=$?
+set -e
+[[ $status == 2 ]] || { echo "sweep --lobe sheen: exit $status, expected 2"; exit 1; }
+[[ $(wc -l <<<"$message") == 1 && $message == *"--lobe sheen"* ]] || { echo "sweep --lobe sheen: message '$message'"; exit 1; }
+[[ ! -e $work/refused ]] || { echo "sweep --lobe sheen wrote $work/refused"; exit 1; }
