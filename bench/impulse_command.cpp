@@ -2,7 +2,8 @@
 // face size, on the CPU alone: no device and no reference images (the sweep's exact reference is
 // quadratic in the texel count, days at 1024^2), so a table meets FIS at any size it is fitted for.
 // Against the tables' lobe; for Charlie (sheen) also the cheap stand-in engines use, the exact GGX
-// levels read at the sheen roughness. Prints a Markdown table: per method, the mean L1 over the
+// levels read at the sheen roughness. A table's taps are measured as fitted, at the levels it hands to
+// FIS too (the FIS rows measure those). Prints a Markdown table: per method, the mean L1 over the
 // stratified texels of each level.
 #include <filesystem>
 #include <string>

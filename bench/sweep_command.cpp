@@ -132,7 +132,7 @@ ReadCounts readsPerTexel(const probe::TapGenerator& taps, int size, int firstLev
     std::vector<probe::Tap> list;
     double reads = 0.0, shaderTaps = 0.0, texels = 0.0;
     for (int m = firstLevel; m < levelCount; ++m) {
-        const int used = table ? probe::tapsInUse(*table, m) : 0;
+        const int used = table && table->levels[m].fisSamples == 0 ? probe::tapsInUse(*table, m) : 0; // FIS reads no padding
         const double padding = used > 0 ? 4.0 * ((used + 3) / 4) / used : 1.0;
         double levelReads = 0.0;
         for (int face = 0; face < 6; ++face)
@@ -180,7 +180,7 @@ std::vector<Method> sweepMethods(const SweepOptions& o, int levelCount, const st
             m.settings.method.lobe = t.table.lobe;
             m.settings.sampling = sampling;
             m.settings.pyramidFormat = pyramidFormat;
-            m.taps = probe::tableTapGenerator(t.table);
+            m.taps = probe::tableMethodTapGenerator(t.table);
             setReads(m, o.size, first, levelCount, &t.table);
             methods.push_back(std::move(m));
         }

@@ -151,7 +151,10 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
         const nlohmann::json samples = fis.levelSamples.empty() ? nlohmann::json(fis.samples) : nlohmann::json(fis.levelSamples);
         report["fis"] = {{"samples", samples}, {"bias", fis.bias}, {"map", std::string(probe::fisMapName(fis.map))}};
     }
-    if (s.method.kind == probe::MethodKind::table) report["table"] = describeTable(*s.method.table);
+    if (s.method.kind == probe::MethodKind::table) {
+        report["table"] = describeTable(*s.method.table);
+        markHandOffs(report["levels"], *s.method.table);
+    }
     report["device"] = describeDevice(device.info(), o.validate);
     report["dispatches"] = describeDispatches(filter.dispatches());
     report["barriers"] = filter.barriers();

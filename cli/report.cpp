@@ -39,6 +39,14 @@ nlohmann::json describeLevels(int faceSize, int levelCount, const probe::Roughne
             {"levels", levels}};
 }
 
+void markHandOffs(nlohmann::json& levels, const probe::TapTable& table) {
+    for (nlohmann::json& level : levels) {
+        const int samples = table.levels[level["level"].get<std::size_t>()].fisSamples;
+        if (samples > 0) level["fis_samples"] = samples;
+        level["method"] = samples > 0 ? "fis" : "table";
+    }
+}
+
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation) {
     return {{"kind", "vulkan"},
             {"index", info.index},

@@ -25,6 +25,9 @@ nlohmann::json reportHeader(std::string_view command);
 
 // The settings block every report starts with: input, face size, levels and their roughness.
 nlohmann::json describeLevels(int faceSize, int levelCount, const probe::RoughnessMapping& mapping, probe::Lobe lobe);
+// A table method's level entries (each with its "level") get "method": "table", or "fis" with
+// "fis_samples" where the table hands the level to FIS (TableLevel::fisSamples).
+void markHandOffs(nlohmann::json& levels, const probe::TapTable& table);
 
 // The Vulkan device a command ran on: index, name, driver, type, API version, validation.
 nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validation);

@@ -54,15 +54,20 @@ struct PlannedLevels {
     probe::FilterMethod method; // its table is set by filterSettings
     const std::vector<int>& levels;
     const std::vector<std::vector<std::string>>& readers;
+    const std::vector<probe::MethodKind>& methods; // per entry of `levels`
     int pyramidDepth;
     bool sheen;
 
     static PlannedLevels ggx(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
-        return {p.method, plan.computedLevels, plan.levelReaders, plan.pyramidLevels, false};
+        return {p.method, plan.computedLevels, plan.levelReaders, plan.levelMethods, plan.pyramidLevels, false};
     }
     static PlannedLevels charlie(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
-        return {probe::sheenMethod(p, plan.sheenMethod == probe::MethodKind::table), plan.sheenLevels, plan.sheenReaders,
-                plan.sheenPyramidLevels, true};
+        return {probe::sheenMethod(p, plan.sheenMethod == probe::MethodKind::table),
+                plan.sheenLevels,
+                plan.sheenReaders,
+                plan.sheenLevelMethods,
+                plan.sheenPyramidLevels,
+                true};
     }
 };
 
@@ -208,10 +213,12 @@ private:
         if (!pyramid.empty())
             recordPass(set.sheen ? probe::sheenPyramidPass(p.name, pyramid.back().level) : probe::pyramidPass(p.name, pyramid.back().level),
                        "gpu", describeDispatches(pyramid));
-        for (const probe::gpu::Dispatch& d : passes)
-            recordPass(set.sheen ? probe::sheenLevelPass(p.name, d.level, set.method.kind)
-                                 : probe::levelPass(p.name, d.level, set.method.kind),
-                       "gpu", describeDispatches({d}));
+        // Named by what ran: the method's pass, or FIS at a level the table hands to it.
+        for (const probe::gpu::Dispatch& d : passes) {
+            const probe::MethodKind ran = probe::parseMethodKind(d.pass);
+            recordPass(set.sheen ? probe::sheenLevelPass(p.name, d.level, ran) : probe::levelPass(p.name, d.level, ran), "gpu",
+                       describeDispatches({d}));
+        }
 
         json written = json::array();
         const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // set.levels' order
@@ -221,6 +228,7 @@ private:
                           {"face_size", p.faceSize >> m},
                           {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
                           {"alpha", probe::lobeAlpha(set.method.lobe, probe::levelAlpha(p.mapping, m, p.levelCount))},
+                          {"method", std::string(probe::methodKindName(set.methods[k]))},
                           {"read_by", set.readers[k]}};
             if (k < levelTimes.size()) level["gpu_ms"] = levelTimes[k].medianMs;
             if (scene_.outputs.exr) {

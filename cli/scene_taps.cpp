@@ -37,19 +37,21 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
     return table;
 }
 
-probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& p) {
+probe::MethodTaps sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& p) {
     switch (p.method.kind) {
     case probe::MethodKind::table: {
-        // tableTapGenerator refers to its table: the generator keeps it alive.
+        // tableMethodTapGenerator refers to its table: the generator keeps it alive.
         auto table = std::make_shared<const probe::TapTable>(sceneProbeTable(scene, p));
-        return [table, generator = probe::tableTapGenerator(*table)](int level, const probe::Texel& texel, std::vector<probe::Tap>& taps) {
-            return generator(level, texel, taps);
-        };
+        return {[table, generator = probe::tableMethodTapGenerator(*table)](
+                    int level, const probe::Texel& texel, std::vector<probe::Tap>& taps) { return generator(level, texel, taps); },
+                probe::levelMethods(p.method.kind, table.get(), p.levelCount)};
     }
-    case probe::MethodKind::fis: return probe::fisTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis, p.method.lobe);
+    case probe::MethodKind::fis:
+        return {probe::fisTapGenerator(p.faceSize, p.levelCount, p.mapping, p.method.fis, p.method.lobe),
+                probe::levelMethods(p.method.kind, nullptr, p.levelCount)};
     case probe::MethodKind::reference: break;
     }
-    return {};
+    return {{}, probe::levelMethods(p.method.kind, nullptr, p.levelCount)};
 }
 
 } // namespace probefilter

@@ -1,6 +1,7 @@
 // The tap generator a scene probe's method uses: its table (file or built in) or FIS.
 #pragma once
 
+#include "probe/plan.h"
 #include "probe/scene.h"
 #include "probe/tap_sum.h"
 #include "probe/tap_table.h"
@@ -15,6 +16,7 @@ probe::TapTable sceneProbeTable(const probe::Scene& scene, const probe::ScenePro
 // Whether a compiled-in Charlie table fits the probe (its sheen levels filter with it).
 bool hasCharlieTable(const probe::SceneProbe& probe);
 
-probe::TapGenerator sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& probe);
+// The probe's method's taps and how it filters each level (probe/plan.h).
+probe::MethodTaps sceneProbeTaps(const probe::Scene& scene, const probe::SceneProbe& probe);
 
 } // namespace probefilter

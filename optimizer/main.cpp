@@ -327,6 +327,29 @@ int runSelect(const std::vector<std::string>& paths, const std::string& out, boo
     return 0;
 }
 
+// Rewrites a table's outputs, with the levels of `handOffs` ("LEVEL:SAMPLES") handed to FIS with that
+// many samples per texel (0: back to the table's taps).
+int runExport(const std::string& path, const std::vector<std::string>& handOffs, const std::string& out) {
+    TapTable table = readTable(path);
+    for (const std::string& handOff : handOffs) {
+        const std::size_t colon = handOff.find(':');
+        const std::string level = handOff.substr(0, colon), samples = colon == std::string::npos ? "" : handOff.substr(colon + 1);
+        // Digits alone, at most 3 for a level and 5 for samples (validateTable bounds them).
+        const bool digits =
+            isLevelNumber(level) && !samples.empty() && samples.size() <= 5 && samples.find_first_not_of("0123456789") == std::string::npos;
+        if (!digits || std::stoi(level) >= table.levelCount)
+            throw ProbeError(fmt::format("--fis-level {}: expected LEVEL:SAMPLES, a level of the table (0 to {}) and a sample count",
+                                         handOff, table.levelCount - 1));
+        table.levels[std::stoi(level)].fisSamples = std::stoi(samples);
+    }
+    validateTable(table, "--fis-level");
+    probefit::checkWritable(out);
+    probefit::writeTableOutputs(out, table);
+    for (int m = 0; m < table.levelCount; ++m)
+        if (table.levels[m].fisSamples > 0) fmt::print("level {}: FIS with {} samples per texel\n", m, table.levels[m].fisSamples);
+    return 0;
+}
+
 // Assembles a table whose levels use different tap counts (table_mix.h): one source table per level.
 int runMix(const std::vector<std::string>& paths, const std::string& out) {
     std::vector<probefit::MixSource> perLevel;
@@ -463,6 +486,10 @@ int main(int argc, char** argv) {
     std::string exportSource, exportOut;
     exportTable->add_option("table", exportSource, "table file")->required();
     exportTable->add_option("--out", exportOut, "output prefix")->required();
+    std::vector<std::string> handOffs;
+    exportTable->add_option("--fis-level", handOffs,
+                            "LEVEL:SAMPLES: level LEVEL is filtered by FIS with SAMPLES samples per texel (bias 0, on the table's "
+                            "pyramid) in the table's place, where FIS measured better at no more time; 0 hands it back (repeatable)");
 
     CLI::App* select = app.add_subcommand("select", "a table from several fits of one shape: per level, the lowest-L1 fit "
                                                     "whose seams stay within the bound");
@@ -494,12 +521,7 @@ int main(int argc, char** argv) {
         if (eval->parsed())
             return runEval(table, texels, tolerance, evalCells, evalBudgetOption->count() ? std::optional<int>(evalBudget) : std::nullopt);
         if (tail->parsed()) return runTail(tailTable);
-        if (exportTable->parsed()) {
-            const TapTable t = readTable(exportSource);
-            probefit::checkWritable(exportOut);
-            probefit::writeTableOutputs(exportOut, t);
-            return 0;
-        }
+        if (exportTable->parsed()) return runExport(exportSource, handOffs, exportOut);
         for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.faceSize == 0},
                                             {"--taps", settings.taps == 0},
                                             {"--form", form.empty()},

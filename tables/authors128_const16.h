@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.08228385064558857, 0.10656818045614538, 1, 0, 3, 0.08228385064558857, 0.10656818045614538, 1, 0, 3, 0.9900807727094878},
     {0.07243149369260851, 0.08123887970493296, 4, 0, 0, 0.07243149369260851, 0.08123887970493296, 4, 0, 0, 0.9328958478988304},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1680] = {
     2.9629713e-05f, -0.000459403003f, 7.2984144e-06f, -0.000254073238f, 2.6421767e-05f, 0.0074045402f, -3.39608073e-06f, 0.000714967144f,

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.05361739297514402, 0.06834346845421052, 2, 3, 0, 0.05361739297514402, 0.06834346845421052, 2, 3, 0, 0.9515719361467762},
     {0.05318609228042615, 0.058820692353033055, 5, 1, 1, 0.05318609228042615, 0.058820692353033055, 5, 1, 1, 0.9091114150484852},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3360] = {
     0.000992929679f, 7.67498132e-05f, 0.000294356054f, 0.0146810599f, -0.000546728494f, -0.0015612155f, -1.71484553e-05f, -0.000566758332f,

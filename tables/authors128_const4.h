@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.17013555855701434, 0.21670533216359764, 0, 3, 3, 0.17013555855701434, 0.21670533216359764, 0, 3, 3, 0.9330495808017536},
     {0.13227030887434707, 0.1555891205273699, 2, 1, 1, 0.13227030887434707, 0.1555891205273699, 2, 1, 1, 0.9326951453261267},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[420] = {
     -0.000762197946f, 0.00144022575f, 2.66199194e-12f, 0.00687735807f, -0.00354219088f, 0.00111175491f, -6.6341795e-06f, 0.00217926293f,

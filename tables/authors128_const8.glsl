@@ -139,6 +139,9 @@ vec4 probeTableCoeffs[210] = vec4[](
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
 int probeTableTapGroups[7] = int[](2, 2, 2, 2, 2, 2, 2);
+// Per level, the FIS samples per texel that filter it better than the taps (bias 0, on the same
+// pyramid); 0: the taps. A shader without FIS may still use the taps there.
+int probeTableFisSamples[7] = int[](0, 0, 0, 0, 0, 0, 0);
 #endif
 
 #endif

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.11189287017610106, 0.1504985556096261, 5, 0, 3, 0.11189287017610106, 0.1504985556096261, 5, 0, 3, 0.9678087005297142},
     {0.09239427958247041, 0.09833805353258235, 5, 1, 0, 0.09239427958247041, 0.09833805353258235, 5, 1, 0, 0.9966379772639008},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[840] = {
     2.62289086e-06f, -1.84312512e-07f, 0.000102892001f, 8.14009472e-05f, -4.39241967e-06f, -0.00829830579f, -0.0041610715f, -0.000550911471f,

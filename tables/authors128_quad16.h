@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.05585676623278559, 0.06943286833644223, 2, 3, 3, 0.05585676623278559, 0.06943286833644223, 2, 3, 3, 0.26533330392049453},
     {0.07100331978636965, 0.07535612212637673, 3, 0, 1, 0.07100331978636965, 0.07535612212637673, 3, 0, 1, 0.9890166078678491},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5040] = {
     0.0208086502f, -0.00119325134f, 0.00161629019f, -0.0013477169f, 0.00012246659f, 0.00938698277f, -0.0016477746f, -8.28289994e-05f,

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.03520832871428223, 0.03986795329920606, 3, 0, 0, 0.03520832871428223, 0.03986795329920606, 3, 0, 0, 0.9478671140012609},
     {0.05318609081958647, 0.05882024279415109, 5, 1, 1, 0.05318609081958647, 0.05882024279415109, 5, 1, 1, 0.9091104693327412},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[10080] = {
     2.45796218e-05f, -0.0013566683f, -0.00311383838f, 0.000557277468f, -0.00168549584f, 6.53440748e-06f, -0.000705246755f, 0.00276061893f,

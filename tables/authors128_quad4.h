@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.11380968951004933, 0.13520087475881917, 2, 1, 1, 0.11380968951004933, 0.13520087475881917, 2, 1, 1, 0.8534009295408648},
     {0.13227005820168736, 0.1555893879279367, 2, 1, 1, 0.13227005820168736, 0.1555893879279367, 2, 1, 1, 0.932710706745383},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1260] = {
     -0.00148186239f, -4.49260988e-05f, 0.00503757549f, 0.00510770176f, -0.00182488351f, -3.93896153e-05f, 0.00495401956f, -0.00136428839f,

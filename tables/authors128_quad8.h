@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.08482910952067685, 0.10614544900718588, 4, 1, 2, 0.08482910952067685, 0.10614544900718588, 4, 1, 2, 0.5046466467913889},
     {0.09002978632305626, 0.09263079343804839, 4, 1, 0, 0.09002978632305626, 0.09263079343804839, 4, 1, 0, 0.9977799571246173},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2520] = {
     0.000560941815f, 0.0324399471f, 0.000342782267f, -0.00149749778f, 0.00321053434f, -0.0543831773f, -0.0012369419f, 0.000471532927f,

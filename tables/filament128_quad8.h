@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.09447315438031932, 0.11360551855307206, 2, 2, 3, 0.09447315438031932, 0.11360551855307206, 2, 2, 3, 0.1752822723383589},
     {0.10151983233221645, 0.11987881257232832, 3, 1, 1, 0.10151983233221645, 0.11987881257232832, 3, 1, 1, 0.9694576970743753},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2520] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

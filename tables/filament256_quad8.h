@@ -45,6 +45,9 @@ inline constexpr double kLevelFits[8][11] = {
     {0.08630799341184366, 0.11345482317205689, 2, 1, 1, 0.08630799341184366, 0.11345482317205689, 2, 1, 1, 0.550992179712523},
     {0.0907205620097997, 0.09378298118189826, 2, 1, 0, 0.0907205620097997, 0.09378298118189826, 2, 1, 0, 0.9977015060637989},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2880] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -47,6 +47,9 @@ inline constexpr double kLevelFits[9][11] = {
     {0.08785829874603146, 0.11308865946057149, 1, 1, 2, -1, 0, 0, 0, 0, 0.570657779042471},
     {0.1024150784002959, 0.10939217648459922, 0, 1, 1, -1, 0, 0, 0, 0, 0.9577054627416328},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3240] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -49,6 +49,9 @@ inline constexpr double kLevelFits[10][11] = {
     {0.09906603365823537, 0.13142537102525362, 3, 2, 2, -1, 0, 0, 0, 0, 0.44862472545056786},
     {0.09065295350227012, 0.09366983253923201, 4, 1, 0, -1, 0, 0, 0, 0, 0.9976973164423784},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3600] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.09739370745338741, 0.12554598990162164, 2, 0, 3, 0.09739370745338741, 0.12554598990162164, 2, 0, 3, 0.9914446510623762},
     {0.069111294627382, 0.07750193050190204, 5, 0, 0, 0.069111294627382, 0.07750193050190204, 5, 0, 0, 0.9202381439200333},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1680] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

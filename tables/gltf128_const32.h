@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.06818712715200403, 0.08640817402935874, 5, 0, 0, 0.06818712715200403, 0.08640817402935874, 5, 0, 0, 0.9390378219045677},
     {0.05918769423654379, 0.06445764229144686, 4, 1, 0, 0.05918769423654379, 0.06445764229144686, 4, 1, 0, 0.9262196180259119},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3360] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

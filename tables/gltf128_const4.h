@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.16018037084400744, 0.20940933448363752, 4, 0, 3, 0.16018037084400744, 0.20940933448363752, 4, 0, 3, 0.9512473211354787},
     {0.16571604389256137, 0.16645752396313676, 2, 1, 0, 0.16571604389256137, 0.16645752396313676, 2, 1, 0, 0.987443353200847},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[420] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.07464730520301399, 0.09742332198830614, 2, 3, 3, 0.07464730520301399, 0.09742332198830614, 2, 3, 3, 0.7861832000544982},
     {0.06936042347081615, 0.07844788105166817, 5, 0, 0, 0.06936042347081615, 0.07844788105166817, 5, 0, 0, 0.9252351099290909},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5040] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -4,7 +4,7 @@
 // solver: probefit select: per level, the lowest impulse L1 among 2 fits whose seams stay within the bound of seam_measure.h, those that reach the lobe's tail first (level: fit) 0: q16, 1: q16_l1_hop, 2: q16, 3: q16, 4: q16, 5: q16, 6: q16; the fits: [q16: seam weight 0, Ceres 2.1.0: 10 iterations of Levenberg-Marquardt (dense normal Cholesky, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 150 of BFGS (Wolfe line search, function tolerance 1e-7) with every frame's taps tied (the best frame copied into the others) on the coarse texels (every few of the stratified output texels, at least 128) and at most 30 on all of them with each frame free on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level] [q16_l1_hop: seam weight 0, levels 1: Ceres 2.1.0: 10 iterations of Levenberg-Marquardt (dense normal Cholesky, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 150 of BFGS (Wolfe line search, function tolerance 1e-7) with every frame's taps tied (the best frame copied into the others) on the coarse texels (every few of the stratified output texels, at least 128) and at most 30 on all of them with each frame free on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level where nothing below offers a start, --init table quad 16x3; an --init's exact filter is kept where the fit is not better; then 4 hops (the fit's taps moved at random and refitted, kept where the objective is lower); the other levels copied from the first --init: [Ceres 2.1.0: 10 iterations of Levenberg-Marquardt (dense normal Cholesky, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 150 of BFGS (Wolfe line search, function tolerance 1e-7) with every frame's taps tied (the best frame copied into the others) on the coarse texels (every few of the stratified output texels, at least 128) and at most 30 on all of them with each frame free on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level]]; stratified texels: budget 512 per level
 // fit time 240.3 s
 // impulse-response L1 per level: stratified mean / max, all texels mean / max (worst texel face,i,j), min weight sum
-//   level 0 alpha 0.00490: 1.14887 / 1.25197, 1.15652 / 1.26579 (2,20,40), 0.5508
+//   level 0 alpha 0.00490: 1.14887 / 1.25197, 1.15652 / 1.26579 (2,20,40), 0.5508; filtered by FIS with 48 samples
 //   level 1 alpha 0.02778: 0.48225 / 0.58692, 0.48991 / 0.59579 (4,41,45), 0.7398
 //   level 2 alpha 0.11111: 0.22434 / 0.26971, 0.22762 / 0.27433 (4,5,23), 0.6948
 //   level 3 alpha 0.25000: 0.17130 / 0.21034, 0.17330 / 0.21816 (4,8,9), 0.7998
@@ -664,6 +664,9 @@ vec4 probeTableCoeffs[1260] = vec4[](
 );
 // Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).
 int probeTableTapGroups[7] = int[](4, 4, 4, 4, 4, 4, 4);
+// Per level, the FIS samples per texel that filter it better than the taps (bias 0, on the same
+// pyramid); 0: the taps. A shader without FIS may still use the taps there.
+int probeTableFisSamples[7] = int[](48, 0, 0, 0, 0, 0, 0);
 #endif
 
 #endif

@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.11974126270518023, 0.1551070992054617, 4, 0, 3, 0.11974126270518023, 0.1551070992054617, 4, 0, 3, 0.9278072079792323},
     {0.16309865931151576, 0.16837590790063298, 4, 1, 0, 0.16309865931151576, 0.16837590790063298, 4, 1, 0, 0.9385263580083443},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1260] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

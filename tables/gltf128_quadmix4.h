@@ -43,6 +43,9 @@ inline constexpr double kLevelFits[7][11] = {
     {0.05173026536440121, 0.059146005664568485, 3, 2, 2, 0.05173026536440121, 0.059146005664568485, 3, 2, 2, 0.5143575021604676},
     {0.05784176053764194, 0.06304761875590069, 4, 1, 1, 0.05784176053764194, 0.06304761875590069, 4, 1, 1, 0.929560714877552},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[7] = {0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[10080] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

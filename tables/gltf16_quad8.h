@@ -37,6 +37,9 @@ inline constexpr double kLevelFits[4][11] = {
     {0.0911254795706645, 0.11845313122817748, 1, 1, 2, 0.09112548058818462, 0.1184531344988424, 1, 1, 2, 0.5479941923593595},
     {0.10319778076135856, 0.11461019642755776, 3, 0, 0, 0.10319778145076218, 0.11461019765856326, 3, 0, 0, 0.9723376311660068},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[4] = {0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1440] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

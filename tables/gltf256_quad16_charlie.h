@@ -45,6 +45,9 @@ inline constexpr double kLevelFits[8][11] = {
     {0.12149629220559402, 0.13560916596692196, 4, 1, 2, 0.12149629220559402, 0.13560916596692196, 4, 1, 2, 0.741110159401521},
     {0.10372384157311668, 0.11574300473586166, 0, 1, 0, 0.10372384157311668, 0.11574300473586166, 0, 1, 0, 0.9880497558773331},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5760] = {
     1.50199544f, -1.34620738f, 0.161050856f, -0.155587271f, 0.929620445f, -0.861676037f, -0.911361635f, 0.970739901f,

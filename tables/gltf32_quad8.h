@@ -39,6 +39,9 @@ inline constexpr double kLevelFits[5][11] = {
     {0.08852751249180703, 0.10612437691355617, 3, 2, 2, 0.08852751223906444, 0.10612437731018552, 3, 2, 2, 0.3195606854102525},
     {0.10692934858990544, 0.11861258583350877, 4, 1, 1, 0.10692934868475897, 0.11861258666929306, 4, 1, 1, 0.8925108305362435},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[5] = {0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[1800] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

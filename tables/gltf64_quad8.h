@@ -41,6 +41,9 @@ inline constexpr double kLevelFits[6][11] = {
     {0.08907389707677525, 0.11012494023430176, 2, 2, 1, 0.08907389707677525, 0.11012494023430176, 2, 2, 1, 0.10650931867085323},
     {0.09804938588774148, 0.10392298301148277, 5, 0, 1, 0.09804938588774148, 0.10392298301148277, 5, 0, 1, 0.9782484907910849},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[6] = {0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2160] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

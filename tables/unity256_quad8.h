@@ -45,6 +45,9 @@ inline constexpr double kLevelFits[8][11] = {
     {0.08552833547166404, 0.10146010770234959, 1, 1, 2, 0.08552833547166404, 0.10146010770234959, 1, 1, 2, 0.3038729624736411},
     {0.090595312207502, 0.09358385463795164, 4, 1, 0, 0.090595312207502, 0.09358385463795164, 4, 1, 0, 0.997033739091367},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[2880] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -47,6 +47,9 @@ inline constexpr double kLevelFits[9][11] = {
     {0.08732190429128352, 0.1028693292570775, 0, 2, 2, -1, 0, 0, 0, 0, 0.3192851254323576},
     {0.10535489935418968, 0.11863993298433963, 0, 1, 1, -1, 0, 0, 0, 0, 0.9357870118581887},
 };
+// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
+// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
+inline constexpr int kFisSamples[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[3240] = {
     0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f,

@@ -2,7 +2,8 @@
 # probefilter run on lavapipe with the validation layer: scenes that call for the mirror level only,
 # diffuse only, both, sheen, and nothing run end to end; report.json lists exactly the passes that
 # `probefilter plan` prints; only the planned files are written; the levels a run computes equal,
-# byte for byte, the same levels of a full `filter` run (fis, table, and Charlie fis for sheen).
+# byte for byte, the same levels of a full `filter` run (fis, table, and Charlie fis for sheen); the
+# compiled-in 128^2 Charlie table hands its level 0 to FIS, and the plan and the run say so.
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -34,6 +35,13 @@ scene cube '"method": "fis"' '{"name": "chalk", "roughness": 1, "specular": 0}' 
 scene sheen '"method": "table", "table": "'"$fixtures"'/table_16_quad4_gltf.json", "samples": 16' \
     '{"name": "velvet", "roughness": 1, "specular": 0, "base_color": [0, 0, 0], "sheen_color": [1, 0.5, 0.5], "sheen_roughness": 0.5}' \
     '"ktx2": "rgba16f", "spheres": true'
+# Sheen on a 128^2 table probe: gltf128_quad8_charlie filters level 1, FIS with 24 samples its level 0.
+"$PROBEFILTER" synth sky --size 128 --out sky128.exr >/dev/null
+cat >handoff.json <<JSON
+{"probes": [{"name": "sky", "image": "sky128.exr", "face_size": 128, "method": "table"}],
+ "materials": [{"name": "satin", "roughness": 1, "specular": 0, "base_color": [0, 0, 0], "sheen_color": [1, 1, 1],
+                "sheen_roughness": 0.1}], "outputs": {}}
+JSON
 
 # The passes `plan` prints (the text before " because "), as JSON.
 planned() {
@@ -77,8 +85,12 @@ if "dfg" in report: assert "red = A, green = B" in report["dfg"]["convention"]
 if "sheen_table" in report: assert "Estevez-Kulla" in report["sheen_table"]["convention"]
 for p in report["probes"]:
     if "sheen" in p:
-        assert p["sheen"]["lobe"] == "charlie" and p["sheen"]["method"] == "fis" and p["sheen"]["fis_samples"] == 16, p["sheen"]
         assert [l["level"] for l in p["sheen"]["levels"]] == sheen, p["sheen"]
+        if name == "handoff":
+            assert p["sheen"]["method"] == "table", p["sheen"]
+            assert [l["method"] for l in p["sheen"]["levels"]] == ["fis", "table"], p["sheen"]
+        else:
+            assert p["sheen"]["method"] == "fis" and p["sheen"]["fis_samples"] == 16, p["sheen"]
 PY
 }
 
@@ -94,6 +106,10 @@ check_run mixed "[\"sky: load\", \"$mixed_pyramid\", \"sky: level 0 (fis)\", \"s
 \"sky: sh-irradiance\", \"dfg-table\"]"
 sheen_pyramid=$("$PROBEFILTER" plan sheen.json | grep -o "^sky: sheen pyramid 0\.\.[0-9]*")
 check_run sheen "[\"sky: load\", \"$sheen_pyramid\", \"sky: sheen level 1 (fis)\", \"sky: sheen level 2 (fis)\", \"sheen-table\"]"
+handoff_pyramid=$("$PROBEFILTER" plan handoff.json | grep -o "^sky: sheen pyramid 0\.\.[0-9]*")
+"$PROBEFILTER" plan handoff.json | grep -q "^sky: sheen level 0 (fis) .*the table hands it to FIS" ||
+    fail "handoff: the plan names no hand-off"
+check_run handoff "[\"sky: load\", \"$handoff_pyramid\", \"sky: sheen level 0 (fis)\", \"sky: sheen level 1 (table)\", \"sheen-table\"]"
 table_pyramid=$("$PROBEFILTER" plan table.json | grep -o "^sky: pyramid 0\.\.[0-9]*")
 check_run table "[\"sky: load\", \"$table_pyramid\", \"sky: level 1 (table)\", \"sky: level 2 (table)\", \"dfg-table\"]"
 
@@ -107,4 +123,14 @@ for m in 1 2; do cmp -s out-table/sky/level_$m.exr full-table/level_$m.exr || fa
 for m in 1 2; do
     cmp -s out-sheen/sky/sheen_level_$m.exr full-charlie/level_$m.exr || fail "sheen: level $m differs from the full Charlie fis run"
 done
+# The hand-off is the table method's own: a full Charlie table run has the same levels and names them.
+"$PROBEFILTER" filter sky128.exr --method table --lobe charlie --size 128 --out full-handoff >/dev/null 2>&1 || fail "filter charlie table"
+for m in 0 1; do
+    cmp -s out-handoff/sky/sheen_level_$m.exr full-handoff/level_$m.exr || fail "handoff: level $m differs from the full table run"
+done
+python3 - full-handoff/report.json <<'PY' || fail "handoff: the filter report"
+import json, sys
+levels = json.load(open(sys.argv[1]))["levels"]
+assert [l["method"] for l in levels] == ["fis"] + ["table"] * 6 and levels[0]["fis_samples"] == 24, levels
+PY
 echo "cli_run: ok"

@@ -73,9 +73,10 @@ TEST(CompiledTables, EqualTheirTableFiles) {
         EXPECT_EQ(t.seamWeight, file.seamWeight);
         for (int m = 0; m < file.levelCount; ++m) {
             const TableLevel &a = t.levels[m], &b = file.levels[m];
-            EXPECT_EQ(
-                std::tie(a.stratified.mean, a.stratified.max, a.stratified.worst, a.all.mean, a.all.max, a.all.worst, a.minWeightSum),
-                std::tie(b.stratified.mean, b.stratified.max, b.stratified.worst, b.all.mean, b.all.max, b.all.worst, b.minWeightSum));
+            EXPECT_EQ(std::tie(a.stratified.mean, a.stratified.max, a.stratified.worst, a.all.mean, a.all.max, a.all.worst, a.minWeightSum,
+                               a.fisSamples),
+                      std::tie(b.stratified.mean, b.stratified.max, b.stratified.worst, b.all.mean, b.all.max, b.all.worst, b.minWeightSum,
+                               b.fisSamples));
             ASSERT_EQ(a.coefficients.size(), b.coefficients.size());
             // The headers hold floats, what the GPU reads.
             for (std::size_t k = 0; k < b.coefficients.size(); ++k)

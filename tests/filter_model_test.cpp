@@ -357,6 +357,38 @@ TEST(TableIo, RoundTrip) {
     std::filesystem::remove(path);
 }
 
+// A level handed to FIS keeps its count through the file and the generated header; a count out of
+// range, or at a copy level, is refused by name.
+TEST(TableIo, HandOffRoundTripAndRefusals) {
+    TapTable table = randomTable(16, 4, 8, TableForm::quadratic, 9);
+    table.levels[2].fisSamples = 48;
+    const std::string text = tableToJson(table);
+    const auto path = tempFile("handoff.json");
+    std::ofstream(path) << text;
+    const TapTable back = readTable(path);
+    for (int m = 0; m < 4; ++m) EXPECT_EQ(back.levels[m].fisSamples, m == 2 ? 48 : 0) << "level " << m;
+    EXPECT_NE(tableCppHeader(table, "t").find("kFisSamples[4] = {0, 0, 48, 0};"), std::string::npos);
+    EXPECT_NE(tableGlslInclude(table, "t").find("probeTableFisSamples[4] = int[](0, 0, 48, 0);"), std::string::npos);
+    const auto expectRefused = [&](const std::string& content, const std::string& needle) {
+        std::ofstream(path) << content;
+        try {
+            readTable(path);
+            ADD_FAILURE() << "accepted: " << needle;
+        } catch (const ProbeError& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+            EXPECT_NE(message.find(needle), std::string::npos) << message;
+        }
+    };
+    std::string tooMany = text;
+    tooMany.replace(tooMany.find("\"fisSamples\": 48"), 16, "\"fisSamples\": 70000");
+    expectRefused(tooMany, "level 2 is handed to FIS with 70000 samples");
+    table.levels[2].fisSamples = 0;
+    table.levels[0].fisSamples = 8; // GGX level 0: alpha 0, a copy
+    EXPECT_THROW(tableToJson(table), ProbeError);
+    std::filesystem::remove(path);
+}
+
 TEST(TableIo, PublishedLayoutRoundTrip) {
     for (TableForm form : {TableForm::constant, TableForm::quadratic}) {
         const TapTable table = randomTable(16, 4, 8, form, 4);

@@ -209,6 +209,38 @@ TEST_F(GpuTest, PaddedTableEqualsCpuModel) {
     }
 }
 
+// A table that hands levels to FIS (TableLevel::fisSamples): those levels run FIS's pass on the
+// table's pyramid, equal to FIS at that count and bias 0; the others stay the table's.
+TEST_F(GpuTest, TableHandOffEqualsFisAtThoseLevels) {
+    const PyramidSettings pyramid = kAllPyramids[0];
+    TapTable table = randomTable(32, 5, 8, TableForm::quadratic, RoughnessMapping::gltf, pyramid, 25);
+    table.levels[1].fisSamples = 24;
+    table.levels[3].fisSamples = 7;
+    const CubeImage source = probetest::randomProbe(32, 26);
+    FisSettings fis;
+    fis.levelSamples = {1, 24, 1, 7, 1};
+    fis.pyramid = pyramid;
+    const CubeLevels asFis = filterWithTaps(buildPyramid(source, pyramid), 5, fisTapGenerator(32, 5, RoughnessMapping::gltf, fis));
+    const CubeLevels asTable = tableFilter(source, table);
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases) {
+        gpu::Filter filter(probetest::testDevice(), probetest::tableSettings(table, c.sampling));
+        const CubeLevels levels = filter.run(source);
+        for (int m = 1; m < 5; ++m) {
+            const CubeImage& expected = table.levels[m].fisSamples > 0 ? asFis[m] : asTable[m];
+            EXPECT_LT(probetest::maxRelativeError(levels[m], expected), c.tolerance) << describe(c.sampling) << " level " << m;
+        }
+        EXPECT_GT(probetest::maxRelativeError(levels[1], asTable[1]), 10 * c.tolerance) << "level 1 is not the table's";
+        std::vector<std::string> passes;
+        for (const gpu::Dispatch& d : filter.dispatches())
+            if (d.pass != "pyramid") passes.push_back(d.pass);
+        EXPECT_EQ(passes, (std::vector<std::string>{"table", "fis", "table", "fis", "table"})) << describe(c.sampling);
+    }
+    // The CPU model of the method is the same.
+    const CubeLevels model = filterOnCpu(source, 5, RoughnessMapping::gltf, probetest::tableSettings(table, gpu::Sampling::exact).method);
+    for (int m = 1; m < 5; ++m)
+        EXPECT_LT(probetest::maxRelativeError(model[m], table.levels[m].fisSamples > 0 ? asFis[m] : asTable[m]), 1e-6) << "level " << m;
+}
+
 TEST_F(GpuTest, FisEqualsCpuModel) {
     struct Case {
         int samples;

@@ -32,6 +32,14 @@ awk 'FILENAME == ARGV[1] { if (/^level [1-3] mean/) own[$2] = $4; next }
 awk '/^level [1-3] mean/ { if ($4 > 0.2) bad = 1 } END { exit bad }' "$work/eval.log" ||
     fail "small fit L1 above 0.2: $(cat "$work/eval.log")"
 
+# export --fis-level hands a level to FIS (the JSON, the header and the GLSL record the count), and
+# LEVEL:0 hands it back, leaving the table as it was.
+"$PROBEFIT" export "$work/small.json" --fis-level 2:24 --out "$work/handoff" >"$work/handoff.log" || fail "export --fis-level: exit $?"
+grep -q '"fisSamples": 24' "$work/handoff.json" && grep -q 'kFisSamples\[4\] = {0, 0, 24, 0};' "$work/handoff.h" &&
+    grep -q 'probeTableFisSamples\[4\] = int\[\](0, 0, 24, 0);' "$work/handoff.glsl" || fail "export --fis-level: not recorded"
+"$PROBEFIT" export "$work/handoff.json" --fis-level 2:0 --out "$work/back" >/dev/null || fail "export --fis-level 2:0: exit $?"
+cmp -s "$work/back.json" "$work/small.json" || fail "export --fis-level 2:0 does not give the table back"
+
 # The Charlie lobe (sheen): the table records its lobe, eval reproduces its records against the Charlie
 # reference, and every level is fitted (level 0 too, which a GGX table copies): levels 1-3 end below
 # half their start (about 0.4 of it); level 0, whose ring is narrower than a texel, below its start.
@@ -258,6 +266,10 @@ expect_refused fit-levels-empty "--fit-levels: empty value" \
 expect_refused fit-levels-gap  "--fit-levels"           $(fit --size 16 --levels 4 --init "$work/small.json" --fit-levels 1,,2)
 expect_refused fresh           "--fresh"                $(fit --size 16 --levels 4 --init "$work/small.json" --fresh)
 expect_refused eval-texels     "--texels"               eval "$work/small.json" --texels some
+expect_refused fis-level-range "--fis-level 4:24"       export "$work/small.json" --fis-level 4:24 --out "$work/out"
+expect_refused fis-level-form  "--fis-level 1-24"       export "$work/small.json" --fis-level 1-24 --out "$work/out"
+expect_refused fis-level-many  "65536"                  export "$work/small.json" --fis-level 1:70000 --out "$work/out"
+expect_refused fis-level-copy  "level 0 is a copy"      export "$work/small.json" --fis-level 0:24 --out "$work/out"
 expect_refused eval-cells-all  "--cells"                eval "$work/small.json" --texels all --cells
 expect_refused eval-budget-all "--budget"               eval "$work/small.json" --texels all --budget 1024
 expect_refused eval-budget-0   "--budget"               eval "$work/small.json" --texels stratified --budget 0

@@ -43,7 +43,11 @@ protected:
     Plan plan(const std::string& json) {
         const Scene s = readScene(write(json));
         return makePlan(
-            s, [](const SceneProbe& p) { return methodTapGenerator(p.method, p.faceSize, p.levelCount, p.mapping); },
+            s,
+            [](const SceneProbe& p) {
+                return MethodTaps{methodTapGenerator(p.method, p.faceSize, p.levelCount, p.mapping),
+                                  levelMethods(p.method.kind, p.method.table, p.levelCount)};
+            },
             [](const SceneProbe&) { return false; });
     }
     void expectRefused(const std::string& json, const std::string& field) {

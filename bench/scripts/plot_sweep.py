@@ -2,6 +2,7 @@
 import csv
 import json
 import math
+import re
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -222,6 +223,27 @@ def instructions_markdown(report, instructions):
     return "\n".join(lines) + "\n"
 
 
+def hand_offs(tables, fis, family, setting, error, best_within):
+    """The levels each table should hand to FIS (TableLevel::fisSamples): those where FIS with bias 0 on the
+    table's pyramid, no slower at that level, is more accurate on most probes (the checkerboard aside); the
+    count is the one that wins most often. `probefit export` records it."""
+    lines = []
+    for table in tables:
+        same = [f for f in fis if family[f] == "fis" and setting[f] == f"bias 0, {setting[table].split(', ')[1]}"]
+        for level in sorted({level for (probe, level) in error[table]}):
+            probes = [probe for (probe, m) in error[table] if m == level and probe != CHECKER]
+            winners = [best_within(table, same, probe, level) for probe in probes]
+            winners = [w for w, probe in zip(winners, probes) if w and error[w][(probe, level)] < error[table][(probe, level)]]
+            if probes and 2 * len(winners) > len(probes):
+                count = max(set(winners), key=winners.count)
+                samples = int(re.match(r"fis(\d+)", count).group(1))
+                lines.append(f"- `{table}` level {level}: FIS {samples} (bias 0) wins on {len(winners)} of {len(probes)} probes: "
+                             f"`probefit export {table}.json --fis-level {level}:{samples} --out {table}`")
+    head = ["", "Hand-offs: where FIS at bias 0 on the table's pyramid, no slower at that level, is the more accurate on "
+            "most probes, the table should hand the level to it (`TableLevel::fisSamples`; the command records it)."]
+    return head + [""] + (lines or ["- none"])
+
+
 def level_table(rows, best_setting, first_level):
     """Per table, level and probe: the table's image L1 against FIS whose pass 2 for that level is no
     slower than the table's (level_gpu_ms), and every pair it loses: against the most accurate FIS
@@ -271,6 +293,7 @@ def level_table(rows, best_setting, first_level):
         pairs_best, lost_best = losses(table, at_best)
         lines.append(f"| `{table}` | {pairs} | {len(lost)} | {len(lost_best)} of {pairs_best} | {'; '.join(lost) or '-'} | "
                      f"{'; '.join(lost_best) or '-'} |")
+    lines += hand_offs(tables, fis, family, setting, error, best_within)
     levels = sorted({level for (probe, level) in error[tables[0]] if probe == CHECKER}) if tables else []
     if levels:
         lines += ["", "The synthetic checkerboard apart: at rough levels the exact filter averages its pattern almost to grey, "

@@ -10,7 +10,7 @@ namespace probe {
 
 TapGenerator methodTapGenerator(const FilterMethod& method, int faceSize, int levelCount, const RoughnessMapping& mapping) {
     switch (method.kind) {
-    case MethodKind::table: return tableTapGenerator(*method.table);
+    case MethodKind::table: return tableMethodTapGenerator(*method.table);
     case MethodKind::fis: return fisTapGenerator(faceSize, levelCount, mapping, method.fis, method.lobe);
     case MethodKind::reference: break;
     }

@@ -57,7 +57,15 @@ FilterMethod sheenMethod(const SceneProbe& probe, bool charlieTable) {
     return method;
 }
 
-Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor, const CharlieTableFor& charlieTableFor) {
+std::vector<MethodKind> levelMethods(MethodKind kind, const TapTable* table, int levelCount) {
+    std::vector<MethodKind> methods(static_cast<std::size_t>(levelCount), kind);
+    if (kind == MethodKind::table && table)
+        for (int m = 0; m < levelCount; ++m)
+            if (table->levels[m].fisSamples > 0) methods[m] = MethodKind::fis;
+    return methods;
+}
+
+Plan makePlan(const Scene& scene, const MethodTapsFor& methodTapsFor, const CharlieTableFor& charlieTableFor) {
     Plan plan;
     for (const SceneProbe& probe : scene.probes) {
         ProbePlan p;
@@ -74,29 +82,32 @@ Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor, const Cha
                 for (int level : levelsReadForRoughness(probe.mapping, material.sheenRoughness, probe.levelCount))
                     sheenReaders[level].push_back(material.name);
         }
+        const MethodTaps ggx = readers.empty() ? MethodTaps{} : methodTapsFor(probe);
         for (auto& [level, names] : readers) {
             p.computedLevels.push_back(level);
             p.levelReaders.push_back(names);
+            p.levelMethods.push_back(ggx.levelMethods[level]);
         }
+        // Every Charlie level is filtered (none is a copy); FIS reads the pyramid, the reference the source.
+        const FilterMethod sheen = sheenMethod(probe, !sheenReaders.empty() && charlieTableFor(probe));
+        p.sheenMethod = sheen.kind;
+        SceneProbe charlie = probe;
+        charlie.method = sheen;
+        const MethodTaps charlieTaps = sheenReaders.empty() ? MethodTaps{} : methodTapsFor(charlie);
         for (auto& [level, names] : sheenReaders) {
             p.sheenLevels.push_back(level);
             p.sheenReaders.push_back(names);
+            p.sheenLevelMethods.push_back(charlieTaps.levelMethods[level]);
         }
-        // Every Charlie level is filtered (none is a copy); FIS reads the pyramid, the reference the source.
-        const FilterMethod sheen = sheenMethod(probe, !p.sheenLevels.empty() && charlieTableFor(probe));
-        p.sheenMethod = sheen.kind;
-        if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference) {
-            SceneProbe charlie = probe;
-            charlie.method = sheen;
-            p.sheenPyramidLevels = deepestPyramidLevelRead(generatorFor(charlie), probe.faceSize, p.sheenLevels);
-        }
+        if (!p.sheenLevels.empty() && p.sheenMethod != MethodKind::reference)
+            p.sheenPyramidLevels = deepestPyramidLevelRead(charlieTaps.generator, probe.faceSize, p.sheenLevels);
         p.shIrradiance = !p.diffuseMaterials.empty() && (scene.outputs.shIrradiance || scene.outputs.spheres);
         p.irradianceCube = !p.diffuseMaterials.empty() && scene.outputs.irradianceCube;
         p.readsPyramid = std::any_of(p.computedLevels.begin(), p.computedLevels.end(),
                                      [&](int m) { return levelAlpha(probe.mapping, m, probe.levelCount) > 0.0; });
         // The reference reads pyramid level 0, the source, texel by texel.
         if (p.readsPyramid && probe.method.kind != MethodKind::reference)
-            p.pyramidLevels = deepestPyramidLevelRead(generatorFor(probe), probe.faceSize, p.computedLevels);
+            p.pyramidLevels = deepestPyramidLevelRead(ggx.generator, probe.faceSize, p.computedLevels);
         plan.probes.push_back(std::move(p));
     }
     for (const SceneMaterial& material : scene.materials) {
@@ -127,6 +138,11 @@ struct Step {
     std::string reason;
 };
 
+// Why a level of a table probe is FIS's: the table hands it over.
+std::string handOffReason(MethodKind probeMethod, MethodKind levelMethod) {
+    return probeMethod != levelMethod ? "; the table hands it to FIS, which filters it better at no more time" : "";
+}
+
 std::vector<Step> steps(const Plan& plan) {
     std::vector<Step> out;
     for (const ProbePlan& p : plan.probes) {
@@ -140,8 +156,8 @@ std::vector<Step> steps(const Plan& plan) {
                                : fmt::format("the taps of levels {} read down to pyramid level {} (level 0: the source)",
                                              fmt::join(p.computedLevels, ", "), p.pyramidLevels)});
         for (std::size_t k = 0; k < p.computedLevels.size(); ++k)
-            out.push_back(
-                {levelPass(p.probe, p.computedLevels[k], p.method), fmt::format("read by {}", fmt::join(p.levelReaders[k], ", "))});
+            out.push_back({levelPass(p.probe, p.computedLevels[k], p.levelMethods[k]),
+                           fmt::format("read by {}{}", fmt::join(p.levelReaders[k], ", "), handOffReason(p.method, p.levelMethods[k]))});
         if (p.shIrradiance) out.push_back({irradiancePass(p.probe), fmt::format("diffuse: {}", fmt::join(p.diffuseMaterials, ", "))});
         if (p.irradianceCube)
             out.push_back({irradianceCubePass(p.probe),
@@ -152,8 +168,9 @@ std::vector<Step> steps(const Plan& plan) {
                                        p.sheenMethod == MethodKind::table ? "table's" : "FIS", fmt::join(p.sheenLevels, ", "),
                                        p.sheenPyramidLevels)});
         for (std::size_t k = 0; k < p.sheenLevels.size(); ++k)
-            out.push_back({sheenLevelPass(p.probe, p.sheenLevels[k], p.sheenMethod),
-                           fmt::format("sheen read by {}", fmt::join(p.sheenReaders[k], ", "))});
+            out.push_back({sheenLevelPass(p.probe, p.sheenLevels[k], p.sheenLevelMethods[k]),
+                           fmt::format("sheen read by {}{}", fmt::join(p.sheenReaders[k], ", "),
+                                       handOffReason(p.sheenMethod, p.sheenLevelMethods[k]))});
     }
     if (plan.dfgTable) out.push_back({kDfgPass, fmt::format("specular: {}", fmt::join(plan.specularMaterials, ", "))});
     if (plan.sheenTable) out.push_back({kSheenTablePass, fmt::format("sheen: {}", fmt::join(plan.sheenMaterials, ", "))});

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "probe/error.h"
+#include "probe/fis.h"
 
 namespace probe {
 
@@ -28,6 +29,23 @@ TapGenerator tableTapGenerator(const TapTable& table) {
         tableTaps(table, level, used[level], texelCubePoint(texel, table.faceSize >> level), taps);
         return true;
     };
+}
+
+std::vector<std::vector<Tap>> handOffSamples(const TapTable& table) {
+    std::vector<std::vector<Tap>> samples(static_cast<std::size_t>(table.levelCount));
+    for (int m = 0; m < table.levelCount; ++m)
+        if (table.levels[m].fisSamples > 0)
+            samples[m] = fisSamples(tableLevelAlpha(table, m), table.faceSize, table.levels[m].fisSamples, 0.0, table.lobe);
+    return samples;
+}
+
+TapGenerator tableMethodTapGenerator(const TapTable& table) {
+    return
+        [&table, handedOff = handOffSamples(table), taps = tableTapGenerator(table)](int level, const Texel& texel, std::vector<Tap>& out) {
+            if (handedOff[level].empty()) return taps(level, texel, out);
+            fisTaps(texelDirection(texel, table.faceSize >> level), handedOff[level], out);
+            return true;
+        };
 }
 
 CubeLevels tableFilter(const CubeLevels& pyramid, const TapTable& table) {

@@ -131,6 +131,12 @@ std::vector<int> tapGroups(const TapTable& table) {
     return groups;
 }
 
+std::vector<int> fisSamples(const TapTable& table) {
+    std::vector<int> samples;
+    for (const TableLevel& level : table.levels) samples.push_back(level.fisSamples);
+    return samples;
+}
+
 std::string commentBlock(const TapTable& table) {
     std::string out;
     for (const std::string& line : tableSummary(table)) out += "// " + line + "\n";
@@ -144,12 +150,14 @@ std::string tableToJson(const TapTable& table) {
     json levels = json::array();
     for (int m = 0; m < table.levelCount; ++m) {
         const TableLevel& level = table.levels[m];
-        levels.push_back({{"level", m},
-                          {"alpha", tableLevelAlpha(table, m)},
-                          {"stratified", errorToJson(level.stratified)},
-                          {"all", errorToJson(level.all)},
-                          {"minWeightSum", level.minWeightSum},
-                          {"coefficients", level.coefficients}});
+        json entry = {{"level", m},
+                      {"alpha", tableLevelAlpha(table, m)},
+                      {"stratified", errorToJson(level.stratified)},
+                      {"all", errorToJson(level.all)},
+                      {"minWeightSum", level.minWeightSum}};
+        if (level.fisSamples > 0) entry["fisSamples"] = level.fisSamples; // levels the table filters name none
+        entry["coefficients"] = level.coefficients;
+        levels.push_back(std::move(entry));
     }
     json j = {{"format", kFormatName},
               {"version", kFormatVersion},
@@ -219,12 +227,14 @@ TapTable tableFromJson(std::string_view text, const std::filesystem::path& path)
     for (int m = 0; m < table.levelCount; ++m) {
         const json& level = levels[static_cast<std::size_t>(m)];
         if (r.get<int>(level, "level") != m) throw ProbeError(fmt::format("{}: levels out of order at entry {}", path.string(), m));
-        r.refuseUnknown(level, {"level", "alpha", "stratified", "all", "minWeightSum", "coefficients"}, fmt::format("levels[{}].", m));
+        r.refuseUnknown(level, {"level", "alpha", "stratified", "all", "minWeightSum", "fisSamples", "coefficients"},
+                        fmt::format("levels[{}].", m));
         TableLevel& out = table.levels[m];
         out.coefficients = r.get<std::vector<double>>(level, "coefficients");
         out.stratified = r.error(level, "stratified");
         out.all = r.error(level, "all");
         out.minWeightSum = r.get<double>(level, "minWeightSum");
+        if (level.contains("fisSamples")) out.fisSamples = r.get<int>(level, "fisSamples");
     }
     validateTableValues(table, path.string());
     return table;
@@ -292,7 +302,8 @@ std::vector<std::string> tableSummary(const TapTable& table) {
                                                                l.all.worst.i, l.all.worst.j);
         const std::string stratified =
             l.stratified.mean < 0.0 ? std::string("not measured") : fmt::format("{:.5f} / {:.5f}", l.stratified.mean, l.stratified.max);
-        lines.push_back(fmt::format("  level {} alpha {:.5f}: {}, {}, {:.4f}", m, alpha, stratified, all, l.minWeightSum));
+        const std::string handOff = l.fisSamples > 0 ? fmt::format("; filtered by FIS with {} samples", l.fisSamples) : std::string();
+        lines.push_back(fmt::format("  level {} alpha {:.5f}: {}, {}, {:.4f}{}", m, alpha, stratified, all, l.minWeightSum, handOff));
     }
     return lines;
 }
@@ -331,6 +342,9 @@ std::string tableCppHeader(const TapTable& table, std::string_view name) {
         out += fmt::format("    {{{}, {}, {}}},\n", error(level.stratified), error(level.all), level.minWeightSum);
     }
     out += "};\n";
+    out += "// Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's\n"
+           "// pyramid), where FIS measured better at no more time; 0: the table's taps filter it.\n";
+    out += fmt::format("inline constexpr int kFisSamples[{}] = {{{}}};\n", table.levelCount, fmt::join(fisSamples(table), ", "));
     out += "// Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].\n";
     out += fmt::format("inline constexpr float kCoefficients[{}] = {{{}\n}};\n", values.size(), floatList(values, 2, "", ""));
     out += "\n} // namespace probe_tables::" + std::string(name) + "\n";
@@ -364,6 +378,9 @@ std::string tableGlslInclude(const TapTable& table, std::string_view name) {
     out += fmt::format("vec4 probeTableCoeffs[{}] = vec4[]({}\n);\n", values.size() / 4, floatList(values, 2, "vec4(", ")"));
     out += "// Per level, the groups of four taps per frame in use (the rest weigh 0 and can be skipped).\n";
     out += fmt::format("int probeTableTapGroups[{}] = int[]({});\n", table.levelCount, fmt::join(tapGroups(table), ", "));
+    out += "// Per level, the FIS samples per texel that filter it better than the taps (bias 0, on the same\n"
+           "// pyramid); 0: the taps. A shader without FIS may still use the taps there.\n";
+    out += fmt::format("int probeTableFisSamples[{}] = int[]({});\n", table.levelCount, fmt::join(fisSamples(table), ", "));
     out += "#endif\n\n#endif\n";
     return out;
 }

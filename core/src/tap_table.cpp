@@ -174,6 +174,15 @@ void validateTable(const TapTable& table, std::string_view what) {
             throw ProbeError(fmt::format("{}: level {} has {} coefficients, expected {} ({} taps x 3 frames x 5 x {})", what, m,
                                          table.levels[m].coefficients.size(), table.coefficientsPerLevel(), table.taps,
                                          coefficientCount(table.form)));
+    for (int m = 0; m < table.levelCount; ++m) {
+        const int samples = table.levels[m].fisSamples;
+        if (samples == 0) continue;
+        if (tableLevelAlpha(table, m) <= 0.0)
+            throw ProbeError(fmt::format("{}: level {} is a copy of the source (alpha 0) and cannot be handed to FIS", what, m));
+        if (samples < 1 || samples > kMaxSamples)
+            throw ProbeError(
+                fmt::format("{}: level {} is handed to FIS with {} samples: must be 0 or 1 to {}", what, m, samples, kMaxSamples));
+    }
 }
 
 void validateTableValues(const TapTable& table, std::string_view what) {

@@ -31,6 +31,7 @@ struct HeaderTable {
     double fitSeconds;
     double seamWeight;
     std::span<const double[kLevelFitColumns]> levelFits;
+    std::span<const int> fisSamples;
     std::span<const float> coefficients;
 };
 
@@ -56,6 +57,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
         table.levels[m].stratified = impulseError(fit);
         table.levels[m].all = impulseError(fit + 5);
         table.levels[m].minWeightSum = fit[10];
+        table.levels[m].fisSamples = h.fisSamples[static_cast<std::size_t>(m)];
     }
     validateTable(table, what);
     return {std::string(h.name), std::move(table)};
@@ -77,6 +79,7 @@ CompiledTable compiledTable(const HeaderTable& h) {
                 probe_tables::name::kFitSeconds,                                                                                           \
                 probe_tables::name::kSeamWeight,                                                                                           \
                 probe_tables::name::kLevelFits,                                                                                            \
+                probe_tables::name::kFisSamples,                                                                                           \
                 probe_tables::name::kCoefficients},
 
 const HeaderTable kHeaders[] = {PROBE_COMPILED_TABLE_LIST(PROBE_HEADER_TABLE)};

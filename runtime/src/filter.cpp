@@ -9,7 +9,9 @@
 #include "device.h"
 #include "filter_impl.h"
 #include "probe/error.h"
+#include "probe/fis.h"
 #include "probe/paraboloid.h"
+#include "probe/table_filter.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
@@ -78,8 +80,10 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     if (kind == MethodKind::table) {
         tableData = tableBufferData(*s.method.table);
         tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
+        appendFisSamples(handOffSamples(*s.method.table), tableData, sampleOffsets);
     } else if (kind == MethodKind::fis) {
-        tableData = fisBufferData(s, sampleOffsets);
+        tableData.clear();
+        appendFisSamples(fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe), tableData, sampleOffsets);
     }
     const std::vector<float> geometryData = plan.geometry ? geometryTexels(s.faceSize, plan.pyramidLevels) : std::vector<float>(4, 0.0f);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
@@ -99,7 +103,10 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
 
     if (plan.buildsPyramid || (kind == MethodKind::reference && plan.filters)) makePyramidPipelines(*this);
     switch (kind) {
-    case MethodKind::table: pass2 = makeTablePipeline(*this); break;
+    case MethodKind::table:
+        pass2 = makeTablePipeline(*this);
+        if (plan.fisLevels != 0) handOff = makeFisPipeline(*this);
+        break;
     case MethodKind::fis: pass2 = makeFisPipeline(*this); break;
     case MethodKind::reference: pass2 = makeReferencePipeline(*this); break;
     }
@@ -194,15 +201,17 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     }
     r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + 2 * s.levelCount));
 
-    const auto segments = [&](std::size_t pass2Segments) {
+    const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
         if (pass1) passes.emplace_back("pyramid");
-        passes.resize(passes.size() + pass2Segments, std::string(methodKindName(s.method.kind)));
+        passes.insert(passes.end(), levelPasses.begin(), levelPasses.end());
         if (plan.convertOutput) passes.emplace_back("convert");
         return passes;
     };
-    r.passTimer = std::make_unique<GpuTimer>(d, segments(1));
-    r.levelTimer = std::make_unique<GpuTimer>(d, segments(plan.computedLevels.size()));
+    std::vector<std::string> perLevel;
+    for (int m : plan.computedLevels) perLevel.emplace_back(levelPass(m));
+    r.passTimer = std::make_unique<GpuTimer>(d, segments({std::string(methodKindName(s.method.kind))}));
+    r.levelTimer = std::make_unique<GpuTimer>(d, segments(perLevel));
     r.sliceTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"slice"});
     r.timer = r.passTimer.get();
     return set;
@@ -309,9 +318,13 @@ void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
 void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
     descriptors->bind(commandBuffer, current->levelSets[m]);
     if (plan.isCopy(m)) recordCopyLevel(*this, commandBuffer, m);
-    else if (settings.method.kind == MethodKind::table) recordTableLevel(*this, commandBuffer, m);
-    else if (settings.method.kind == MethodKind::fis) recordFisLevel(*this, commandBuffer, m);
+    else if (settings.method.kind == MethodKind::table && !plan.isHandedOff(m)) recordTableLevel(*this, commandBuffer, m);
+    else if (settings.method.kind != MethodKind::reference) recordFisLevel(*this, commandBuffer, m);
     else recordReferenceLevel(*this, commandBuffer, m);
+}
+
+std::string_view Filter::Impl::levelPass(int m) const {
+    return plan.isHandedOff(m) ? methodKindName(MethodKind::fis) : methodKindName(settings.method.kind);
 }
 
 void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps) {
@@ -421,7 +434,9 @@ double levelTexelTaps(const Filter::Impl& f, int m) {
     const double texels = double(texelCount(s.faceSize >> m));
     if (f.plan.isCopy(m)) return texels;
     switch (s.method.kind) {
-    case MethodKind::table: return texels * tapsInUse(*s.method.table, m) * (2.0 + 7.0 / 16.0);
+    case MethodKind::table:
+        if (f.plan.isHandedOff(m)) return texels * s.method.table->levels[m].fisSamples;
+        return texels * tapsInUse(*s.method.table, m) * (2.0 + 7.0 / 16.0);
     case MethodKind::fis: return texels * s.method.fis.samplesAt(m);
     case MethodKind::reference: break;
     }

@@ -88,13 +88,14 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> pass1Corners;  // exact sampling: the border corners of each pyramid level
     std::unique_ptr<ComputePipeline> paraboloidMap; // fis on a paraboloid map: its levels, after the source's level
     std::unique_ptr<ComputePipeline> pass2;         // table, fis or reference
+    std::unique_ptr<ComputePipeline> handOff;       // table: FIS at the levels handed to it; null when none is computed
     std::unique_ptr<ComputePipeline> copy;          // pass 2 at the levels with alpha = 0; null when none is computed
     std::unique_ptr<ComputePipeline> convert;       // the conversion pass; null unless convertOutput
     std::vector<Buffer> initStaging;                // the initialization's uploads, until recording 1 has completed
     std::vector<Dispatch> dispatches;
     int barriers = 0;                    // the pipeline barriers between the dispatches of the last recording
     uint32_t tableUsageFirst = 0;        // table method: where the per-level tap group counts start in the table buffer
-    std::vector<uint32_t> sampleOffsets; // fis: first sample of each output level in the table buffer, and the total
+    std::vector<uint32_t> sampleOffsets; // fis, and a table's hand-offs: first sample of each output level in the table buffer, and the end
 
     std::unique_ptr<Submission> submission;
 
@@ -125,8 +126,10 @@ struct Filter::Impl {
     // mips and read only the pyramid) and a boundary after the last, or after each with
     // Timestamps::levels; then the conversion, if any, and a boundary.
     void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
-    // Pass 2 at output level m: a copy, or the method's dispatch.
+    // Pass 2 at output level m: a copy, or the method's dispatch (FIS's at a table's level handed to it).
     void recordLevel(VkCommandBuffer commandBuffer, int m);
+    // The pass that computes output level m, as dispatches and timings name it.
+    std::string_view levelPass(int m) const;
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
     // timestamps.
     void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps);
@@ -161,10 +164,12 @@ uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBuffer
 void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl);
-// The table buffer for FIS: every output level's samples (probe::fisSamplesPerLevel) as
-// vec4(direction in the tangent frame, pyramid level); sampleOffsets gets each level's first sample
-// and the total.
-std::vector<float> fisBufferData(const FilterSettings& settings, std::vector<uint32_t>& sampleOffsets);
+// FIS's part of the table buffer: every output level's samples (probe::fisSamplesPerLevel, or a
+// table's handOffSamples, empty at the other levels) appended to `data` as vec4(direction in the
+// tangent frame, pyramid level); sampleOffsets gets each level's first sample (in vec4s, within
+// `data`) and the end.
+void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector<float>& data, std::vector<uint32_t>& sampleOffsets);
+// A FIS level, or a table's level handed to FIS (through `handOff`).
 void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
 
 // The conversion pass: packs each output level computed into `packed`, then copies it into `output`

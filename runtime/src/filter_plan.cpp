@@ -131,6 +131,9 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     const bool filters = std::any_of(plan.computedLevels.begin(), plan.computedLevels.end(), [&](int m) { return !plan.isCopy(m); });
     plan.filters = filters;
     const MethodKind kind = s.method.kind;
+    if (kind == MethodKind::table)
+        for (int m : plan.computedLevels)
+            if (!plan.isCopy(m) && s.method.table->levels[m].fisSamples > 0) plan.fisLevels |= 1u << m;
     plan.buildsPyramid = kind != MethodKind::reference && filters;
     plan.paraboloid = readsParaboloid(s.method) && filters;
     if (plan.paraboloid) plan.pyramidDepth = 0; // the map reads the source alone

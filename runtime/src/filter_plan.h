@@ -39,6 +39,7 @@ struct FilterPlan {
     int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
     std::vector<int> computedLevels;      // the output levels computed, ascending
     uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
+    uint32_t fisLevels = 0;               // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)
     bool filters = false;                 // a computed level is filtered, not copied
     bool buildsPyramid = false;           // pass 1 builds a pyramid (table or fis with a filtered level computed)
     bool paraboloid = false;              // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
@@ -51,6 +52,7 @@ struct FilterPlan {
     std::size_t pyramidTexels = 1, accumulatorTexels = 1, geometryTexels = 1;
 
     bool isCopy(int level) const { return (copyLevels & (1u << level)) != 0; }
+    bool isHandedOff(int level) const { return (fisLevels & (1u << level)) != 0; }
 };
 
 // Throws ParameterError naming the setting the method or the runtime refuses, and ProbeError naming

@@ -41,17 +41,15 @@ std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
     return impl.pipeline(spirv);
 }
 
-std::vector<float> fisBufferData(const FilterSettings& s, std::vector<uint32_t>& sampleOffsets) {
-    std::vector<float> data;
-    sampleOffsets = {0};
-    for (const std::vector<Tap>& level : fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe)) {
+void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector<float>& data, std::vector<uint32_t>& sampleOffsets) {
+    sampleOffsets = {static_cast<uint32_t>(data.size() / 4)};
+    for (const std::vector<Tap>& level : perLevel) {
         for (const Tap& sample : level)
             data.insert(data.end(), {static_cast<float>(sample.direction.x), static_cast<float>(sample.direction.y),
                                      static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});
         sampleOffsets.push_back(sampleOffsets.back() + static_cast<uint32_t>(level.size()));
     }
     if (data.empty()) data.assign(4, 0.0f); // every level a copy: a buffer cannot be empty
-    return data;
 }
 
 void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
@@ -64,7 +62,9 @@ void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
                                  impl.plan.outputOffsets[m + 1],
                                  firstSample,
                                  impl.sampleOffsets[m + 1] - firstSample};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "fis", m, constants,
+    // A table's level handed to FIS runs the Filter's FIS pipeline beside the table's.
+    const ComputePipeline& pipeline = impl.settings.method.kind == MethodKind::table ? *impl.handOff : *impl.pass2;
+    dispatchPass(impl, commandBuffer, pipeline, "fis", m, constants,
                  groupsFor(impl.plan.outputOffsets[m + 1] - impl.plan.outputOffsets[m]));
 }
 

@@ -28,6 +28,7 @@ struct ProbePlan {
     MethodKind method = MethodKind::table;
     std::vector<int> computedLevels;                    // output levels to compute, ascending
     std::vector<std::vector<std::string>> levelReaders; // per entry of `computedLevels`: the materials that read it
+    std::vector<MethodKind> levelMethods;               // per entry of `computedLevels`: how it is filtered (levelMethods())
     bool readsPyramid = false;                          // some level is filtered (not a copy of the source)
     int pyramidLevels = 0;                              // pyramid levels to build below the source (the reference: 0)
     bool shIrradiance = false;                          // some material is diffuse, and the outputs or the spheres want SH
@@ -38,6 +39,7 @@ struct ProbePlan {
     MethodKind sheenMethod = MethodKind::fis;
     std::vector<int> sheenLevels;
     std::vector<std::vector<std::string>> sheenReaders;
+    std::vector<MethodKind> sheenLevelMethods;
     int sheenPyramidLevels = 0;
 
     // Whether anything of the probe is computed (it is loaded at all).
@@ -73,14 +75,23 @@ inline constexpr const char* kSheenTablePass = "sheen-table";
 // table, a Charlie table where one fits the probe (`charlieTable`), else FIS with the probe's samples.
 FilterMethod sheenMethod(const SceneProbe& probe, bool charlieTable);
 
-// The tap generator of a probe's method (empty for the reference, which reads no pyramid), and
-// whether a Charlie table fits a probe.
-using TapGeneratorFor = std::function<TapGenerator(const SceneProbe&)>;
+// How a method filters each of `levelCount` output levels: its kind, or FIS at the levels a table
+// hands to it (TableLevel::fisSamples).
+std::vector<MethodKind> levelMethods(MethodKind kind, const TapTable* table, int levelCount);
+
+// A probe's method with its lobe: the tap generator (empty for the reference, which reads no
+// pyramid) and levelMethods().
+struct MethodTaps {
+    TapGenerator generator;
+    std::vector<MethodKind> levelMethods;
+};
+using MethodTapsFor = std::function<MethodTaps(const SceneProbe&)>;
+// Whether a Charlie table fits a probe.
 using CharlieTableFor = std::function<bool(const SceneProbe&)>;
 
 // What a scene needs computed: per probe the levels its materials read and the pyramid those levels
 // read, the irradiance where a material is diffuse, the Charlie levels where one has sheen; the DFG
 // table where one is specular, the sheen table where one has sheen.
-Plan makePlan(const Scene& scene, const TapGeneratorFor& generatorFor, const CharlieTableFor& charlieTableFor);
+Plan makePlan(const Scene& scene, const MethodTapsFor& methodTapsFor, const CharlieTableFor& charlieTableFor);
 
 } // namespace probe

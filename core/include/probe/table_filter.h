@@ -16,8 +16,14 @@ namespace probe {
 // weight. Clears `taps` first.
 void tableTaps(const TapTable& table, int level, int used, const glm::dvec3& cubeVector, std::vector<Tap>& taps);
 
-// The table as a TapGenerator (levels with alpha = 0 are copies).
+// The table's taps as a TapGenerator (levels with alpha = 0 are copies): what the fit measures.
 TapGenerator tableTapGenerator(const TapTable& table);
+// Per output level, the FIS samples (fisSamples, bias 0, at the level's alpha) of a level handed to
+// FIS (TableLevel::fisSamples); empty at the levels the table's taps filter.
+std::vector<std::vector<Tap>> handOffSamples(const TapTable& table);
+// The table method as the runtime filters with it: the table's taps, and at the levels handed to FIS
+// (TableLevel::fisSamples) FIS's samples, bias 0, read from the same pyramid.
+TapGenerator tableMethodTapGenerator(const TapTable& table);
 
 // Filters a probe: builds the table's pyramid and computes every output level.
 CubeLevels tableFilter(const CubeImage& source, const TapTable& table);

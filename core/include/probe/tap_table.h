@@ -29,6 +29,10 @@ struct TableLevel {
     ImpulseError stratified;   // impulse L1 over the stratified output texels (what the fit sees)
     ImpulseError all;          // over every output texel of all six faces; mean < 0 where not measured
     double minWeightSum = 0.0; // smallest sum of tap weights over the output texels measured
+    // The hand-off: > 0 where FIS with this many samples per texel (bias 0, on the table's pyramid)
+    // filters the level better at no more time (probebench sweep's levels.md), and filters it in
+    // the table's place; 0 where the table's taps do. The coefficients stay: they are the fit's.
+    int fisSamples = 0;
 };
 
 struct TapTable {
@@ -54,7 +58,8 @@ struct TapTable {
 // A table with zero coefficients and unmeasured errors; checks the sizes (ProbeError otherwise).
 TapTable emptyTable(int faceSize, int levelCount, int taps, TableForm form, const RoughnessMapping& mapping, PyramidSettings pyramid);
 
-// Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree.
+// Throws ProbeError("<what>: <problem>") unless sizes, level count, taps and coefficient counts agree,
+// and each hand-off is 0 or, at a filtered level (alpha > 0), 1 to kMaxSamples (limits.h) samples.
 void validateTable(const TapTable& table, std::string_view what);
 
 // Throws ProbeError("<what>: <problem>") unless the values make a filter: every coefficient finite and
