@@ -60,7 +60,11 @@ nlohmann::json describeDevice(const probe::gpu::DeviceInfo& info, bool validatio
 
 nlohmann::json describeDispatches(const std::vector<probe::gpu::Dispatch>& dispatches) {
     nlohmann::json list = nlohmann::json::array();
-    for (const probe::gpu::Dispatch& d : dispatches) list.push_back({{"pass", d.pass}, {"level", d.level}, {"workgroups", d.groups}});
+    for (const probe::gpu::Dispatch& d : dispatches) {
+        nlohmann::json entry = {{"pass", d.pass}, {"level", d.level}, {"workgroups", d.groups}};
+        if (d.levels > 1) entry["levels"] = d.levels;
+        list.push_back(std::move(entry));
+    }
     return list;
 }
 

@@ -1,4 +1,5 @@
-// Filtered importance sampling (Krivanek & Colbert), one output level per dispatch, mirroring core's
+// Filtered importance sampling (Krivanek & Colbert), a group of output levels per dispatch
+// (level_group.glsl), mirroring core's
 // fis.cpp: the level's samples, made once on the host by probe::fisSamples in
 // the tangent frame of R (xyz: the reflected direction l, w: its pyramid level; the weight is
 // n.l = l.z), are rotated into the frame of each output texel and read from the pyramid: with
@@ -8,8 +9,10 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#define PROBE_LEVEL_GROUP
 #include "images.glsl"
 #include "footprint.glsl"
+#include "level_group.glsl"
 #include "tap_sum.glsl"
 #ifdef PROBE_PARABOLOID_MAP
 #include "paraboloid.glsl"
@@ -25,11 +28,9 @@ layout(constant_id = 0) const int kFixedSampleCount = 0;
 layout(push_constant) uniform Params {
     int faceSize;      // S_0
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
-    int level;         // the output level of this dispatch
-    uint firstTexel;   // the packed output texels [firstTexel, endTexel) of the level
-    uint endTexel;
-    uint firstSample; // the level's samples: [firstSample, firstSample + sampleCount)
-    uint sampleCount;
+    int firstLevel;      // the group's first output level
+    uint groupEnd[4];    // per level of the group, the end of its workgroups (level_group.glsl)
+    uint firstSample[5]; // level firstLevel + k's samples: [firstSample[k], firstSample[k + 1])
 } params;
 
 vec3 samplePyramid(vec3 direction, float level) {
@@ -43,15 +44,18 @@ vec3 samplePyramid(vec3 direction, float level) {
 }
 
 void main() {
-    uint index = params.firstTexel + invocationIndex();
-    if (index >= params.endTexel) return;
-    ivec3 t = texelCoordinates(index - params.firstTexel, params.faceSize >> params.level);
+    uint groupInLevel, slot = levelSlot(params.groupEnd, groupInLevel);
+    if (slot >= 4u) return;
+    int level = params.firstLevel + int(slot), size = params.faceSize >> level;
+    uint inLevel = invocationInLevel(groupInLevel);
+    if (inLevel >= 6u * uint(size * size)) return;
+    ivec3 t = texelCoordinates(inLevel, size);
     // Hardware sampling computes the texel's direction, so that no buffer grows with the texel count;
     // exact sampling reads it from the geometry buffer, as probecore computes it in double.
 #ifdef PROBE_HARDWARE_SAMPLING
-    vec3 R = normalize(texelCubePoint(t.z, t.x, t.y, params.faceSize >> params.level));
+    vec3 R = normalize(texelCubePoint(t.z, t.x, t.y, size));
 #else
-    vec3 R = geometry[index].xyz;
+    vec3 R = geometry[levelOffset(params.faceSize, level) + inLevel].xyz;
 #endif
 
     // probe::fisFrame
@@ -60,12 +64,13 @@ void main() {
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
     // Tested at the bottom, as table_filter.comp's loops (the host makes at least one sample a level).
-    uint sampleCount = kFixedSampleCount > 0 ? uint(kFixedSampleCount) : params.sampleCount;
+    uint firstSample = params.firstSample[slot];
+    uint sampleCount = kFixedSampleCount > 0 ? uint(kFixedSampleCount) : params.firstSample[slot + 1u] - firstSample;
     uint k = 0u;
     [[unroll]] do {
-        vec4 s = tableEntry(params.firstSample + k);
+        vec4 s = tableEntry(firstSample + k);
         sum += s.z * samplePyramid(tx * s.x + ty * s.y + R * s.z, s.w);
         weightSum += s.z;
     } while (++k < sampleCount);
-    storeOutput(t, finishTapSum(sum, weightSum));
+    storeOutput(slot, t, finishTapSum(sum, weightSum));
 }

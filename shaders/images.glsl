@@ -21,10 +21,13 @@ layout(set = 0, binding = 5) uniform samplerCube sourceCube;
 layout(set = 0, binding = 6) uniform samplerCube pyramidCube;
 // The mips a dispatch writes, faces as layers, from element 0: pass 1's pyramid mip (hardware
 // sampling), or in its last dispatch (pyramid_tail.comp) the mips of face size
-// PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip. One binding for
-// both keeps every pipeline within the four storage images per stage that every Vulkan device offers.
-#ifdef PROBE_PYRAMID_FORMAT
+// PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip, or with
+// PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl). One binding for all keeps
+// every pipeline within the four storage images per stage that every Vulkan device offers.
+#if defined(PROBE_PYRAMID_FORMAT)
 layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[4];
+#elif defined(PROBE_LEVEL_GROUP)
+layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMips[4];
 #else
 layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
 #endif
@@ -43,7 +46,19 @@ ivec3 texelCoordinates(uint index, int size) {
     return ivec3(int(r % s), int(r / s), int(index / (s * s)));
 }
 
-#ifndef PROBE_PYRAMID_FORMAT
+#if defined(PROBE_LEVEL_GROUP)
+// Writes an output texel of the group's level `slot`, clamped to the format's largest finite
+// magnitude so that no texel is Inf. Constant indices: a dynamic one needs a device feature.
+void storeOutput(uint slot, ivec3 texel, vec3 value) {
+    vec4 v = vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0);
+    switch (slot) {
+    case 0u: imageStore(outputMips[0], texel, v); break;
+    case 1u: imageStore(outputMips[1], texel, v); break;
+    case 2u: imageStore(outputMips[2], texel, v); break;
+    default: imageStore(outputMips[3], texel, v); break;
+    }
+}
+#elif !defined(PROBE_PYRAMID_FORMAT)
 // Writes an output texel, clamped to the format's largest finite magnitude so that no texel is Inf.
 void storeOutput(ivec3 texel, vec3 value) { imageStore(outputMip, texel, vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0)); }
 #endif

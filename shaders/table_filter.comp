@@ -1,23 +1,26 @@
-// Pass 2 with a tap table (Manson & Sloan), one output level per dispatch, mirroring core's
+// Pass 2 with a tap table (Manson & Sloan), a group of output levels per dispatch, mirroring core's
 // table_filter.cpp: per output texel, every frame with weight > 0 contributes its N taps, four at a
 // time from the published layout (vec4 coeffs[5][3][3N/4] per quad level, vec4 coeffs[5][3N/4]
 // per constant level), each one trilinear read of the pyramid: with PROBE_HARDWARE_SAMPLING one
 // textureLod through the seamless sampler, else footprint.glsl's arithmetic over the bordered buffer.
 // After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
 // (probe::tapsInUse; the rest are zero-weight padding). With hardware sampling the dispatch is
-// (groups, rows, 6): a workgroup covers texels of one face, gl_WorkGroupID.z, so that the frames'
-// axes and with them every table index are the same across it (a GPU reads them once per wave). Exact
-// sampling, whose frame loop takes each invocation's axes, runs (groups, rows, 1) over the six faces
-// one after another, so that the smallest levels fill a workgroup instead of six. Within a face the
-// invocations take its interior first, then its edge ring (texelOfInvocation).
+// (groups, rows, 6): a workgroup covers texels of one face of one level, gl_WorkGroupID.z, so that the
+// frames' axes and with them every table index are the same across it (a GPU reads them once per
+// wave). Exact sampling, whose frame loop takes each invocation's axes, runs (groups, rows, 1) over
+// the six faces one after another, so that the smallest levels fill a workgroup instead of six. The
+// group's levels follow one another in the grid (level_group.glsl). Within a face the invocations
+// take its interior first, then its edge ring (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #ifndef PROBE_HARDWARE_SAMPLING
 #extension GL_KHR_shader_subgroup_vote : require
 #endif
+#define PROBE_LEVEL_GROUP
 #include "images.glsl"
 #include "footprint.glsl"
+#include "level_group.glsl"
 #include "tap_sum.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
@@ -34,9 +37,9 @@ layout(constant_id = 1) const int kFixedTapGroups = 0;
 layout(push_constant) uniform Params {
     int faceSize;      // S_0
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
-    int level;         // the output level of this dispatch
-    uint firstTexel;   // the first packed output texel of the level
+    int firstLevel;    // the group's first output level
     uint usageFirst;   // index of level 0's tap group count in `table`
+    uint groupEnd[4];  // per level of the group, the end of its workgroups (level_group.glsl)
 } params;
 
 uint levelFirst; // the level's first vec4 in `table`
@@ -82,13 +85,15 @@ uint texelOfInvocation(uint k, int size) {
 }
 
 void main() {
-    int size = params.faceSize >> params.level;
-    uint faceTexels = uint(size * size);
+    uint groupInLevel, slot = levelSlot(params.groupEnd, groupInLevel);
+    if (slot >= 4u) return;
+    int level = params.firstLevel + int(slot), size = params.faceSize >> level;
+    uint faceTexels = uint(size * size), inLevel = invocationInLevel(groupInLevel);
 #ifdef PROBE_HARDWARE_SAMPLING
-    uint invocation = invocationIndex(), face = gl_WorkGroupID.z;
+    uint invocation = inLevel, face = gl_WorkGroupID.z;
     if (invocation >= faceTexels) return;
 #else
-    uint invocation = invocationIndex() % faceTexels, face = invocationIndex() / faceTexels;
+    uint invocation = inLevel % faceTexels, face = inLevel / faceTexels;
     if (face >= 6u) return;
 #endif
     uint inFace = texelOfInvocation(invocation, size), texel = face * faceTexels + inFace;
@@ -102,11 +107,11 @@ void main() {
 #ifdef PROBE_HARDWARE_SAMPLING
     vec3 d = texelCubePoint(int(face), int(inFace % uint(size)), int(inFace / uint(size)), size);
 #else
-    vec3 R = geometry[params.firstTexel + texel].xyz;
+    vec3 R = geometry[levelOffset(params.faceSize, level) + texel].xyz;
     vec3 d = R / abs(R[major]);
 #endif
-    levelFirst = uint(params.level) * uint(5 * kCoefficientCount * 3 * kTaps / 4);
-    int groupsInUse = kFixedTapGroups > 0 ? kFixedTapGroups : int(tableEntry(params.usageFirst + uint(params.level)).x);
+    levelFirst = uint(level) * uint(5 * kCoefficientCount * 3 * kTaps / 4);
+    int groupsInUse = kFixedTapGroups > 0 ? kFixedTapGroups : int(tableEntry(params.usageFirst + uint(level)).x);
     vec3 sum = vec3(0.0);
     float weightSum = 0.0;
 #ifdef PROBE_HARDWARE_SAMPLING
@@ -125,5 +130,5 @@ void main() {
         addTableFrame(d, (major + 1 + k) % 3, groupsInUse, true, sum, weightSum);
     } while (++k < frames);
 #endif
-    storeOutput(texelCoordinates(texel, size), finishTapSum(sum, weightSum));
+    storeOutput(slot, texelCoordinates(texel, size), finishTapSum(sum, weightSum));
 }

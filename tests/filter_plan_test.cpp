@@ -5,6 +5,7 @@
 
 #include "filter_plan.h"
 #include "probe/error.h"
+#include "probe/tap_table.h"
 
 namespace {
 
@@ -53,6 +54,31 @@ TEST(FilterPlan, GgxLevelZeroIsACopyAndCharlieHasNone) {
     s.computedLevels = {0};
     const FilterPlan copy = planFilter(s, gpu());
     EXPECT_FALSE(copy.filters || copy.buildsPyramid);
+}
+
+// Pass 2 writes consecutive levels of one pass in one dispatch, up to the four storage images a
+// dispatch may write; copies, the reference's levels and a table's hand-offs to FIS go apart.
+TEST(FilterPlan, LevelGroupsShareADispatch) {
+    using Groups = std::vector<std::vector<int>>;
+    EXPECT_EQ(planFilter(fisSettings(128), gpu()).levelGroups, (Groups{{0}, {1, 2, 3, 4}, {5, 6}}));
+    EXPECT_EQ(planFilter(fisSettings(128, Lobe::charlie), gpu()).levelGroups, (Groups{{0, 1, 2, 3}, {4, 5, 6}}));
+    FilterSettings some = fisSettings(128);
+    some.computedLevels = {1, 2, 4, 5, 6};
+    EXPECT_EQ(planFilter(some, gpu()).levelGroups, (Groups{{1, 2}, {4, 5, 6}}));
+    FilterSettings reference = fisSettings(32);
+    reference.method.kind = MethodKind::reference;
+    EXPECT_EQ(planFilter(reference, gpu()).levelGroups, (Groups{{0}, {1}, {2}, {3}, {4}}));
+
+    TapTable table = emptyTable(32, 6, 4, TableForm::constant, RoughnessMapping::gltf, {});
+    for (TableLevel& level : table.levels) level.coefficients.assign(level.coefficients.size(), 0.0);
+    table.levels[2].fisSamples = 16;
+    FilterSettings handOff;
+    handOff.method = {MethodKind::table, &table, {}};
+    handOff.faceSize = 32;
+    handOff.levelCount = 6;
+    const FilterPlan plan = planFilter(handOff, gpu());
+    EXPECT_EQ(plan.fisLevels, 1u << 2);
+    EXPECT_EQ(plan.levelGroups, (Groups{{0}, {1}, {2}, {3, 4, 5}}));
 }
 
 TEST(FilterPlan, SamplingByDeviceAndMethod) {

@@ -292,7 +292,8 @@ TEST_F(GpuTest, FilterInitializedInTheEnginesCommandBuffer) {
 
 // Time slicing: an update recorded as slices (the pyramid, then the levels in groups) writes the same
 // bits as one recording of the whole, for every method and both sampling modes; the slices' costs,
-// known before recording, are what they dispatch, and they cover every level once.
+// known before recording, are what they dispatch (recordOnce checks each), and they cover every level
+// once.
 TEST_F(GpuTest, SlicesEqualTheWholeUpdate) {
     const gpu::Device& device = probetest::testDevice();
     const Caller c = callerOf(device);
@@ -323,7 +324,9 @@ TEST_F(GpuTest, SlicesEqualTheWholeUpdate) {
                     EXPECT_GT(slice.texelTaps, 0.0) << what;
                 }
                 EXPECT_EQ(levels, (std::vector<int>{0, 1, 2, 3})) << what;
-                EXPECT_EQ(dispatches, wholeDispatches) << what;
+                // A level group that the slices split costs a dispatch per level.
+                if (count == 1) EXPECT_EQ(dispatches, wholeDispatches) << what;
+                else EXPECT_GE(dispatches, wholeDispatches) << what;
                 const CubeLevels sliced = recordOnce(c, filter, s, source, VK_FORMAT_R32G32B32A32_SFLOAT, gpu::Timestamps::none, &slices);
                 for (int m = 0; m < 4; ++m) EXPECT_EQ(sliced[m].rgb, whole[m].rgb) << what << ": level " << m;
             }

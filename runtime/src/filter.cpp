@@ -199,7 +199,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
             r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
         }
     }
-    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + 2 * s.levelCount));
+    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + 2 * s.levelCount + plan.levelGroups.size()));
 
     const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
@@ -285,19 +285,22 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         }
     r.levelSets.assign(settings.levelCount, VK_NULL_HANDLE);
     r.convertSets.assign(settings.levelCount, VK_NULL_HANDLE);
-    for (int m : plan.computedLevels) {
-        VkImageView target = VK_NULL_HANDLE;
-        if (plan.convertOutput) {
-            target = r.intermediateMips[m].handle();
-        } else {
-            r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
-            target = r.outputMips[m].handle();
-        }
+    std::vector<VkImageView> targets(settings.levelCount, VK_NULL_HANDLE); // what pass 2 writes, per level
+    const auto levelSet = [&](std::span<const VkImageView> mips) {
         const VkDescriptorSet set = r.pool->allocate();
         common(set);
         if (hardware) descriptors->writeSampled(set, kPyramidCube, r.pyramidAll.handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
-        descriptors->writeMips(set, std::array{target});
-        r.levelSets[m] = set;
+        descriptors->writeMips(set, mips);
+        return set;
+    };
+    for (int m : plan.computedLevels) {
+        if (plan.convertOutput) {
+            targets[m] = r.intermediateMips[m].handle();
+        } else {
+            r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+            targets[m] = r.outputMips[m].handle();
+        }
+        r.levelSets[m] = levelSet(std::span(&targets[m], 1));
         if (plan.convertOutput) {
             const VkDescriptorSet c = r.pool->allocate();
             common(c);
@@ -305,6 +308,12 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             descriptors->writeMips(c, std::array{r.packedMips[m].handle()});
             r.convertSets[m] = c;
         }
+    }
+    r.groupSets.assign(settings.levelCount, VK_NULL_HANDLE);
+    for (const std::vector<int>& group : plan.levelGroups) {
+        std::vector<VkImageView> mips;
+        for (int m : group) mips.push_back(targets[m]);
+        r.groupSets[group.front()] = group.size() > 1 ? levelSet(mips) : r.levelSets[group.front()];
     }
     r.boundSource = source;
     r.boundOutput = output;
@@ -317,10 +326,30 @@ void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
 
 void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
     descriptors->bind(commandBuffer, current->levelSets[m]);
+    const std::span<const int> level(&m, 1);
     if (plan.isCopy(m)) recordCopyLevel(*this, commandBuffer, m);
-    else if (settings.method.kind == MethodKind::table && !plan.isHandedOff(m)) recordTableLevel(*this, commandBuffer, m);
-    else if (settings.method.kind != MethodKind::reference) recordFisLevel(*this, commandBuffer, m);
+    else if (settings.method.kind == MethodKind::table && !plan.isHandedOff(m)) recordTableLevels(*this, commandBuffer, level);
+    else if (settings.method.kind != MethodKind::reference) recordFisLevels(*this, commandBuffer, level);
     else recordReferenceLevel(*this, commandBuffer, m);
+}
+
+std::vector<std::vector<int>> Filter::Impl::dispatchGroups(const std::vector<int>& levels) const {
+    const auto holds = [&](int m) { return std::find(levels.begin(), levels.end(), m) != levels.end(); };
+    std::vector<std::vector<int>> out;
+    for (const std::vector<int>& group : plan.levelGroups) {
+        if (std::all_of(group.begin(), group.end(), holds)) out.push_back(group);
+        else
+            for (int m : group)
+                if (holds(m)) out.push_back({m});
+    }
+    return out;
+}
+
+void Filter::Impl::recordLevelGroup(VkCommandBuffer commandBuffer, const std::vector<int>& group) {
+    if (group.size() == 1) return recordLevel(commandBuffer, group.front());
+    descriptors->bind(commandBuffer, current->groupSets[group.front()]);
+    if (settings.method.kind == MethodKind::table && !plan.isHandedOff(group.front())) recordTableLevels(*this, commandBuffer, group);
+    else recordFisLevels(*this, commandBuffer, group);
 }
 
 std::string_view Filter::Impl::levelPass(int m) const {
@@ -346,11 +375,16 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         barrier(commandBuffer);
         mark();
     }
-    for (int m : plan.computedLevels) {
-        recordLevel(commandBuffer, m);
-        if (perLevel) mark();
+    // Timed level by level, each level has its own dispatch; otherwise each level group one.
+    if (perLevel)
+        for (int m : plan.computedLevels) {
+            recordLevel(commandBuffer, m);
+            mark();
+        }
+    else {
+        for (const std::vector<int>& group : dispatchGroups(plan.computedLevels)) recordLevelGroup(commandBuffer, group);
+        mark();
     }
-    if (!perLevel) mark();
     if (plan.convertOutput) {
         recordConversion(*this, commandBuffer, r.boundOutput, plan.computedLevels);
         mark();
@@ -370,7 +404,7 @@ void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, cons
         recordPyramidPass(*this, commandBuffer);
         barrier(commandBuffer);
     }
-    for (int m : levels) recordLevel(commandBuffer, m);
+    for (const std::vector<int>& group : dispatchGroups(levels)) recordLevelGroup(commandBuffer, group);
     if (plan.convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, r.boundOutput, levels);
     if (r.timed) r.timer->boundary(commandBuffer, 1);
 }
@@ -443,9 +477,14 @@ double levelTexelTaps(const Filter::Impl& f, int m) {
     return texels * double(texelCount(s.faceSize));
 }
 
-uint32_t levelDispatchCount(const Filter::Impl& f, int m) {
-    const bool copy = f.plan.isCopy(m);
-    return (!copy && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u) + (f.plan.convertOutput ? 1u : 0u);
+// The dispatches of pass 2 (and the conversion) over `levels`, as recordSlice records them.
+uint32_t levelsDispatchCount(const Filter::Impl& f, const std::vector<int>& levels) {
+    uint32_t count = f.plan.convertOutput ? uint32_t(levels.size()) : 0u;
+    for (const std::vector<int>& group : f.dispatchGroups(levels)) {
+        const int m = group.front();
+        count += group.size() == 1 && !f.plan.isCopy(m) && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u;
+    }
+    return count;
 }
 
 // A set for a recording from `source` to `output`, bound; its descriptor sets and views are the
@@ -483,9 +522,9 @@ std::vector<Slice> Filter::slices(int count) const {
         if (out.empty()) out.push_back({});
         for (int m : f.plan.computedLevels) {
             out.back().levels.push_back(m);
-            out.back().dispatches += levelDispatchCount(f, m);
             out.back().texelTaps += levelTexelTaps(f, m);
         }
+        out.back().dispatches += levelsDispatchCount(f, out.back().levels);
         return out;
     }
     double total = 0.0;
@@ -497,10 +536,10 @@ std::vector<Slice> Filter::slices(int count) const {
         const int k = std::min(levelSlices - 1, int(done * levelSlices / std::max(total, 1e-300)));
         if (out.empty() || out.back().pyramid || int(out.size()) - (f.pass1 ? 1 : 0) <= k) out.push_back({});
         out.back().levels.push_back(m);
-        out.back().dispatches += levelDispatchCount(f, m);
         out.back().texelTaps += levelTexelTaps(f, m);
         done += levelTexelTaps(f, m);
     }
+    for (Slice& slice : out) slice.dispatches += levelsDispatchCount(f, slice.levels);
     return out;
 }
 

@@ -41,6 +41,7 @@ struct Recording {
     std::unique_ptr<DescriptorPool> pool;
     std::vector<VkDescriptorSet> pyramidSets; // per pyramid level 0..pyramidDepth
     std::vector<VkDescriptorSet> levelSets;   // per output level
+    std::vector<VkDescriptorSet> groupSets;   // per output level: the set of the level group it starts (its levels' mips)
     std::vector<VkDescriptorSet> convertSets; // per output level
 
     std::unique_ptr<GpuTimer> passTimer;  // a segment per pass
@@ -123,11 +124,18 @@ struct Filter::Impl {
     std::unique_ptr<ComputePipeline> pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {}) const;
     // Timer reset, a barrier against earlier use of the Filter's resources, boundary 0, pass 1 and a
     // barrier, a boundary; then the output levels with no barrier between them (they write disjoint
-    // mips and read only the pyramid) and a boundary after the last, or after each with
-    // Timestamps::levels; then the conversion, if any, and a boundary.
+    // mips and read only the pyramid), a dispatch per level group and a boundary after the last, or
+    // with Timestamps::levels a dispatch per level and a boundary after each; then the conversion, if
+    // any, and a boundary.
     void recordPasses(VkCommandBuffer commandBuffer, Timestamps timestamps);
-    // Pass 2 at output level m: a copy, or the method's dispatch (FIS's at a table's level handed to it).
+    // Pass 2 at output level m alone: a copy, or the method's dispatch (FIS's at a table's level handed
+    // to it).
     void recordLevel(VkCommandBuffer commandBuffer, int m);
+    // Pass 2's dispatches over `levels` (computed, ascending): each of plan.levelGroups that they hold
+    // whole, and each of their other levels alone.
+    std::vector<std::vector<int>> dispatchGroups(const std::vector<int>& levels) const;
+    // Pass 2 at the levels of one of dispatchGroups(), in one dispatch where there are several.
+    void recordLevelGroup(VkCommandBuffer commandBuffer, const std::vector<int>& group);
     // The pass that computes output level m, as dispatches and timings name it.
     std::string_view levelPass(int m) const;
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
@@ -148,6 +156,8 @@ uint32_t pyramidDispatchCount(const Filter::Impl& impl);
 double pyramidTexelTaps(const Filter::Impl& impl);
 
 // Pass 2: the pipeline of the method, sampling and output format (the conversion writes RGBA32F).
+// The table and FIS recorders take a group of consecutive output levels (FilterPlan::levelGroups),
+// bound to a set whose written mips are theirs in order, and record one dispatch of them all.
 std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl);
 // Records output level `level` (alpha = 0: a copy of the source) under the method's pass name.
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
@@ -161,7 +171,7 @@ std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl);
 // groups of four in use.
 std::vector<float> tableBufferData(const TapTable& table);
 uint32_t tableUsageFirst(const TapTable& table); // in vec4s, within tableBufferData
-void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+void recordTableLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels);
 
 std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl);
 // FIS's part of the table buffer: every output level's samples (probe::fisSamplesPerLevel, or a
@@ -170,7 +180,7 @@ std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl);
 // `data`) and the end.
 void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector<float>& data, std::vector<uint32_t>& sampleOffsets);
 // A FIS level, or a table's level handed to FIS (through `handOff`).
-void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level);
+void recordFisLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels);
 
 // The conversion pass: packs each output level computed into `packed`, then copies it into `output`
 // (in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL).
@@ -182,13 +192,26 @@ void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage
 std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std::span<const uint32_t>, 3> variants);
 
 // Appends a dispatch of `pipeline` with push constants `constants` to the command buffer and to
-// impl.dispatches.
+// impl.dispatches (`levels` output levels from `level`).
 template <typename Constants>
 void dispatchPass(Filter::Impl& impl, VkCommandBuffer commandBuffer, const ComputePipeline& pipeline, std::string_view pass, int level,
-                  const Constants& constants, uint32_t groups, uint32_t layers = 1) {
+                  const Constants& constants, uint32_t groups, uint32_t layers = 1, int levels = 1) {
     static_assert(sizeof(Constants) <= kPushConstantBytes);
     pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), groups, layers);
-    impl.dispatches.push_back({std::string(pass), level, groups * layers});
+    impl.dispatches.push_back({std::string(pass), level, groups * layers, levels});
+}
+
+// A level group's workgroup ends in its grid (shaders/level_group.glsl): level k's groupsOf(level)
+// workgroups after level k - 1's; the unused slots repeat the last end.
+template <typename GroupsOf>
+std::array<uint32_t, kWrittenMipCount> levelGroupEnds(std::span<const int> levels, GroupsOf groupsOf) {
+    std::array<uint32_t, kWrittenMipCount> ends{};
+    uint32_t end = 0;
+    for (std::size_t k = 0; k < ends.size(); ++k) {
+        if (k < levels.size()) end += groupsOf(levels[k]);
+        ends[k] = end;
+    }
+    return ends;
 }
 
 } // namespace probe::gpu

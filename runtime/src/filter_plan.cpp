@@ -134,6 +134,14 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     if (kind == MethodKind::table)
         for (int m : plan.computedLevels)
             if (!plan.isCopy(m) && s.method.table->levels[m].fisSamples > 0) plan.fisLevels |= 1u << m;
+    const auto joins = [&](int m) { return kind != MethodKind::reference && !plan.isCopy(m); };
+    for (int m : plan.computedLevels) {
+        std::vector<int>* last = plan.levelGroups.empty() ? nullptr : &plan.levelGroups.back();
+        if (last && joins(m) && joins(last->back()) && last->back() == m - 1 && last->size() < kWrittenMipCount &&
+            plan.isHandedOff(m) == plan.isHandedOff(last->back()))
+            last->push_back(m);
+        else plan.levelGroups.push_back({m});
+    }
     plan.buildsPyramid = kind != MethodKind::reference && filters;
     plan.paraboloid = readsParaboloid(s.method) && filters;
     if (plan.paraboloid) plan.pyramidDepth = 0; // the map reads the source alone

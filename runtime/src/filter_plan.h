@@ -36,8 +36,12 @@ struct FilterPlan {
     bool convertOutput = false;                             // B10G11R11 through the conversion pass
     int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
-    int pyramidTailLevel = 0;             // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
-    std::vector<int> computedLevels;      // the output levels computed, ascending
+    int pyramidTailLevel = 0;        // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
+    std::vector<int> computedLevels; // the output levels computed, ascending
+    // Pass 2's dispatches over computedLevels: consecutive levels of one pass (the table's, or FIS's)
+    // share one, at most kWrittenMipCount of them (the storage images a dispatch writes); a copy and
+    // a reference level each have their own.
+    std::vector<std::vector<int>> levelGroups;
     uint32_t copyLevels = 0;              // bit m: output level m has alpha = 0, a copy of the source
     uint32_t fisLevels = 0;               // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)
     bool filters = false;                 // a computed level is filtered, not copied

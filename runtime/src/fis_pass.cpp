@@ -1,6 +1,8 @@
 // Filtered importance sampling (shaders/fis.comp): every level's samples, made by
 // probecore in the tangent frame, in the table buffer, and one dispatch per output level computed,
 // reading the cube pyramid or the dual-paraboloid map.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 
 #include <fis_exact_b10g11r11.spv.h>
@@ -23,11 +25,9 @@ namespace {
 struct FisConstants {
     int32_t faceSize;
     int32_t pyramidLevels;
-    int32_t level;
-    uint32_t firstTexel;
-    uint32_t endTexel;
-    uint32_t firstSample;
-    uint32_t sampleCount;
+    int32_t firstLevel;
+    std::array<uint32_t, kWrittenMipCount> groupEnd;
+    std::array<uint32_t, kWrittenMipCount + 1> firstSample;
 };
 
 } // namespace
@@ -52,20 +52,16 @@ void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector
     if (data.empty()) data.assign(4, 0.0f); // every level a copy: a buffer cannot be empty
 }
 
-void recordFisLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
+void recordFisLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {
     const FilterSettings& s = impl.settings;
-    const uint32_t firstSample = impl.sampleOffsets[m];
-    const FisConstants constants{s.faceSize,
-                                 impl.plan.pyramidDepth + 1,
-                                 m,
-                                 impl.plan.outputOffsets[m],
-                                 impl.plan.outputOffsets[m + 1],
-                                 firstSample,
-                                 impl.sampleOffsets[m + 1] - firstSample};
+    const auto groupsOf = [&](int m) { return groupsFor(impl.plan.outputOffsets[m + 1] - impl.plan.outputOffsets[m]); };
+    FisConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, levels.front(), levelGroupEnds(levels, groupsOf), {}};
+    // Level levels[k]'s samples end where the next level's start (the groups' levels are consecutive).
+    for (std::size_t k = 0; k < constants.firstSample.size(); ++k)
+        constants.firstSample[k] = impl.sampleOffsets[std::size_t(levels.front()) + std::min(k, levels.size())];
     // A table's level handed to FIS runs the Filter's FIS pipeline beside the table's.
     const ComputePipeline& pipeline = impl.settings.method.kind == MethodKind::table ? *impl.handOff : *impl.pass2;
-    dispatchPass(impl, commandBuffer, pipeline, "fis", m, constants,
-                 groupsFor(impl.plan.outputOffsets[m + 1] - impl.plan.outputOffsets[m]));
+    dispatchPass(impl, commandBuffer, pipeline, "fis", levels.front(), constants, constants.groupEnd.back(), 1, int(levels.size()));
 }
 
 } // namespace probe::gpu

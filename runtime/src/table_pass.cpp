@@ -1,6 +1,7 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): its upload in the published layout (then the
 // tap groups each level uses), and one dispatch per output level computed (copy_level_pass.cpp does
 // the levels with alpha = 0).
+#include <array>
 #include <cstdint>
 
 #include <table_filter_exact_b10g11r11.spv.h>
@@ -20,9 +21,9 @@ namespace {
 struct TableConstants {
     int32_t faceSize;
     int32_t pyramidLevels;
-    int32_t level;
-    uint32_t firstTexel;
+    int32_t firstLevel;
     uint32_t usageFirst;
+    std::array<uint32_t, kWrittenMipCount> groupEnd;
 };
 
 } // namespace
@@ -52,14 +53,18 @@ std::vector<float> tableBufferData(const TapTable& table) {
 
 uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4); }
 
-void recordTableLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
+void recordTableLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {
     const FilterSettings& s = impl.settings;
-    const TableConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, m, impl.plan.outputOffsets[m], impl.tableUsageFirst};
     // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp).
-    const uint32_t size = uint32_t(s.faceSize >> m);
-    if (impl.plan.sampling == Sampling::hardware)
-        dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(size * size), kFaceCount);
-    else dispatchPass(impl, commandBuffer, *impl.pass2, "table", m, constants, groupsFor(kFaceCount * size * size));
+    const bool hardware = impl.plan.sampling == Sampling::hardware;
+    const auto groupsOf = [&](int m) {
+        const std::size_t size = std::size_t(s.faceSize >> m);
+        return groupsFor(hardware ? size * size : kFaceCount * size * size);
+    };
+    const TableConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, levels.front(), impl.tableUsageFirst,
+                                   levelGroupEnds(levels, groupsOf)};
+    dispatchPass(impl, commandBuffer, *impl.pass2, "table", levels.front(), constants, constants.groupEnd.back(),
+                 hardware ? kFaceCount : 1u, int(levels.size()));
 }
 
 } // namespace probe::gpu

@@ -148,7 +148,8 @@ struct FilterSettings {
 };
 
 // Where Filter::run and Filter::record write timestamp queries. `passes`: at the boundaries of the
-// passes (record()'s default). `levels`: after each output level's pass-2 dispatch too
+// passes (record()'s default); pass 2 then writes consecutive table or FIS levels, up to four, in one
+// dispatch. `levels`: a dispatch per output level and a timestamp after each too
 // (levelTimings()), which makes a GPU finish a level before it starts the next: each level is then
 // timed alone, and pass 2 takes longer than it does with `passes` wherever a GPU would have
 // overlapped the small levels (2.8x at 128^2 on an NVIDIA H200, docs/benchmarks.md). `none`: no
@@ -170,6 +171,7 @@ struct Dispatch {
                          // last pyramid dispatch writes this mip, 8x8 or smaller, and all below it);
                          // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
+    int levels = 1;      // pass 2: the output levels it writes, from `level` (up to 4 in one dispatch)
 };
 
 // The caller's source cube for Filter::record, described as the engine made it (record() checks
