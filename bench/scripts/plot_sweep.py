@@ -211,8 +211,9 @@ def instructions_markdown(report, instructions):
     lines = [levels_measured(report, "Instructions per output texel of levels >= 1")
              + f", from the compiled filter shaders on {device['name']} "
              f"({device['driver']}): the code outside the tap or sample loop once, the runtime loop per tap or sample "
-             "(bench/shader_stats/shader_stats). Hardware sampling, which a GPU runs; FIS on the dual-paraboloid map reads a buffer "
-             "exactly, its only path. The filter pass alone: the pyramid pass is not counted.", "",
+             "(bench/shader_stats/shader_stats; a table's levels handed to FIS count a tap per sample). Hardware sampling, "
+             "which a GPU runs; FIS on the dual-paraboloid map reads a buffer exactly, its only path. The filter pass alone: "
+             "the pyramid pass is not counted.", "",
              cost_table(report, INSTRUCTIONS),
              "| method | family | shader loop | reads/texel | taps or samples/texel | instructions/texel | image L1 | impulse L1 |",
              "|---|---|---|---|---|---|---|---|"]
