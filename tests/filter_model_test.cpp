@@ -265,6 +265,20 @@ TEST(TableFilter, CopyLevelIsTheSource) {
 
 std::filesystem::path tempFile(const std::string& name) { return std::filesystem::temp_directory_path() / ("probe_sampling_test_" + name); }
 
+// Writes `content` to `path` and expects readTable to refuse it with a message naming the file and
+// holding `needle`.
+void expectTableRefused(const std::filesystem::path& path, const std::string& content, const std::string& needle) {
+    std::ofstream(path) << content;
+    try {
+        readTable(path);
+        ADD_FAILURE() << "accepted: " << needle;
+    } catch (const ProbeError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+        EXPECT_NE(message.find(needle), std::string::npos) << message;
+    }
+}
+
 // validateTableValues throws with `needle` in its message.
 void expectInvalid(const TapTable& table, const std::string& needle) {
     try {
@@ -369,20 +383,9 @@ TEST(TableIo, HandOffRoundTripAndRefusals) {
     for (int m = 0; m < 4; ++m) EXPECT_EQ(back.levels[m].fisSamples, m == 2 ? 48 : 0) << "level " << m;
     EXPECT_NE(tableCppHeader(table, "t").find("kFisSamples[4] = {0, 0, 48, 0};"), std::string::npos);
     EXPECT_NE(tableGlslInclude(table, "t").find("probeTableFisSamples[4] = int[](0, 0, 48, 0);"), std::string::npos);
-    const auto expectRefused = [&](const std::string& content, const std::string& needle) {
-        std::ofstream(path) << content;
-        try {
-            readTable(path);
-            ADD_FAILURE() << "accepted: " << needle;
-        } catch (const ProbeError& e) {
-            const std::string message = e.what();
-            EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-            EXPECT_NE(message.find(needle), std::string::npos) << message;
-        }
-    };
     std::string tooMany = text;
     tooMany.replace(tooMany.find("\"fisSamples\": 48"), 16, "\"fisSamples\": 70000");
-    expectRefused(tooMany, "level 2 is handed to FIS with 70000 samples");
+    expectTableRefused(path, tooMany, "level 2 is handed to FIS with 70000 samples");
     table.levels[2].fisSamples = 0;
     table.levels[0].fisSamples = 8; // GGX level 0: alpha 0, a copy
     EXPECT_THROW(tableToJson(table), ProbeError);
@@ -411,17 +414,7 @@ TEST(TableIo, TruncatedOrWrongLayoutIsRefused) {
     const TapTable table = randomTable(16, 4, 4, TableForm::quadratic, 1);
     const std::string text = tableToJson(table);
     const auto path = tempFile("bad.json");
-    auto expectRefused = [&](const std::string& content, const std::string& needle) {
-        std::ofstream(path) << content;
-        try {
-            readTable(path);
-            ADD_FAILURE() << "accepted: " << needle;
-        } catch (const ProbeError& e) {
-            const std::string message = e.what();
-            EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-            EXPECT_NE(message.find(needle), std::string::npos) << message;
-        }
-    };
+    const auto expectRefused = [&](const std::string& content, const std::string& needle) { expectTableRefused(path, content, needle); };
     expectRefused(text.substr(0, text.size() / 2), "not valid JSON, or incomplete");
     std::string wrongTaps = text;
     wrongTaps.replace(wrongTaps.find("\"taps\": 4"), 9, "\"taps\": 8");
