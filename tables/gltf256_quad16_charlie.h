@@ -4,7 +4,7 @@
 // solver: Ceres 2.1.0: 10 iterations of Levenberg-Marquardt (dense normal Cholesky, residual sqrt(a e) per stratified output texel, function tolerance 1e-6), then at most 150 of BFGS (Wolfe line search, function tolerance 1e-7) with every frame's taps tied (the best frame copied into the others) on the coarse texels (every few of the stratified output texels, at least 128) and at most 30 on all of them with each frame free on the weighted mean impulse L1 over the stratified output texels, per level; levels with fewer stratified texels get up to 4x the iterations, in proportion; weight sum kept >= 0.25 of its mean (penalty 10); start: best of lobe layout, previous level where nothing below offers a start, the nearest roughness among 1 bank tables (the 3 best on every 8th texel are also starts); stratified texels: budget 512 per level
 // fit time 1350.2 s
 // impulse-response L1 per level: stratified mean / max, all texels mean / max (worst texel face,i,j), min weight sum
-//   level 0 alpha 0.00490: 1.13157 / 1.23116, 1.14063 / 1.25218 (3,199,180), 0.7078
+//   level 0 alpha 0.00490: 1.13157 / 1.23116, 1.14063 / 1.25218 (3,199,180), 0.7078; filtered by FIS with 48 samples
 //   level 1 alpha 0.02041: 0.57234 / 0.69915, 0.57955 / 0.71409 (1,17,50), 0.8532
 //   level 2 alpha 0.08163: 0.27505 / 0.36118, 0.27894 / 0.37324 (4,53,53), 0.5896
 //   level 3 alpha 0.18367: 0.22910 / 0.31907, 0.23143 / 0.32632 (1,4,27), 0.4338
@@ -47,7 +47,7 @@ inline constexpr double kLevelFits[8][11] = {
 };
 // Per level, the FIS samples per texel that filter it in the table's place (bias 0, on the table's
 // pyramid), where FIS measured better at no more time; 0: the table's taps filter it.
-inline constexpr int kFisSamples[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+inline constexpr int kFisSamples[8] = {48, 0, 0, 0, 0, 0, 0, 0};
 // Per level, the published layout: [parameter][coefficient][frame * kTaps / 4 + tap / 4][tap % 4].
 inline constexpr float kCoefficients[5760] = {
     1.50199544f, -1.34620738f, 0.161050856f, -0.155587271f, 0.929620445f, -0.861676037f, -0.911361635f, 0.970739901f,
