@@ -76,15 +76,15 @@ void Filter::checkLimits(const Device& device, const FilterSettings& settings) {
 Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer initialization)
     : device(d), settings(s), plan(planFilter(s, capabilitiesOf(d))) {
     const MethodKind kind = s.method.kind;
-    std::vector<float> tableData(4, 0.0f);
+    std::vector<float> tableData;
     if (kind == MethodKind::table) {
         tableData = tableBufferData(*s.method.table);
         tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
         appendFisSamples(handOffSamples(*s.method.table), tableData, sampleOffsets);
     } else if (kind == MethodKind::fis) {
-        tableData.clear();
         appendFisSamples(fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe), tableData, sampleOffsets);
     }
+    if (tableData.empty()) tableData.assign(4, 0.0f); // the reference, or every level a copy: a buffer cannot be empty
     const std::vector<float> geometryData = plan.geometry ? geometryTexels(s.faceSize, plan.pyramidLevels) : std::vector<float>(4, 0.0f);
     geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);

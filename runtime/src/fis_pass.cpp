@@ -1,6 +1,6 @@
 // Filtered importance sampling (shaders/fis.comp): every level's samples, made by
-// probecore in the tangent frame, in the table buffer, and one dispatch per output level computed,
-// reading the cube pyramid or the dual-paraboloid map.
+// probecore in the tangent frame, in the table buffer, and one dispatch per group of output levels
+// (FilterPlan::levelGroups), reading the cube pyramid or the dual-paraboloid map.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -49,7 +49,6 @@ void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector
                                      static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});
         sampleOffsets.push_back(sampleOffsets.back() + static_cast<uint32_t>(level.size()));
     }
-    if (data.empty()) data.assign(4, 0.0f); // every level a copy: a buffer cannot be empty
 }
 
 void recordFisLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {

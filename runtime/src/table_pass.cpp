@@ -1,6 +1,6 @@
 // Pass 2 with a tap table (shaders/table_filter.comp): its upload in the published layout (then the
-// tap groups each level uses), and one dispatch per output level computed (copy_level_pass.cpp does
-// the levels with alpha = 0).
+// tap groups each level uses), and one dispatch per group of output levels (FilterPlan::levelGroups;
+// copy_level_pass.cpp does the levels with alpha = 0).
 #include <array>
 #include <cstdint>
 
