@@ -31,9 +31,10 @@ inline constexpr const char* kForceHelp =
 // The GPU commands' face size: the stated limit, and the device's own, checked before the work.
 static_assert(probe::kMaxFaceSize == 2048, "kGpuSizeHelp states the face-size limit");
 inline constexpr const char* kGpuSizeHelp =
-    "Output face size S_0, a power of two, at most 2048; exact sampling (and the box pyramid) needs per-texel buffers that the "
-    "device's maxStorageBufferRange must hold (128 MiB at 1024^2, 512 MiB at 2048^2; lavapipe's 128 MiB allows 512), hardware "
-    "sampling none; refused up front otherwise";
+    "Output face size S_0, a power of two, at most 2048; exact sampling (and the box pyramid) reads per-texel buffers of every "
+    "pyramid level as texel buffers, which the device's maxTexelBufferElements must hold (33.6 million texels at 2048^2; lavapipe "
+    "and the common GPUs hold 2^27), hardware sampling none; the reference's sums need a storage buffer of every output level "
+    "(512 MiB at 2048^2); refused up front otherwise";
 
 inline constexpr const char* kAllowLongHelp =
     "Run the CPU reference even when its estimate (printed up front) is over an hour; it is quadratic in the face size (days at 2048)";

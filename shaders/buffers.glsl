@@ -11,15 +11,18 @@
 // Pass 1's pyramid of the source: level 0 is the source at S_0, down to 1x1. Each face of each level
 // carries a one-texel border (pyramid.comp fills it from the adjacent faces), so that a bilinear
 // read never leaves its face: a level of face size S holds texels (i, j), i and j in [-1, S].
-// Written here, read through pyramidTexel.
+// Written here through a window of the buffer that starts at one of its texels (the whole buffer
+// can exceed the storage-buffer range a device guarantees: storePyramid), read through
+// pyramidTexel.
 layout(std430, set = 0, binding = 0) writeonly buffer PyramidBuffer { vec4 pyramid[]; };
 // Results in a buffer: the reference's running sums per output texel (level m of face size
 // S_0 >> m), the SH projection's partial sums, the sphere renderer's pixels.
 layout(std430, set = 0, binding = 1) buffer OutputBuffer { vec4 outputTexels[]; };
 // Per level of the pyramid, the texel centre directions (xyz, unit) and exact solid angles (w),
 // computed by probecore's CubeGeometry in double, for exact sampling and the box pyramid (hardware
-// sampling computes its directions, and the Filter then binds a single texel here).
-layout(std430, set = 0, binding = 2) readonly buffer GeometryBuffer { vec4 geometry[]; };
+// sampling computes its directions, and the Filter then binds a single texel here). A texel buffer,
+// read through geometryTexel: it is as large as the pyramid.
+layout(set = 0, binding = 2) uniform samplerBuffer geometryTexels;
 // Pass 2's tap table, or the FIS samples (the sphere renderer's parameters).
 layout(set = 0, binding = 3) uniform samplerBuffer tableTexels;
 // The pyramid buffer of binding 0, for reads.
@@ -36,6 +39,10 @@ vec4 tableEntry(uint index) { return tableData[index]; }
 vec4 tableEntry(uint index) { return texelFetch(tableTexels, int(index)); }
 #endif
 vec3 pyramidTexel(uint index) { return texelFetch(pyramidTexels, int(index)).rgb; }
+vec4 geometryTexel(uint index) { return texelFetch(geometryTexels, int(index)); }
+
+// Writes pyramid texel `index` through the window bound at binding 0, which starts at texel `window`.
+void storePyramid(uint index, uint window, vec3 value) { pyramid[index - window] = vec4(value, 1.0); }
 
 // Index of the first texel of `level` in a packed cube whose level 0 has face size `faceSize` (a
 // power of two): 6 sum_{k < level} (S >> k)^2 = 8 (S^2 - (S >> level)^2).

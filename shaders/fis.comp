@@ -55,7 +55,7 @@ void main() {
 #ifdef PROBE_HARDWARE_SAMPLING
     vec3 R = normalize(texelCubePoint(t.z, t.x, t.y, size));
 #else
-    vec3 R = geometry[levelOffset(params.faceSize, level) + inLevel].xyz;
+    vec3 R = geometryTexel(levelOffset(params.faceSize, level) + inLevel).xyz;
 #endif
 
     // probe::fisFrame

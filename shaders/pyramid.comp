@@ -4,8 +4,9 @@
 // bspline: pyramid_bspline.glsl, its bilinear taps seamless through the border.
 // box: pyramid_box.glsl, the 2x2 children on the same face.
 // A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
-// than copied, so one dispatch with no barrier writes a level's faces and edges; a border corner,
-// which has no counterpart, is left to pyramid_corners.comp.
+// than copied, so one dispatch with no barrier writes a level's faces and edges (or those of the
+// faces in the window of the buffer bound: buffers.glsl); a border corner, which has no
+// counterpart, is left to pyramid_corners.comp.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "probe/shared_constants.h"
@@ -19,8 +20,11 @@ layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
 
 layout(push_constant) uniform Params {
-    int faceSize; // S_0
-    int level;    // the level written: 0 (the source) to log2(S_0)
+    int faceSize;  // S_0
+    int level;     // the level written: 0 (the source) to log2(S_0)
+    int firstFace; // the faces written
+    int faceCount;
+    uint window; // the first texel of the window bound at binding 0
 } params;
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.faceSize, params.level - 1, face, x, y); }
@@ -43,8 +47,8 @@ void main() {
     // Every texel of each face and its border.
     int perFace = row * row;
     uint index = invocationIndex();
-    if (index >= 6u * uint(perFace)) return;
-    int face = int(index) / perFace, k = int(index) % perFace;
+    if (index >= uint(params.faceCount * perFace)) return;
+    int face = params.firstFace + int(index) / perFace, k = int(index) % perFace;
     int i = k % row - 1, j = k / row - 1;
     bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
 
@@ -53,5 +57,5 @@ void main() {
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     bool edge = insideI != insideJ;
     vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
-    pyramid[pyramidLevelOffset(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
+    storePyramid(pyramidLevelOffset(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size), params.window, value);
 }

@@ -14,7 +14,7 @@ vec3 pyramidBox(int face, int i, int j, int fineSize, uint firstGeometry, bool i
     float weightSum = 0.0;
     for (int k = 0; k < 4; ++k) {
         int fi = 2 * i + (k & 1), fj = 2 * j + (k >> 1);
-        float area = geometry[firstGeometry + texelIndex(face, fi, fj, fineSize)].w;
+        float area = geometryTexel(firstGeometry + texelIndex(face, fi, fj, fineSize)).w;
         float w = inverseSolidAngle ? 1.0 / area : area;
         sum += w * probeFineTexel(face, fi, fj, fineSize);
         weightSum += w;

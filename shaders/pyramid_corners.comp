@@ -10,20 +10,23 @@
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(push_constant) uniform Params {
-    int faceSize; // S_0
-    int level;    // the level whose corners are written
+    int faceSize;  // S_0
+    int level;     // the level whose corners are written
+    int firstFace; // the faces whose corners are written
+    int faceCount;
+    uint window; // the first texel of the window bound at binding 0
 } params;
 
 void main() {
     uint index = invocationIndex();
-    if (index >= 24u) return;
+    if (index >= uint(4 * params.faceCount)) return;
     int size = params.faceSize >> params.level;
-    int face = int(index) / 4, corner = int(index) % 4;
+    int face = params.firstFace + int(index) / 4, corner = int(index) % 4;
     int i = (corner & 1) != 0 ? size : -1, j = (corner & 2) != 0 ? size : -1;
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     uint first = pyramidLevelOffset(params.faceSize, params.level);
     vec3 value = (pyramidTexel(first + pyramidTexelIndex(face, ci, cj, size)) + pyramidTexel(first + pyramidTexelIndex(face, i, cj, size)) +
                   pyramidTexel(first + pyramidTexelIndex(face, ci, j, size))) *
                  (1.0 / 3.0);
-    pyramid[first + pyramidTexelIndex(face, i, j, size)] = vec4(value, 1.0);
+    storePyramid(first + pyramidTexelIndex(face, i, j, size), params.window, value);
 }

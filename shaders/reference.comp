@@ -42,7 +42,7 @@ void main() {
     uint texel = invocationIndex();
     if (texel >= 6u * uint(outSize * outSize)) return;
     uint outIndex = levelOffset(params.sourceSize, params.outLevel) + texel;
-    vec3 R = geometry[outIndex].xyz;
+    vec3 R = geometryTexel(outIndex).xyz;
 
     int s = params.sourceSize;
     int face = params.firstRow / s;
@@ -55,7 +55,7 @@ void main() {
             uint source = pyramidTexelIndex(face, 0, row - face * s, s); // the same texel in the bordered pyramid
             vec4 rowSum = vec4(0.0);
             for (uint t = begin; t < begin + uint(s); ++t, ++source) {
-                vec4 l = geometry[t]; // level 0 of the geometry is the source's
+                vec4 l = geometryTexel(t); // level 0 of the geometry is the source's
                 vec3 d = R - l.xyz;
                 float k = params.lobe == 0 ? ggxKernel(dot(R, l.xyz), dot(d, d), params.alpha2)
                                            : charlieKernel(dot(R, l.xyz), dot(d, d), params.exponent);

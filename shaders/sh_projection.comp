@@ -35,7 +35,7 @@ void main() {
         uint item = first + k;
         if (item >= params.count) break;
         if (params.fromSource != 0u) {
-            vec4 g = geometry[item];
+            vec4 g = geometryTexel(item);
             vec3 radiance = pyramidTexel(item) * g.w;
             float y[PROBE_SH_COUNT];
             shBasis(g.xyz, y);

@@ -40,14 +40,14 @@ layout(push_constant) uniform Params {
 // (base colour, metallic), (specular, roughness, level, has specular), (sheen colour, sheen
 // roughness), (sheen level, 0, 0, 0).
 
-// A size x size lookup table starting at geometry[first], read bilinearly at (n.v, roughness).
+// A size x size lookup table starting at texel `first` of the geometry buffer, read bilinearly at (n.v, roughness).
 vec2 lookup(int first, int size, float nDotV, float roughness) {
     vec2 x = clamp(vec2(nDotV, roughness) * float(size) - 0.5, vec2(0.0), vec2(float(size - 1)));
     ivec2 i0 = min(ivec2(floor(x)), ivec2(size - 2 < 0 ? 0 : size - 2));
     ivec2 i1 = min(i0 + 1, ivec2(size - 1));
     vec2 f = x - vec2(i0);
-    vec2 a = mix(geometry[first + i0.y * size + i0.x].xy, geometry[first + i0.y * size + i1.x].xy, f.x);
-    vec2 b = mix(geometry[first + i1.y * size + i0.x].xy, geometry[first + i1.y * size + i1.x].xy, f.x);
+    vec2 a = mix(geometryTexel(uint(first + i0.y * size + i0.x)).xy, geometryTexel(uint(first + i0.y * size + i1.x)).xy, f.x);
+    vec2 b = mix(geometryTexel(uint(first + i1.y * size + i0.x)).xy, geometryTexel(uint(first + i1.y * size + i1.x)).xy, f.x);
     return mix(a, b, f.y);
 }
 

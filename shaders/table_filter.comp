@@ -107,7 +107,7 @@ void main() {
 #ifdef PROBE_HARDWARE_SAMPLING
     vec3 d = texelCubePoint(int(face), int(inFace % uint(size)), int(inFace / uint(size)), size);
 #else
-    vec3 R = geometry[levelOffset(params.faceSize, level) + texel].xyz;
+    vec3 R = geometryTexel(levelOffset(params.faceSize, level) + texel).xyz;
     vec3 d = R / abs(R[major]);
 #endif
     levelFirst = uint(level) * uint(5 * kCoefficientCount * 3 * kTaps / 4);

@@ -3,6 +3,7 @@
 // Filter::checkLimits follow.
 #include <gtest/gtest.h>
 
+#include "buffer.h"
 #include "filter_plan.h"
 #include "probe/error.h"
 #include "probe/tap_table.h"
@@ -129,19 +130,79 @@ TEST(FilterPlan, OutputFormatsThroughTheConversionWhereStorageIsMissing) {
     EXPECT_THROW(planFilter(s, gpu()), ParameterError);
 }
 
-TEST(FilterPlan, RefusesWhatTheDeviceCannotHold) {
-    // Exact sampling at 2048^2: a pyramid buffer over 128 MiB.
+TEST(FilterPlan, PyramidWindowsCoverEachLevelWithinTheStorageRange) {
+    // Exact sampling at 2048^2: a 513.5 MiB pyramid buffer, read as a texel buffer and written through
+    // windows of at most 128 MiB, their offsets aligned as the device asks.
     FilterSettings s = fisSettings(2048);
     s.sampling = Sampling::exact;
-    try {
-        planFilter(s, gpu());
-        ADD_FAILURE() << "a 2048^2 exact pyramid was planned within 128 MiB";
-    } catch (const ProbeError& e) {
-        EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+    DeviceCapabilities d = gpu();
+    d.minStorageBufferOffsetAlignment = 256;
+    const FilterPlan plan = planFilter(s, d);
+    EXPECT_EQ(plan.pyramidTexels, plan.pyramidOffsets.back());
+    EXPECT_GT(plan.pyramidTexels * 16, std::size_t(4) << 27);
+    int level = -1, face = 0;
+    std::vector<int> windowsOf(std::size_t(plan.pyramidLevels), 0);
+    for (const PyramidWindow& w : plan.pyramidWindows) {
+        if (w.level != level) { // a new level starts at face 0, after the last one ended at face 6
+            EXPECT_EQ(face, level < 0 ? 0 : kFaceCount);
+            EXPECT_EQ(w.level, level + 1);
+            level = w.level;
+            face = 0;
+        }
+        EXPECT_EQ(w.firstFace, face);
+        EXPECT_GE(w.faceCount, 1);
+        face += w.faceCount;
+        ++windowsOf[std::size_t(w.level)];
+        // Aligned, within the range, and holding the window's faces.
+        const std::size_t perFace = pyramidLevelTexels(2048 >> w.level) / kFaceCount;
+        const std::size_t start = plan.pyramidOffsets[std::size_t(w.level)] + std::size_t(w.firstFace) * perFace;
+        EXPECT_EQ(w.first * 16 % 256, 0u);
+        EXPECT_LE(w.first, start);
+        EXPECT_EQ(w.first + w.texels, start + std::size_t(w.faceCount) * perFace);
+        EXPECT_LE(w.texels * 16, std::size_t(1) << 27);
     }
-    // Hardware sampling computes its directions and keeps its pyramid in an image: it fits.
+    EXPECT_EQ(level, plan.pyramidLevels - 1);
+    EXPECT_EQ(face, kFaceCount);
+    EXPECT_EQ(windowsOf[0], 6); // a 2050^2 face takes 64.1 MiB: one a window
+    EXPECT_EQ(windowsOf[1], 1); // the whole level takes 96.5 MiB
+    // 128^2 and the reference: one window per level written.
+    EXPECT_EQ(planFilter(fisSettings(128), d).pyramidWindows.size(), 0u); // FIS reads a cube image where it can
+    FilterSettings exact128 = fisSettings(128);
+    exact128.sampling = Sampling::exact;
+    EXPECT_EQ(planFilter(exact128, d).pyramidWindows.size(), 8u);
+    FilterSettings reference = exact128;
+    reference.method.kind = MethodKind::reference;
+    ASSERT_EQ(planFilter(reference, d).pyramidWindows.size(), 1u);
+    EXPECT_EQ(planFilter(reference, d).pyramidWindows[0].faceCount, kFaceCount);
+}
+
+TEST(FilterPlan, RefusesWhatTheDeviceCannotHold) {
+    const auto refusal = [](const FilterSettings& s, const DeviceCapabilities& d) {
+        try {
+            planFilter(s, d);
+        } catch (const ProbeError& e) {
+            return std::string(e.what());
+        }
+        return std::string("planned");
+    };
+    FilterSettings s = fisSettings(2048);
+    s.sampling = Sampling::exact;
+    // A texel buffer of fewer elements than the pyramid's 33.6 million texels.
+    DeviceCapabilities few = gpu();
+    few.maxTexelBufferElements = 1u << 25;
+    EXPECT_NE(refusal(s, few).find("texel buffers of at most 33554432 texels"), std::string::npos) << refusal(s, few);
+    // A storage-buffer range smaller than one face of level 0 (64.1 MiB).
+    DeviceCapabilities narrow = gpu();
+    narrow.maxStorageBufferRange = 1u << 25;
+    EXPECT_NE(refusal(s, narrow).find("storage buffers of at most 32.0 MiB"), std::string::npos) << refusal(s, narrow);
+    // Hardware sampling computes its directions and keeps its pyramid in an image: it fits both.
     s.sampling = Sampling::hardware;
-    EXPECT_NO_THROW(planFilter(s, gpu()));
+    EXPECT_EQ(refusal(s, few), "planned");
+    EXPECT_EQ(refusal(s, narrow), "planned");
+    // The reference's running sums are a storage buffer of every output level.
+    FilterSettings reference = fisSettings(2048);
+    reference.method.kind = MethodKind::reference;
+    EXPECT_NE(refusal(reference, gpu()).find("maxStorageBufferRange"), std::string::npos) << refusal(reference, gpu());
 
     // The table method's exact sampling needs subgroup votes.
     TapTable table;

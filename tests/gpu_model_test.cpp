@@ -113,6 +113,29 @@ TEST_F(GpuTest, PyramidEqualsCpuModel) {
         }
 }
 
+// On a device whose storage-buffer range holds fewer than a level's faces, exact sampling's pass 1
+// writes each level through windows of whole faces (FilterPlan::pyramidWindows): the pyramid is the
+// same. The test device's range is narrowed to two faces of level 0 for the test's length.
+TEST_F(GpuTest, PyramidWrittenInWindowsEqualsCpuModel) {
+    const CubeImage source = probetest::randomProbe(32, 11);
+    struct NarrowRange { // restores the range however the test ends
+        VkPhysicalDeviceLimits& limits = probetest::testDevice().impl().limits;
+        const uint32_t range = limits.maxStorageBufferRange;
+        NarrowRange() { limits.maxStorageBufferRange = uint32_t(2 * 34 * 34 * 16 + limits.minStorageBufferOffsetAlignment); }
+        ~NarrowRange() { limits.maxStorageBufferRange = range; }
+    } narrow;
+    for (const PyramidSettings& pyramid : kAllPyramids) {
+        gpu::Filter filter(probetest::testDevice(),
+                           settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, pyramid, gpu::Sampling::exact));
+        filter.run(source);
+        int level0 = 0;
+        for (const gpu::Dispatch& d : filter.dispatches()) level0 += d.pass == "pyramid" && d.level == 0 && d.groups > 1;
+        EXPECT_EQ(level0, 3) << "level 0 in three windows of two faces";
+        expectLevelsEqual(filter.downloadPyramid(), buildPyramid(source, pyramid), probetest::kSamplingCases[0].tolerance,
+                          "pyramid in windows " + describe(pyramid));
+    }
+}
+
 // Hardware sampling builds the mips from face size PROBE_PYRAMID_TAIL_SIZE down in one workgroup
 // that reads each from the one before in shared memory with the exact path's arithmetic, not the
 // sampler's: from its first mip (which the sampler's reads made) the model gives its others to

@@ -17,10 +17,13 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, Kind kind) : device_(de
         throw ProbeError(
             fmt::format("Vulkan: {} needs a storage buffer of {} MiB, over its maxStorageBufferRange of {} MiB; use a smaller --size",
                         d.info.name, bytes >> 20, d.limits.maxStorageBufferRange >> 20));
+    if (kind == Kind::texels && bytes / 16 > d.limits.maxTexelBufferElements)
+        throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one needs {}; use a smaller --size",
+                                     d.info.name, d.limits.maxTexelBufferElements, bytes / 16));
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = bytes;
     info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                 (kind == Kind::storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
+                 (kind != Kind::staging ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     vkCheck(vkCreateBuffer(device_, &info, nullptr, &buffer_), "vkCreateBuffer");
 
@@ -29,7 +32,7 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, Kind kind) : device_(de
     VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     allocate.allocationSize = requirements.size;
     allocate.memoryTypeIndex =
-        kind == Kind::storage
+        kind != Kind::staging
             ? d.memoryType(requirements.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT)
             : d.memoryType(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
                            VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

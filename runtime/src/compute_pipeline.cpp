@@ -1,5 +1,6 @@
 #include "compute_pipeline.h"
 
+#include <algorithm>
 #include <vector>
 
 #include <fmt/format.h>
@@ -12,16 +13,16 @@ namespace probe::gpu {
 
 namespace {
 
-constexpr uint32_t kStorageBindings = 3; // pyramid, output, geometry
-constexpr uint32_t kBindingCount = 5;    // and the table and the pyramid as uniform texel buffers
+constexpr uint32_t kStorageBindings = 2; // pyramid, output
+constexpr uint32_t kBindingCount = 5;    // and the geometry, the table and the pyramid as uniform texel buffers
 constexpr VkDeviceSize kTexelBytes = 16; // RGBA32F
 
 } // namespace
 
 PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers) : device_(device.device()) {
     const Device::Impl& d = device.impl();
-    // The table (binding 3) and the pyramid (binding 4), read as texels.
-    const std::array<const Buffer*, 2> texelBuffers{buffers[3], buffers[0]};
+    // The geometry (binding 2), the table (binding 3) and the pyramid (binding 4), read as texels.
+    const std::array<const Buffer*, 3> texelBuffers{buffers[2], buffers[3], buffers[0]};
     VkFormatProperties properties;
     vkGetPhysicalDeviceFormatProperties(d.physical, VK_FORMAT_R32G32B32A32_SFLOAT, &properties);
     if (!(properties.bufferFeatures & VK_FORMAT_FEATURE_UNIFORM_TEXEL_BUFFER_BIT))
@@ -80,7 +81,8 @@ PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buff
         writes[b].descriptorCount = 1;
         writes[b].descriptorType = bindings[b].descriptorType;
         if (b < kStorageBindings) {
-            infos[b] = {buffers[b]->handle(), 0, VK_WHOLE_SIZE};
+            // Within the storage-buffer range: a pyramid larger than that is only read, as texels.
+            infos[b] = {buffers[b]->handle(), 0, std::min<VkDeviceSize>(buffers[b]->bytes(), d.limits.maxStorageBufferRange)};
             writes[b].pBufferInfo = &infos[b];
         } else {
             writes[b].pTexelBufferView = &texelViews_[b - kStorageBindings];

@@ -1,9 +1,10 @@
 // The runtime's compute pipelines, with push constants for the per-dispatch values, and the buffer
 // layout of shaders/buffers.glsl that the SH projector and the sphere renderer bind as one
-// descriptor set (the Filter adds images: filter_descriptors.h). Bindings 0-2 are storage buffers
-// (pyramid, output, geometry); the buffers that the hot loops only read are bound as uniform texel
-// buffers, whose reads SIMD back ends gather without branches (lavapipe runs them about twice as
-// fast as storage-buffer reads): binding 3 the table buffer, binding 4 the pyramid buffer again. (The
+// descriptor set (the Filter adds images: filter_descriptors.h). Bindings 0-1 are storage buffers
+// (pyramid, output); the buffers that the hot loops only read are bound as uniform texel buffers,
+// whose reads SIMD back ends gather without branches (lavapipe runs them about twice as fast as
+// storage-buffer reads) and whose size is bounded by an element count rather than the storage-buffer
+// range: binding 2 the geometry, binding 3 the table buffer, binding 4 the pyramid buffer again. (The
 // Filter also binds the table as a storage buffer, binding 8, for its hardware-sampling pipelines.)
 #pragma once
 
@@ -41,7 +42,7 @@ private:
     VkPipelineLayout layout_ = VK_NULL_HANDLE;
     VkDescriptorPool pool_ = VK_NULL_HANDLE;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
-    std::array<VkBufferView, 2> texelViews_{}; // bindings 3 and 4
+    std::array<VkBufferView, 3> texelViews_{}; // bindings 2 to 4
 };
 
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the

@@ -86,7 +86,8 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     }
     if (tableData.empty()) tableData.assign(4, 0.0f); // the reference, or every level a copy: a buffer cannot be empty
     const std::vector<float> geometryData = plan.geometry ? geometryTexels(s.faceSize, plan.pyramidLevels) : std::vector<float>(4, 0.0f);
-    geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::storage);
+    geometry = Buffer(d, geometryData.size() * sizeof(float), Buffer::Kind::texels);
+    geometryView = BufferView(d.device(), geometry);
     table = Buffer(d, tableData.size() * sizeof(float), Buffer::Kind::storage);
     if (table.bytes() / kTexelBytes > d.impl().limits.maxTexelBufferElements)
         throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}", d.info().name,
@@ -175,7 +176,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     const FilterSettings& s = settings;
     const Device& d = device;
     const VkDevice vk = d.device();
-    r.pyramidBuffer = Buffer(d, plan.pyramidTexels * kTexelBytes, Buffer::Kind::storage);
+    r.pyramidBuffer = Buffer(d, plan.pyramidTexels * kTexelBytes, Buffer::Kind::texels);
     r.accumulator = Buffer(d, plan.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     r.pyramidView = BufferView(vk, r.pyramidBuffer);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
@@ -199,7 +200,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
             r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
         }
     }
-    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + 2 * s.levelCount + plan.levelGroups.size()));
+    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + 2 * s.levelCount + plan.levelGroups.size()));
 
     const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
@@ -253,9 +254,12 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     r.outputMips.resize(settings.levelCount);
     const VkDevice vk = device.device();
     const auto common = [&](VkDescriptorSet set) {
-        descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle());
+        // A window of the pyramid buffer, which can exceed the storage-buffer range: pass 1's sets bind
+        // their own below, and no other pass writes it.
+        descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle(), 0,
+                                 std::min<VkDeviceSize>(r.pyramidBuffer.bytes(), device.impl().limits.maxStorageBufferRange));
         descriptors->writeBuffer(set, kAccumulator, r.accumulator.handle());
-        descriptors->writeBuffer(set, kGeometry, geometry.handle());
+        descriptors->writeTexelBuffer(set, kGeometry, geometryView.handle());
         descriptors->writeTexelBuffer(set, kTableTexels, tableView.handle());
         descriptors->writeBuffer(set, kTableBuffer, table.handle());
         descriptors->writeTexelBuffer(set, kPyramidTexels, r.pyramidView.handle());
@@ -267,20 +271,24 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     const bool hardware = plan.buildsPyramid && plan.sampling == Sampling::hardware;
     r.pyramidSets.clear();
     if (pass1)
+        for (const PyramidWindow& w : plan.pyramidWindows) {
+            const VkDescriptorSet set = r.pool->allocate();
+            common(set);
+            descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle(), w.first * kTexelBytes, w.texels * kTexelBytes);
+            r.pyramidSets.push_back(set);
+        }
+    if (pass1 && hardware)
         for (int k = 0; k <= plan.pyramidDepth; ++k) {
             const VkDescriptorSet set = r.pool->allocate();
             common(set);
-            if (hardware) {
-                if (k > 0)
-                    descriptors->writeSampled(set, kPyramidCube, r.pyramidMipCubes[k - 1].handle(), linear->handle(),
-                                              VK_IMAGE_LAYOUT_GENERAL);
-                // The tail writes its mips (down to the depth); any other dispatch its one mip.
-                std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
-                if (k == plan.pyramidTailLevel)
-                    for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
-                        mips.push_back(r.pyramidMipArrays[e].handle());
-                descriptors->writeMips(set, mips);
-            }
+            if (k > 0)
+                descriptors->writeSampled(set, kPyramidCube, r.pyramidMipCubes[k - 1].handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
+            // The tail writes its mips (down to the depth); any other dispatch its one mip.
+            std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
+            if (k == plan.pyramidTailLevel)
+                for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
+                    mips.push_back(r.pyramidMipArrays[e].handle());
+            descriptors->writeMips(set, mips);
             r.pyramidSets.push_back(set);
         }
     r.levelSets.assign(settings.levelCount, VK_NULL_HANDLE);

@@ -62,8 +62,9 @@ std::unique_ptr<DescriptorPool> FilterDescriptors::makePool(uint32_t maxSets) co
     return std::make_unique<DescriptorPool>(device_, setLayout_, maxSets);
 }
 
-void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const {
-    const VkDescriptorBufferInfo info{buffer, 0, VK_WHOLE_SIZE};
+void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer, VkDeviceSize offset,
+                                    VkDeviceSize range) const {
+    const VkDescriptorBufferInfo info{buffer, offset, range};
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = set;
     write.dstBinding = binding;

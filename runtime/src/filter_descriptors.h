@@ -17,9 +17,9 @@
 namespace probe::gpu {
 
 enum FilterBinding : uint32_t {
-    kPyramidBuffer = 0, // storage buffer: the bordered pyramid (exact sampling; the reference's source)
+    kPyramidBuffer = 0, // storage buffer: a window of the bordered pyramid (exact sampling; the reference's source)
     kAccumulator = 1,   // storage buffer: the reference's running sums
-    kGeometry = 2,      // storage buffer: texel directions and solid angles per level
+    kGeometry = 2,      // uniform texel buffer: texel directions and solid angles per level
     kTableTexels = 3,   // uniform texel buffer: the tap table or FIS samples
     kPyramidTexels = 4, // uniform texel buffer: the bordered pyramid, read
     kSourceCube = 5,    // combined image sampler: the source cube, nearest
@@ -45,7 +45,7 @@ struct FilterBindingLayout {
 inline constexpr std::array<FilterBindingLayout, kFilterBindingCount> kFilterBindings{{
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
-    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
+    {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
@@ -91,7 +91,8 @@ public:
     VkPipelineLayout pipelineLayout() const { return pipelineLayout_; }
     std::unique_ptr<DescriptorPool> makePool(uint32_t maxSets) const;
 
-    void writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer) const;
+    void writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer, VkDeviceSize offset = 0,
+                     VkDeviceSize range = VK_WHOLE_SIZE) const;
     void writeTexelBuffer(VkDescriptorSet set, FilterBinding binding, VkBufferView view) const;
     void writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler, VkImageLayout layout) const;
     // kWrittenMips, in VK_IMAGE_LAYOUT_GENERAL: `mips` from element 0, and the last of them in the

@@ -39,7 +39,9 @@ struct Recording {
     VkImage boundOutput = VK_NULL_HANDLE;
     std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
     std::unique_ptr<DescriptorPool> pool;
-    std::vector<VkDescriptorSet> pyramidSets; // per pyramid level 0..pyramidDepth
+    // Pass 1's: per pyramid window (FilterPlan::pyramidWindows) with exact sampling, per pyramid level
+    // 0..pyramidDepth with hardware sampling.
+    std::vector<VkDescriptorSet> pyramidSets;
     std::vector<VkDescriptorSet> levelSets;   // per output level
     std::vector<VkDescriptorSet> groupSets;   // per output level: the set of the level group it starts (its levels' mips)
     std::vector<VkDescriptorSet> convertSets; // per output level
@@ -64,7 +66,8 @@ struct Filter::Impl {
 
     // Buffers (shaders/buffers.glsl) that every recording reads and none writes.
     Buffer geometry; // per pyramid level, (texel direction, solid angle)
-    Buffer table;    // tap table or FIS samples (one vec4 when unused)
+    BufferView geometryView;
+    Buffer table; // tap table or FIS samples (one vec4 when unused)
     BufferView tableView;
     std::unique_ptr<Sampler> linear, nearest;
     // A 1x1 cube for the image bindings that a set's dispatches do not read: every binding of a set

@@ -92,6 +92,30 @@ bool DeviceCapabilities::has(VkFormat format, VkFormatFeatureFlags needed) const
     return f != formatFeatures.end() && (f->second & needed) == needed;
 }
 
+std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, const DeviceCapabilities& d) {
+    const std::vector<uint32_t> offsets = pyramidOffsetsFor(faceSize, depth + 1);
+    const std::size_t range = d.maxStorageBufferRange / kTexelBytes;
+    // A binding's offset is a multiple of the alignment (a power of two), in bytes.
+    const std::size_t alignment = std::max<std::size_t>(1, d.minStorageBufferOffsetAlignment / kTexelBytes);
+    std::vector<PyramidWindow> windows;
+    for (int level = 0; level <= depth; ++level) {
+        const std::size_t perFace = pyramidLevelTexels(faceSize >> level) / kFaceCount;
+        for (int face = 0; face < kFaceCount;) {
+            const std::size_t start = offsets[level] + face * perFace, first = start / alignment * alignment;
+            int count = 0;
+            while (face + count < kFaceCount && start + (count + 1) * perFace - first <= range) ++count;
+            if (count == 0)
+                throw ProbeError(fmt::format("Vulkan: {} writes storage buffers of at most {:.1f} MiB, and a face of the {}^2 pyramid "
+                                             "takes {:.1f} MiB; use a smaller --size",
+                                             d.name, static_cast<double>(d.maxStorageBufferRange) / (1 << 20), faceSize,
+                                             static_cast<double>((start + perFace - first) * kTexelBytes) / (1 << 20)));
+            windows.push_back({level, face, count, first, start + count * perFace - first});
+            face += count;
+        }
+    }
+    return windows;
+}
+
 DeviceCapabilities capabilitiesOf(const Device& device) {
     const Device::Impl& d = device.impl();
     DeviceCapabilities c;
@@ -99,6 +123,7 @@ DeviceCapabilities capabilitiesOf(const Device& device) {
     c.cpu = d.info.type == "cpu";
     c.computeSubgroupVote = d.computeSubgroupVote;
     c.maxStorageBufferRange = d.limits.maxStorageBufferRange;
+    c.minStorageBufferOffsetAlignment = d.limits.minStorageBufferOffsetAlignment;
     c.maxTexelBufferElements = d.limits.maxTexelBufferElements;
     for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT})
         c.formatFeatures[f] = d.features(f);
@@ -179,16 +204,19 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
         for (int m = 0; m < plan.pyramidLevels; ++m) plan.geometryTexels += texelCount(s.faceSize >> m);
     }
 
-    // Every storage buffer within the device's range, and the texel buffers within its element count.
-    for (const std::size_t texels : {plan.pyramidTexels, plan.accumulatorTexels, plan.geometryTexels})
-        if (texels * kTexelBytes > d.maxStorageBufferRange)
-            throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {:.1f} MiB at {}^2, over its maxStorageBufferRange of "
-                                         "{:.1f} MiB; use a smaller --size",
-                                         d.name, static_cast<double>(texels * kTexelBytes) / (1 << 20), s.faceSize,
-                                         static_cast<double>(d.maxStorageBufferRange) / (1 << 20)));
-    if (plan.pyramidTexels > d.maxTexelBufferElements)
-        throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size", d.name,
-                                     d.maxTexelBufferElements, plan.pyramidTexels));
+    // The accumulator within the device's storage-buffer range, the pyramid written in windows within
+    // it, and the buffers read as texel buffers within its element count.
+    if (plan.accumulatorTexels * kTexelBytes > d.maxStorageBufferRange)
+        throw ProbeError(fmt::format("Vulkan: {} needs a storage buffer of {:.1f} MiB at {}^2, over its maxStorageBufferRange of "
+                                     "{:.1f} MiB; use a smaller --size",
+                                     d.name, static_cast<double>(plan.accumulatorTexels * kTexelBytes) / (1 << 20), s.faceSize,
+                                     static_cast<double>(d.maxStorageBufferRange) / (1 << 20)));
+    if (plan.pyramidTexels > 1)
+        plan.pyramidWindows = pyramidWindows(s.faceSize, plan.buildsPyramid && plan.sampling == Sampling::exact ? plan.pyramidDepth : 0, d);
+    for (const std::size_t texels : {plan.pyramidTexels, plan.geometryTexels})
+        if (texels > d.maxTexelBufferElements)
+            throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size", d.name,
+                                         d.maxTexelBufferElements, texels));
     return plan;
 }
 

@@ -32,6 +32,14 @@ struct PyramidConstants {
     int32_t level;
 };
 
+struct PyramidWindowConstants {
+    int32_t faceSize;
+    int32_t level;
+    int32_t firstFace; // the window's faces
+    int32_t faceCount;
+    uint32_t window; // its first texel
+};
+
 struct PyramidTailConstants {
     int32_t faceSize;
     int32_t level;     // the first mip written
@@ -64,9 +72,13 @@ void makePyramidPipelines(Filter::Impl& impl) {
 }
 
 uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
-    const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
-    const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
-    uint32_t count = uint32_t(lastSingle + 1) * (impl.pass1Corners ? 2 : 1) + (impl.pass1Tail ? 1 : 0);
+    uint32_t count = 0;
+    if (impl.plan.sampling == Sampling::hardware) {
+        const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
+        count = uint32_t((impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth) + 1) + (impl.pass1Tail ? 1 : 0);
+    } else {
+        count = uint32_t(impl.plan.pyramidWindows.size()) * (impl.pass1Corners ? 2 : 1);
+    }
     if (impl.paraboloidMap)
         for (int level = 0; (paraboloidSize(impl.settings.faceSize) >> level) >= 1; ++level) ++count;
     return count;
@@ -81,22 +93,46 @@ double pyramidTexelTaps(const Filter::Impl& impl) {
     return taps;
 }
 
-void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+namespace {
+
+// Exact sampling: each level's windows (FilterPlan::pyramidWindows), every texel of their faces with
+// the border, then their faces' border corners. A level split into windows (a device whose
+// storage-buffer range is smaller than the level) costs a dispatch and a barrier more per window.
+void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+    const std::vector<PyramidWindow>& windows = impl.plan.pyramidWindows;
+    for (std::size_t first = 0, end = 0; first < windows.size(); first = end) {
+        const int level = windows[first].level;
+        for (end = first; end < windows.size() && windows[end].level == level;) ++end;
+        if (level > 0) impl.barrier(commandBuffer);
+        const std::size_t perFace = pyramidLevelTexels(impl.settings.faceSize >> level) / kFaceCount;
+        for (const bool corners : {false, true}) {
+            if (corners && !impl.pass1Corners) break;
+            if (corners) impl.barrier(commandBuffer);
+            for (std::size_t w = first; w < end; ++w) {
+                // The windows of a level write apart, but each binds the whole buffer for reading.
+                if (w > first) impl.barrier(commandBuffer);
+                const PyramidWindow& window = windows[w];
+                impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[w]);
+                const PyramidWindowConstants constants{impl.settings.faceSize, level, window.firstFace, window.faceCount,
+                                                       uint32_t(window.first)};
+                const std::size_t texels = corners ? 4 * std::size_t(window.faceCount) : perFace * window.faceCount;
+                dispatchPass(impl, commandBuffer, corners ? *impl.pass1Corners : *impl.pass1, "pyramid", level, constants,
+                             groupsFor(texels));
+            }
+        }
+    }
+}
+
+// Hardware sampling: each mip of the pyramid image, the tail's in one dispatch.
+void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
-    const bool hardware = impl.plan.sampling == Sampling::hardware;
     const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
     const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
     for (int level = 0; level <= lastSingle; ++level) {
         if (level > 0) impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
-        const int size = s.faceSize >> level;
-        // Hardware: every texel of the mip; exact: every texel of each face with its border.
-        const std::size_t texels = hardware ? texelCount(size) : pyramidLevelTexels(size);
-        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texels));
-        if (!impl.pass1Corners) continue;
-        impl.barrier(commandBuffer);
-        dispatchPass(impl, commandBuffer, *impl.pass1Corners, "pyramid", level, constants, groupsFor(kFaceCount * 4));
+        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)));
     }
     if (impl.pass1Tail) {
         impl.barrier(commandBuffer);
@@ -104,6 +140,14 @@ void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth};
         dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1);
     }
+}
+
+} // namespace
+
+void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
+    const FilterSettings& s = impl.settings;
+    if (impl.plan.sampling == Sampling::exact) recordBorderedLevels(impl, commandBuffer);
+    else recordPyramidMips(impl, commandBuffer);
     if (!impl.paraboloidMap) return;
     for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {
         impl.barrier(commandBuffer);

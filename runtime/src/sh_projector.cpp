@@ -59,9 +59,9 @@ struct ShProjector::Impl {
                 geometryData.push_back(static_cast<float>(value));
 
         constexpr VkDeviceSize texelBytes = 4 * sizeof(float);
-        source = Buffer(d, texels * texelBytes, Buffer::Kind::storage);
+        source = Buffer(d, texels * texelBytes, Buffer::Kind::texels);
         blocks = Buffer(d, outFirst * texelBytes, Buffer::Kind::storage);
-        geometry = Buffer(d, texels * texelBytes, Buffer::Kind::storage);
+        geometry = Buffer(d, texels * texelBytes, Buffer::Kind::texels);
         unused = Buffer(d, texelBytes, Buffer::Kind::storage);
         layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&source, &blocks, &geometry, &unused});
         pipeline = std::make_unique<ComputePipeline>(d.device(), *layout, kShProjectionSpv);

@@ -141,7 +141,7 @@ Image renderSpheres(const Device& device, const SphereScene& scene) {
     const std::size_t batch = std::max<std::size_t>(1, kGuaranteedStorageRange / (cellPixels * 4 * sizeof(float)));
     const int width = scene.cellSize * static_cast<int>(scene.materials.size()), height = scene.cellSize;
     Image out{width, height, std::vector<float>(static_cast<std::size_t>(width) * height * 3)};
-    Buffer cubeBuffer(device, cubes.size() * sizeof(float), Buffer::Kind::storage);
+    Buffer cubeBuffer(device, cubes.size() * sizeof(float), Buffer::Kind::texels);
     Buffer lookupBuffer(device, lookup.size() * sizeof(float), Buffer::Kind::storage);
     Submission submission(device);
     submission.upload(cubeBuffer, cubes.data(), cubeBuffer.bytes());
