@@ -28,9 +28,11 @@ vec3 texel(uint index) {
 }
 
 layout(push_constant) uniform Params {
-    int faceSize;    // level 0
+    int faceSize; // level 0
     int levelCount;
-    uint blockCount; // of every level
+    uint firstBlock; // the dispatch's blocks: a run of whole faces (whose texels the binding holds)
+    uint blockCount;
+    uint texelBase; // the first texel bound at binding 1 (a window of the levels where they exceed the storage-buffer range)
 } params;
 
 const float kHalfMax = 65504.0;
@@ -417,8 +419,8 @@ uvec4 encodeTwoRegions(Candidate c) {
 }
 
 void main() {
-    uint block = gl_GlobalInvocationID.x;
-    if (block >= params.blockCount) return;
+    if (gl_GlobalInvocationID.x >= params.blockCount) return;
+    uint block = params.firstBlock + gl_GlobalInvocationID.x;
     // The block's level, face and position.
     uint first = 0u, texelFirst = 0u;
     int size = params.faceSize;
@@ -433,7 +435,7 @@ void main() {
     uint face = inLevel / (across * across), row = (inLevel / across) % across, column = inLevel % across;
     for (int i = 0; i < 16; ++i) {
         int x = min(int(column) * 4 + (i & 3), size - 1), y = min(int(row) * 4 + (i >> 2), size - 1);
-        vec3 value = texel(texelFirst + face * uint(size * size) + uint(y * size + x));
+        vec3 value = texel(texelFirst + face * uint(size * size) + uint(y * size + x) - params.texelBase);
         texelHalves[i] = ivec3(halfBits(value.r), halfBits(value.g), halfBits(value.b));
     }
 

@@ -9,6 +9,7 @@
 
 #include "device.h" // runtime/src: Device::Impl
 #include "gpu_test_support.h"
+#include "narrow_storage_range.h"
 #include "probe/cpu_filter.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
@@ -115,15 +116,11 @@ TEST_F(GpuTest, PyramidEqualsCpuModel) {
 
 // On a device whose storage-buffer range holds fewer than a level's faces, exact sampling's pass 1
 // writes each level through windows of whole faces (FilterPlan::pyramidWindows): the pyramid is the
-// same. The test device's range is narrowed to two faces of level 0 for the test's length.
+// same. The test device's range is narrowed to two faces of level 0.
 TEST_F(GpuTest, PyramidWrittenInWindowsEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 11);
-    struct NarrowRange { // restores the range however the test ends
-        VkPhysicalDeviceLimits& limits = probetest::testDevice().impl().limits;
-        const uint32_t range = limits.maxStorageBufferRange;
-        NarrowRange() { limits.maxStorageBufferRange = uint32_t(2 * 34 * 34 * 16 + limits.minStorageBufferOffsetAlignment); }
-        ~NarrowRange() { limits.maxStorageBufferRange = range; }
-    } narrow;
+    const VkDeviceSize alignment = probetest::testDevice().impl().limits.minStorageBufferOffsetAlignment;
+    const probetest::NarrowStorageRange narrow(uint32_t(2 * 34 * 34 * 16 + alignment));
     for (const PyramidSettings& pyramid : kAllPyramids) {
         gpu::Filter filter(probetest::testDevice(),
                            settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, pyramid, gpu::Sampling::exact));

@@ -2,12 +2,14 @@
 // tools, copied from an engine's output cube by record()), one dispatch over every block of every
 // level, the blocks read back level by level or copied into the engine's BC6H cube.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 #include <bc6h_encode.spv.h>
 #include <fmt/format.h>
 
 #include "compute_pipeline.h"
+#include "device.h"
 #include "gpu_timer.h"
 #include "image.h"
 #include "probe/bc6h.h"
@@ -24,7 +26,18 @@ constexpr VkDeviceSize kBlockBytes = 16;
 struct Bc6hConstants {
     int32_t faceSize;
     int32_t levelCount;
+    uint32_t firstBlock;
     uint32_t blockCount;
+    uint32_t texelBase;
+};
+
+// The blocks one dispatch encodes: a run of whole faces whose texels the binding holds, through a
+// window of the texel buffer where the levels exceed the device's storage-buffer range (RGBA32F
+// levels of 2048^2 take 512 MiB, and every device guarantees 128 MiB).
+struct Chunk {
+    uint32_t firstBlock = 0, blockCount = 0;
+    uint32_t texelBase = 0; // the window's first texel
+    std::unique_ptr<PipelineLayout> layout;
 };
 
 } // namespace
@@ -40,6 +53,7 @@ struct Bc6hEncoder::Impl {
     std::unique_ptr<ComputePipeline> halfPipeline; // RGBA16F texels: made at the first record() of such a cube
     std::unique_ptr<GpuTimer> timer;
     std::unique_ptr<Submission> submission;
+    std::array<std::vector<Chunk>, 2> chunks; // for RGBA32F and RGBA16F texels: made at first use
 
     Impl(const Device& d, int size, int levels) : device(d), faceSize(size), levelCount(levels) {
         validateSizeAndLevels(size, levels);
@@ -50,13 +64,55 @@ struct Bc6hEncoder::Impl {
             levelBytes.push_back(bc6hLevelBytes(std::max(size >> m, 1)));
             blockBytes += levelBytes.back();
         }
-        texels = Buffer(d, texelTotal * 4 * sizeof(float), Buffer::Kind::storage);
+        texels = Buffer(d, texelTotal * 4 * sizeof(float), Buffer::Kind::texels);
         blocks = Buffer(d, blockBytes, Buffer::Kind::storage);
         unused = Buffer(d, kBlockBytes, Buffer::Kind::storage);
         layout = std::make_unique<PipelineLayout>(d, std::array<const Buffer*, kBufferCount>{&blocks, &texels, &unused, &unused});
         pipeline = std::make_unique<ComputePipeline>(d.device(), *layout, kBc6hEncodeSpv);
         timer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"bc6h"});
         submission = std::make_unique<Submission>(d);
+    }
+
+    // The dispatches over every block of texels of `texelBytes`, each face's texels within one window.
+    const std::vector<Chunk>& chunksFor(VkDeviceSize texelBytes) {
+        std::vector<Chunk>& list = chunks[texelBytes == 8 ? 1 : 0];
+        if (!list.empty()) return list;
+        const VkPhysicalDeviceLimits& limits = device.impl().limits;
+        const VkDeviceSize alignment = std::max<VkDeviceSize>(limits.minStorageBufferOffsetAlignment, texelBytes);
+        std::vector<VkDeviceSize> ends; // each chunk's end in bytes
+        uint32_t block = 0;
+        VkDeviceSize texel = 0;
+        for (int m = 0; m < levelCount; ++m) {
+            const int size = std::max(faceSize >> m, 1);
+            const auto faceBlocks = uint32_t(bc6hLevelBytes(size) / kBlockBytes / 6);
+            const VkDeviceSize faceTexels = VkDeviceSize(size) * VkDeviceSize(size);
+            for (int face = 0; face < 6; ++face, block += faceBlocks, texel += faceTexels) {
+                const VkDeviceSize end = (texel + faceTexels) * texelBytes;
+                if (!list.empty() && end - list.back().texelBase * texelBytes <= limits.maxStorageBufferRange) {
+                    list.back().blockCount += faceBlocks;
+                    ends.back() = end;
+                    continue;
+                }
+                list.push_back({block, faceBlocks, uint32_t(texel * texelBytes / alignment * alignment / texelBytes), nullptr});
+                ends.push_back(end);
+            }
+        }
+        for (std::size_t c = 0; c < list.size(); ++c) {
+            const VkDeviceSize offset = list[c].texelBase * texelBytes;
+            list[c].layout =
+                std::make_unique<PipelineLayout>(device, std::array<const Buffer*, kBufferCount>{&blocks, &texels, &unused, &unused},
+                                                 BufferWindow{1, offset, ends[c] - offset});
+        }
+        return list;
+    }
+
+    // Every chunk's dispatch of `pipeline`.
+    void dispatch(VkCommandBuffer commandBuffer, const ComputePipeline& encode, VkDeviceSize texelBytes) {
+        for (const Chunk& c : chunksFor(texelBytes)) {
+            c.layout->bind(commandBuffer);
+            const Bc6hConstants constants{faceSize, levelCount, c.firstBlock, c.blockCount, c.texelBase};
+            encode.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), (c.blockCount + kBlocksPerGroup - 1) / kBlocksPerGroup);
+        }
     }
 };
 
@@ -82,14 +138,11 @@ std::vector<std::vector<uint8_t>> Bc6hEncoder::encode(const CubeLevels& levels) 
     }
     e.submission->upload(e.texels, packed.data(), e.texels.bytes());
 
-    const auto blockCount = static_cast<uint32_t>(e.blocks.bytes() / kBlockBytes);
     VkCommandBuffer commandBuffer = e.submission->begin();
     e.timer->reset(commandBuffer);
     computeBarrier(commandBuffer);
-    e.layout->bind(commandBuffer);
     e.timer->boundary(commandBuffer, 0);
-    const Bc6hConstants constants{e.faceSize, e.levelCount, blockCount};
-    e.pipeline->dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), (blockCount + kBlocksPerGroup - 1) / kBlocksPerGroup);
+    e.dispatch(commandBuffer, *e.pipeline, 16);
     computeBarrier(commandBuffer);
     e.timer->boundary(commandBuffer, 1);
     e.timer->clear();
@@ -152,15 +205,11 @@ void Bc6hEncoder::record(VkCommandBuffer commandBuffer, const OutputCube& source
                  VK_PIPELINE_STAGE_TRANSFER_BIT, 0, computeAndTransfer,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
     barrier(VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-    e.layout->bind(commandBuffer);
-    const auto blockCount = static_cast<uint32_t>(e.blocks.bytes() / kBlockBytes);
-    const Bc6hConstants constants{e.faceSize, e.levelCount, blockCount};
     if (texelBytes == 8 && !e.halfPipeline) {
         const std::array<int32_t, 1> half{1}; // the shader's kHalfTexels
         e.halfPipeline = std::make_unique<ComputePipeline>(e.device.device(), *e.layout, kBc6hEncodeSpv, half);
     }
-    const ComputePipeline& pipeline = texelBytes == 8 ? *e.halfPipeline : *e.pipeline;
-    pipeline.dispatch(commandBuffer, std::as_bytes(std::span(&constants, 1)), (blockCount + kBlocksPerGroup - 1) / kBlocksPerGroup);
+    e.dispatch(commandBuffer, texelBytes == 8 ? *e.halfPipeline : *e.pipeline, texelBytes);
     barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     vkCmdCopyBufferToImage(commandBuffer, e.blocks.handle(), target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(writes.size()),
                            writes.data());

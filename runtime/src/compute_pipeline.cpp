@@ -19,7 +19,9 @@ constexpr VkDeviceSize kTexelBytes = 16; // RGBA32F
 
 } // namespace
 
-PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers) : device_(device.device()) {
+PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers,
+                               std::optional<BufferWindow> window)
+    : device_(device.device()) {
     const Device::Impl& d = device.impl();
     // The geometry (binding 2), the table (binding 3) and the pyramid (binding 4), read as texels.
     const std::array<const Buffer*, 3> texelBuffers{buffers[2], buffers[3], buffers[0]};
@@ -83,6 +85,7 @@ PipelineLayout::PipelineLayout(const Device& device, const std::array<const Buff
         if (b < kStorageBindings) {
             // Within the storage-buffer range: a pyramid larger than that is only read, as texels.
             infos[b] = {buffers[b]->handle(), 0, std::min<VkDeviceSize>(buffers[b]->bytes(), d.limits.maxStorageBufferRange)};
+            if (window && window->binding == b) infos[b] = {buffers[b]->handle(), window->offset, window->bytes};
             writes[b].pBufferInfo = &infos[b];
         } else {
             writes[b].pTexelBufferView = &texelViews_[b - kStorageBindings];

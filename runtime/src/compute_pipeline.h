@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include <vulkan/vulkan.h>
@@ -24,11 +25,21 @@ inline constexpr uint32_t kPushConstantBytes = 64;
 inline constexpr uint32_t kWorkgroupSize = PROBE_WORKGROUP_SIZE; // local_size_x of every per-texel shader
 inline constexpr uint32_t kMaxGroupsX = 65535;                   // per dispatch row
 
+// Part of a storage buffer bound at binding 0 or 1: from `offset` (aligned as the device asks),
+// `bytes` long, within the device's storage-buffer range.
+struct BufferWindow {
+    uint32_t binding = 1;
+    VkDeviceSize offset = 0;
+    VkDeviceSize bytes = 0;
+};
+
 // The layout and the one descriptor set that binds the four buffers (RGBA32F texels, 16 bytes
-// each). Throws ProbeError naming the device's limit when a texel buffer would exceed it.
+// each): the storage ones from their start, within the device's storage-buffer range, or through
+// `window`. Throws ProbeError naming the device's limit when a texel buffer would exceed it.
 class PipelineLayout {
 public:
-    PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers);
+    PipelineLayout(const Device& device, const std::array<const Buffer*, kBufferCount>& buffers,
+                   std::optional<BufferWindow> window = std::nullopt);
     ~PipelineLayout();
     PipelineLayout(const PipelineLayout&) = delete;
     PipelineLayout& operator=(const PipelineLayout&) = delete;
