@@ -5,6 +5,7 @@
 // sheen.ktx2) and spheres.png when the scene asks; DIR/dfg.exr, DIR/sheen.exr; DIR/report.json with
 // the passes it ran, each with its GPU dispatches.
 #include <algorithm>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -71,6 +72,45 @@ struct PlannedLevels {
     }
 };
 
+// Whether two probes' filters are the same: face size, levels, mapping, method and table, and the
+// levels and pyramid their plans compute, GGX and sheen.
+bool sameFilters(const probe::SceneProbe& a, const probe::ProbePlan& pa, const probe::SceneProbe& b, const probe::ProbePlan& pb) {
+    const probe::FisSettings &fa = a.method.fis, &fb = b.method.fis;
+    return a.faceSize == b.faceSize && a.levelCount == b.levelCount && a.mapping == b.mapping && a.method.kind == b.method.kind &&
+           a.method.lobe == b.method.lobe && a.table == b.table && fa.samples == fb.samples && fa.bias == fb.bias &&
+           fa.pyramid == fb.pyramid && fa.levelSamples == fb.levelSamples && fa.map == fb.map && pa.computedLevels == pb.computedLevels &&
+           pa.levelMethods == pb.levelMethods && pa.pyramidLevels == pb.pyramidLevels && pa.sheenMethod == pb.sheenMethod &&
+           pa.sheenLevels == pb.sheenLevels && pa.sheenLevelMethods == pb.sheenLevelMethods &&
+           pa.sheenPyramidLevels == pb.sheenPyramidLevels;
+}
+
+// The probes that compute anything, in batches of the same filters (one Filter, one submission
+// each), in the order of their first probes. A batch's sources stay within kBatchTexels: ten 128^2
+// probes, two 256^2 ones, and a larger probe alone, so that batches pay off where fixed costs
+// dominate (small probes) and a scene of large probes holds one probe's images at a time.
+constexpr std::size_t kBatchTexels = std::size_t{1} << 20;
+std::vector<std::vector<std::size_t>> batches(const probe::Scene& scene, const probe::Plan& plan) {
+    std::vector<std::vector<std::size_t>> list;
+    std::vector<std::size_t> texels;
+    for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+        if (!plan.probes[k].used()) continue;
+        const std::size_t size = probe::texelCount(scene.probes[k].faceSize);
+        auto joins = [&](std::size_t g) {
+            const std::size_t f = list[g].front();
+            return sameFilters(scene.probes[f], plan.probes[f], scene.probes[k], plan.probes[k]) && texels[g] + size <= kBatchTexels;
+        };
+        std::size_t g = 0;
+        while (g < list.size() && !joins(g)) ++g;
+        if (g == list.size()) {
+            list.emplace_back();
+            texels.push_back(0);
+        }
+        list[g].push_back(k);
+        texels[g] += size;
+    }
+    return list;
+}
+
 class SceneRun {
 public:
     SceneRun(const RunOptions& options, const probe::Scene& scene, probe::StagedOutput& output, const probe::gpu::Device& device)
@@ -87,38 +127,60 @@ public:
                 }
     }
 
-    // The passes of one probe's plan; appends to the report.
-    void runProbe(const probe::SceneProbe& p, const probe::ProbePlan& plan) {
+    // The passes of a batch's plans (batches(): probes whose filters are the same), each probe's
+    // passes recorded in its plan's order; appends to the report.
+    void runBatch(const probe::Plan& plan, const std::vector<std::size_t>& batch) {
         const probe::BadPixelPolicy policy = options_.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse;
-        probe::PixelRepairs repairs;
-        ProbeResult result{&p,
-                           probe::loadProbe(p.image, p.faceSize, policy, repairs),
-                           probe::CubeLevels(p.levelCount),
-                           probe::CubeLevels(p.levelCount),
-                           {}};
-        recordPass(probe::loadPass(p.name), "cpu");
-        json entry = {{"name", p.name},
-                      {"image", p.image.string()},
-                      {"face_size", p.faceSize},
-                      {"level_count", p.levelCount},
-                      {"mapping", probe::describeRoughnessMapping(p.mapping)},
-                      {"method", std::string(probe::methodKindName(p.method.kind))},
-                      {"input_pixels", reportPixelRepairs(p.image, repairs)}};
-        if (!plan.computedLevels.empty()) filterLevels(p, PlannedLevels::ggx(p, plan), result.source, result.levels, entry);
-        if (plan.shIrradiance || plan.irradianceCube) writeProbeIrradiance(p, plan, result, entry);
-        if (!plan.sheenLevels.empty()) {
-            entry["sheen"] = {{"method", std::string(probe::methodKindName(plan.sheenMethod))}, {"lobe", "charlie"}};
-            filterLevels(p, PlannedLevels::charlie(p, plan), result.source, result.sheen, entry["sheen"]);
+        std::vector<ProbeResult> results;
+        std::vector<json> entries;
+        for (const std::size_t k : batch) {
+            const probe::SceneProbe& p = scene_.probes[k];
+            probe::PixelRepairs repairs;
+            results.push_back({&p,
+                               probe::loadProbe(p.image, p.faceSize, policy, repairs),
+                               probe::CubeLevels(p.levelCount),
+                               probe::CubeLevels(p.levelCount),
+                               {}});
+            entries.push_back({{"name", p.name},
+                               {"image", p.image.string()},
+                               {"face_size", p.faceSize},
+                               {"level_count", p.levelCount},
+                               {"mapping", probe::describeRoughnessMapping(p.mapping)},
+                               {"method", std::string(probe::methodKindName(p.method.kind))},
+                               {"input_pixels", reportPixelRepairs(p.image, repairs)}});
         }
-        if (scene_.outputs.ktx2 && !plan.computedLevels.empty())
-            entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping, *scene_.outputs.ktx2, &device_);
-        if (scene_.outputs.ktx2 && !plan.sheenLevels.empty())
-            entry["sheen"]["ktx2"] =
-                writeProbeKtx2(output_, p.name + "/sheen.ktx2", result.sheen, p.mapping, *scene_.outputs.ktx2, &device_);
-        probes_.push_back(std::move(entry));
-        // Kept for the spheres alone, so that a scene of many large probes without them holds one
-        // probe's images at a time.
-        if (scene_.outputs.spheres) results_.push_back(std::move(result));
+        const probe::SceneProbe& first = scene_.probes[batch.front()];
+        const probe::ProbePlan& firstPlan = plan.probes[batch.front()];
+        std::vector<json> ggx(batch.size(), json::array()), sheen(batch.size(), json::array());
+        if (!firstPlan.computedLevels.empty())
+            filterLevels(first, PlannedLevels::ggx(first, firstPlan), results, &ProbeResult::levels, entries, ggx);
+        if (!firstPlan.sheenLevels.empty()) {
+            std::vector<json> sheenEntries(batch.size(),
+                                           {{"method", std::string(probe::methodKindName(firstPlan.sheenMethod))}, {"lobe", "charlie"}});
+            filterLevels(first, PlannedLevels::charlie(first, firstPlan), results, &ProbeResult::sheen, sheenEntries, sheen);
+            for (std::size_t b = 0; b < batch.size(); ++b) entries[b]["sheen"] = std::move(sheenEntries[b]);
+        }
+        for (std::size_t b = 0; b < batch.size(); ++b) {
+            const probe::SceneProbe& p = scene_.probes[batch[b]];
+            const probe::ProbePlan& probePlan = plan.probes[batch[b]];
+            ProbeResult& result = results[b];
+            json& entry = entries[b];
+            json& ran = probeRan_[batch[b]];
+            ran.push_back(pass(probe::loadPass(p.name), "cpu"));
+            for (json& done : ggx[b]) ran.push_back(std::move(done));
+            if (probePlan.shIrradiance || probePlan.irradianceCube) writeProbeIrradiance(p, probePlan, result, entry, ran);
+            for (json& done : sheen[b]) ran.push_back(std::move(done));
+            if (scene_.outputs.ktx2 && !probePlan.computedLevels.empty())
+                entry["ktx2"] = writeProbeKtx2(output_, p.name + "/probe.ktx2", result.levels, p.mapping, *scene_.outputs.ktx2, &device_);
+            if (scene_.outputs.ktx2 && !probePlan.sheenLevels.empty())
+                entry["sheen"]["ktx2"] =
+                    writeProbeKtx2(output_, p.name + "/sheen.ktx2", result.sheen, p.mapping, *scene_.outputs.ktx2, &device_);
+            probes_.push_back(std::move(entry));
+            probeOrder_.push_back(batch[b]);
+            // Kept for the spheres alone, so that a scene of many large probes without them holds one
+            // batch's images at a time.
+            if (scene_.outputs.spheres) results_.push_back(std::move(result));
+        }
     }
 
     void makeDfgTable() {
@@ -160,7 +222,17 @@ public:
         report_.update(reportHeader("run"));
         report_["scene"] = options_.scene;
         report_["device"] = describeDevice(device_.info(), options_.validate);
-        report_["probes"] = probes_;
+        // Probes and their passes in the scene's order, as the plan lists them, whatever the batches.
+        std::vector<std::size_t> byScene(probes_.size());
+        for (std::size_t k = 0; k < byScene.size(); ++k) byScene[k] = k;
+        std::ranges::sort(byScene, {}, [&](std::size_t k) { return probeOrder_[k]; });
+        json probes = json::array(), ran = json::array();
+        for (const std::size_t k : byScene) probes.push_back(probes_[k]);
+        for (auto& [index, passes] : probeRan_)
+            for (json& done : passes) ran.push_back(std::move(done));
+        for (json& done : ran_) ran.push_back(std::move(done));
+        ran_ = std::move(ran);
+        report_["probes"] = probes;
         report_["dispatches"] = ran_;
         writeJson(output_.file("report.json"), report_);
     }
@@ -168,8 +240,11 @@ public:
     std::size_t passCount() const { return ran_.size(); }
 
 private:
+    static json pass(const std::string& name, const char* on, json dispatches = json::array()) {
+        return {{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}};
+    }
     void recordPass(const std::string& name, const char* on, json dispatches = json::array()) {
-        ran_.push_back({{"pass", name}, {"on", on}, {"gpu_dispatches", std::move(dispatches)}});
+        ran_.push_back(pass(name, on, std::move(dispatches)));
     }
 
     // A lookup table into DIR/file, its pass and its report entry under `key`.
@@ -199,61 +274,87 @@ private:
         return s;
     }
 
-    // The planned levels over the planned pyramid depth into `levels`, their files and report in
-    // `entry`; the passes recorded are those its dispatches ran.
-    void filterLevels(const probe::SceneProbe& p, const PlannedLevels& set, const probe::CubeImage& source, probe::CubeLevels& levels,
-                      json& entry) {
+    // The planned levels over the planned pyramid depth of every probe of a batch (one Filter, one
+    // submission; a probe alone is timed per level) into each result's `levels`, their files and
+    // report in `entries`, and the passes its dispatches ran in `passes`, per probe.
+    void filterLevels(const probe::SceneProbe& p, const PlannedLevels& set, std::vector<ProbeResult>& results,
+                      probe::CubeLevels ProbeResult::*levels, std::vector<json>& entries, std::vector<json>& passes) {
         probe::TapTable table;
-        const probe::gpu::FilterSettings settings = filterSettings(p, set, table);
+        probe::gpu::FilterSettings settings = filterSettings(p, set, table);
+        const std::size_t count = results.size();
+        settings.inFlight = std::max(settings.inFlight, int(count));
         probe::gpu::Filter filter(device_, settings);
-        levels = filter.run(source, 1, probe::gpu::Timestamps::levels);
-
-        std::vector<probe::gpu::Dispatch> pyramid, passes;
-        for (const probe::gpu::Dispatch& d : filter.dispatches()) (d.pass == "pyramid" ? pyramid : passes).push_back(d);
-        if (!pyramid.empty())
-            recordPass(set.sheen ? probe::sheenPyramidPass(p.name, pyramid.back().level) : probe::pyramidPass(p.name, pyramid.back().level),
-                       "gpu", describeDispatches(pyramid));
-        // Named by what ran: the method's pass, or FIS at a level the table hands to it.
-        for (const probe::gpu::Dispatch& d : passes) {
-            const probe::MethodKind ran = probe::parseMethodKind(d.pass);
-            recordPass(set.sheen ? probe::sheenLevelPass(p.name, d.level, ran) : probe::levelPass(p.name, d.level, ran), "gpu",
-                       describeDispatches({d}));
+        if (count == 1) {
+            results[0].*levels = filter.run(results[0].source, 1, probe::gpu::Timestamps::levels);
+        } else {
+            std::vector<probe::CubeImage> sources;
+            for (const ProbeResult& r : results) sources.push_back(r.source);
+            std::vector<probe::CubeLevels> filtered = filter.run(sources);
+            for (std::size_t b = 0; b < count; ++b) results[b].*levels = std::move(filtered[b]);
         }
 
-        json written = json::array();
-        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // set.levels' order
-        for (std::size_t k = 0; k < set.levels.size(); ++k) {
-            const int m = set.levels[k];
-            json level = {{"level", m},
-                          {"face_size", p.faceSize >> m},
-                          {"roughness", probe::levelRoughness(p.mapping, m, p.levelCount)},
-                          {"alpha", probe::lobeAlpha(set.method.lobe, probe::levelAlpha(p.mapping, m, p.levelCount))},
-                          {"method", std::string(probe::methodKindName(set.methods[k]))},
-                          {"read_by", set.readers[k]}};
-            if (k < levelTimes.size()) level["gpu_ms"] = levelTimes[k].medianMs;
-            if (scene_.outputs.exr) {
-                const std::string file = p.name + "/" + (set.sheen ? "sheen_" : "") + probe::levelFileName(m);
-                probe::writeExr(output_.file(file), probe::cubeToStrip(levels[m]));
-                level["file"] = file;
+        // The dispatches are every probe's in turn, as many each.
+        const std::vector<probe::gpu::Dispatch>& all = filter.dispatches();
+        const std::size_t perProbe = all.size() / count;
+        const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // set.levels' order; a probe alone
+        for (std::size_t b = 0; b < count; ++b) {
+            const probe::SceneProbe& q = *results[b].probe;
+            std::vector<probe::gpu::Dispatch> pyramid, others;
+            for (std::size_t d = b * perProbe; d < (b + 1) * perProbe; ++d) (all[d].pass == "pyramid" ? pyramid : others).push_back(all[d]);
+            if (!pyramid.empty())
+                passes[b].push_back(pass(set.sheen ? probe::sheenPyramidPass(q.name, pyramid.back().level)
+                                                   : probe::pyramidPass(q.name, pyramid.back().level),
+                                         "gpu", describeDispatches(pyramid)));
+            // Named by what ran: the method's pass, or FIS at a level the table hands to it; a dispatch
+            // that writes several levels (a batch's) is each one's.
+            for (const probe::gpu::Dispatch& d : others) {
+                const probe::MethodKind ran = probe::parseMethodKind(d.pass);
+                for (int m = d.level; m < d.level + d.levels; ++m)
+                    passes[b].push_back(pass(set.sheen ? probe::sheenLevelPass(q.name, m, ran) : probe::levelPass(q.name, m, ran), "gpu",
+                                             describeDispatches({d})));
             }
-            written.push_back(std::move(level));
+
+            json written = json::array();
+            for (std::size_t k = 0; k < set.levels.size(); ++k) {
+                const int m = set.levels[k];
+                json level = {{"level", m},
+                              {"face_size", q.faceSize >> m},
+                              {"roughness", probe::levelRoughness(q.mapping, m, q.levelCount)},
+                              {"alpha", probe::lobeAlpha(set.method.lobe, probe::levelAlpha(q.mapping, m, q.levelCount))},
+                              {"method", std::string(probe::methodKindName(set.methods[k]))},
+                              {"read_by", set.readers[k]}};
+                if (count == 1 && k < levelTimes.size()) level["gpu_ms"] = levelTimes[k].medianMs;
+                if (scene_.outputs.exr) {
+                    const std::string file = q.name + "/" + (set.sheen ? "sheen_" : "") + probe::levelFileName(m);
+                    probe::writeExr(output_.file(file), probe::cubeToStrip((results[b].*levels)[m]));
+                    level["file"] = file;
+                }
+                written.push_back(std::move(level));
+            }
+            json& entry = entries[b];
+            entry["levels"] = std::move(written);
+            entry["pyramid_depth"] = set.pyramidDepth;
+            if (set.method.kind == probe::MethodKind::fis) entry["fis_samples"] = set.method.fis.samples;
+            entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
+            entry["gpu_ms"] = medianTimes(filter.timings());
+            if (count > 1) {
+                json names = json::array();
+                for (const ProbeResult& r : results) names.push_back(r.probe->name);
+                // gpu_ms is then the whole batch's: one submission.
+                entry["batch"] = {{"probes", names}, {"dispatches", all.size()}, {"barriers", filter.barriers()}};
+            }
         }
-        entry["levels"] = std::move(written);
-        entry["pyramid_depth"] = set.pyramidDepth;
-        if (set.method.kind == probe::MethodKind::fis) entry["fis_samples"] = set.method.fis.samples;
-        entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
-        entry["gpu_ms"] = medianTimes(filter.timings());
     }
 
     // The irradiance the plan asks for, into the probe's folder (irradiance_output.h).
-    void writeProbeIrradiance(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry) {
+    void writeProbeIrradiance(const probe::SceneProbe& p, const probe::ProbePlan& plan, ProbeResult& result, json& entry, json& ran) {
         const IrradianceOutput which = plan.shIrradiance && plan.irradianceCube ? IrradianceOutput::both
                                        : plan.shIrradiance                      ? IrradianceOutput::sh
                                                                                 : IrradianceOutput::cube;
         const IrradianceResult irradiance = writeIrradiance(output_, p.name + "/", which, device_, result.source);
         result.irradiance = irradiance.sh;
-        if (plan.shIrradiance) recordPass(probe::irradiancePass(p.name), "gpu", describeDispatches(irradiance.shDispatches));
-        if (plan.irradianceCube) recordPass(probe::irradianceCubePass(p.name), "cpu");
+        if (plan.shIrradiance) ran.push_back(pass(probe::irradiancePass(p.name), "gpu", describeDispatches(irradiance.shDispatches)));
+        if (plan.irradianceCube) ran.push_back(pass(probe::irradianceCubePass(p.name), "cpu"));
         entry["irradiance"] = irradiance.report;
     }
 
@@ -263,8 +364,10 @@ private:
     const probe::gpu::Device& device_;
     std::vector<ProbeResult> results_;
     std::optional<probe::Image> dfg_, sheenTable_;
-    json probes_ = json::array();
-    json ran_ = json::array();
+    json probes_ = json::array();          // in the order the batches ran them
+    std::vector<std::size_t> probeOrder_;  // each entry's index in the scene
+    std::map<std::size_t, json> probeRan_; // per probe (by its index in the scene), the passes it ran
+    json ran_ = json::array();             // the scene's own passes (the lookup tables)
     json report_ = json::object();
 };
 
@@ -285,8 +388,7 @@ void runScene(const RunOptions& o) {
 
     SceneRun run(o, scene, output, device);
     run.checkLimits(plan);
-    for (std::size_t k = 0; k < scene.probes.size(); ++k)
-        if (plan.probes[k].used()) run.runProbe(scene.probes[k], plan.probes[k]);
+    for (const std::vector<std::size_t>& batch : batches(scene, plan)) run.runBatch(plan, batch);
     if (plan.dfgTable) run.makeDfgTable();
     if (plan.sheenTable) run.makeSheenTable();
     if (scene.outputs.spheres) run.renderSpheres();

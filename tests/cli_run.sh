@@ -3,7 +3,8 @@
 # diffuse only, both, sheen, and nothing run end to end; report.json lists exactly the passes that
 # `probefilter plan` prints; only the planned files are written; the levels a run computes equal,
 # byte for byte, the same levels of a full `filter` run (fis, table, and Charlie fis for sheen); the
-# compiled-in 128^2 Charlie table hands its level 0 to FIS, and the plan and the run say so.
+# compiled-in 128^2 Charlie table hands its level 0 to FIS, and the plan and the run say so; probes of
+# the same filters run as one batch.
 set -euo pipefail
 : "${PROBEFILTER:?}"
 fixtures="$(cd "$(dirname "$0")" && pwd)/fixtures"
@@ -133,4 +134,42 @@ import json, sys
 levels = json.load(open(sys.argv[1]))["levels"]
 assert [l["method"] for l in levels] == ["fis"] + ["table"] * 6 and levels[0]["fis_samples"] == 24, levels
 PY
+# Probes of the same filters run as one batch (one Filter, one submission): a and b here, c alone. The
+# report lists every probe and pass in the scene's order, as the plan does; the batch's levels equal
+# each probe's alone, byte for byte.
+"$PROBEFILTER" synth sunsky --size 16 --out sunsky.exr >/dev/null
+cat >batch.json <<JSON
+{"probes": [{"name": "a", "image": "sky.exr", "face_size": 16, "method": "fis", "samples": 32},
+            {"name": "c", "image": "sky.exr", "face_size": 16, "method": "table", "table": "$fixtures/table_16_quad4_gltf.json"},
+            {"name": "b", "image": "sunsky.exr", "face_size": 16, "method": "fis", "samples": 32}],
+ "materials": [{"name": "a1", "probe": "a", "roughness": 0.5}, {"name": "a2", "probe": "a", "roughness": 0, "metallic": 1},
+               {"name": "b1", "probe": "b", "roughness": 0.5}, {"name": "b2", "probe": "b", "roughness": 0, "metallic": 1},
+               {"name": "c1", "probe": "c", "roughness": 0.5, "metallic": 1}], "outputs": {}}
+JSON
+"$PROBEFILTER" run batch.json --validate --out out-batch >/dev/null 2>err.txt || fail "batch: run failed: $(cat err.txt)"
+planned batch >plan-batch.json
+python3 - out-batch/report.json plan-batch.json <<'PY' || fail "batch: report"
+import json, sys
+report, plan = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+ran = [d["pass"] for d in report["dispatches"]]
+assert ran == plan, f"ran {ran}, planned {plan}"
+probes = {p["name"]: p for p in report["probes"]}
+assert [p["name"] for p in report["probes"]] == ["a", "c", "b"], report["probes"]
+assert "batch" not in probes["c"], probes["c"]
+# The filter's dispatches (not the irradiance's); one that writes several levels is listed under each:
+# counted once, under its first level.
+def counted(p, d):
+    return ": pyramid " in p or (" level " in p and d["level"] == int(p.split(" level ")[1].split(" ")[0]))
+own = {n: sum(counted(p["pass"], d) for p in report["dispatches"] if p["pass"].startswith(n + ": ") for d in p["gpu_dispatches"])
+       for n in "abc"}
+for n in "ab":
+    assert probes[n]["batch"]["probes"] == ["a", "b"], probes[n]
+    assert probes[n]["batch"]["dispatches"] == own["a"] + own["b"] and own["a"] == own["b"] > 0, (own, probes[n]["batch"])
+PY
+"$PROBEFILTER" filter sunsky.exr --method fis --samples 32 --size 16 --out full-sunsky >/dev/null 2>&1 || fail "filter sunsky"
+for m in 0 1 2; do
+    cmp -s out-batch/a/level_$m.exr full-fis/level_$m.exr || fail "batch: a's level $m differs from the full fis run"
+    cmp -s out-batch/b/level_$m.exr full-sunsky/level_$m.exr || fail "batch: b's level $m differs from the full fis run"
+done
+cmp -s out-batch/c/level_1.exr full-table/level_1.exr || fail "batch: c's level 1 differs from the full table run"
 echo "cli_run: ok"
