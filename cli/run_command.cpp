@@ -337,6 +337,7 @@ private:
             if (set.method.kind == probe::MethodKind::fis) entry["fis_samples"] = set.method.fis.samples;
             entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
             entry["gpu_ms"] = medianTimes(filter.timings());
+            if (count == 1) entry["barriers"] = filter.barriers();
             if (count > 1) {
                 json names = json::array();
                 for (const ProbeResult& r : results) names.push_back(r.probe->name);

@@ -155,7 +155,7 @@ ran = [d["pass"] for d in report["dispatches"]]
 assert ran == plan, f"ran {ran}, planned {plan}"
 probes = {p["name"]: p for p in report["probes"]}
 assert [p["name"] for p in report["probes"]] == ["a", "c", "b"], report["probes"]
-assert "batch" not in probes["c"], probes["c"]
+assert "batch" not in probes["c"] and probes["c"]["barriers"] > 0, probes["c"]
 # The filter's dispatches (not the irradiance's); one that writes several levels is listed under each:
 # counted once, under its first level.
 def counted(p, d):
