@@ -4,17 +4,22 @@
 // bspline: pyramid_bspline.glsl, each tap one read of the sampler: across a face edge it reads the
 // adjacent face, at a cube corner it follows the Vulkan rule.
 // box: pyramid_box.glsl, the 2x2 children on the same face, each read at its centre.
+// With kFromSource the dispatch writes mips 0 and 1 at once, both from the source (which the sampler
+// cannot filter linearly on every device: its bilinear reads are footprint.glsl's arithmetic over its
+// texels), saving a dispatch and a barrier.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 #include "cube.glsl"
 #include "images.glsl"
 #include "probe/shared_constants.h"
+#include "footprint.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
+layout(constant_id = 2) const int kFromSource = 0;        // 1: mips 0 and 1 from the source, in one dispatch
 
 layout(push_constant) uniform Params {
     int faceSize; // S_0
@@ -23,23 +28,59 @@ layout(push_constant) uniform Params {
 
 // The fine level at face coordinates (u, v) of `face`.
 vec3 fine(int face, float u, float v) { return textureLod(pyramidCube, faceUvToCubePoint(face, u, v), 0.0).rgb; }
+
+// Source texel (i, j) of `face`, i and j in [-1, size]: the adjacent face's texel across an edge, and
+// at a cube corner, where the footprint's fourth texel does not exist, the average of the other three
+// (what pyramid.comp and pyramid_corners.comp put in the exact path's border).
+vec3 sourceAt(int face, int i, int j, int size) {
+    bool outI = i < 0 || i >= size, outJ = j < 0 || j >= size;
+    int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
+    if (outI && outJ) {
+        ivec3 a = texelAcrossEdge(face, i, cj, size), b = texelAcrossEdge(face, ci, j, size);
+        return (sourceTexel(texelCubePoint(face, ci, cj, size)) + sourceTexel(texelCubePoint(a.x, a.y, a.z, size)) +
+                sourceTexel(texelCubePoint(b.x, b.y, b.z, size))) *
+               (1.0 / 3.0);
+    }
+    ivec3 t = outI || outJ ? texelAcrossEdge(face, i, j, size) : ivec3(face, i, j);
+    return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
+}
+
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
+    if (kFromSource != 0) {
+        x = clamp(x, 0.0, float(fineSize));
+        y = clamp(y, 0.0, float(fineSize));
+        int i0 = int(floor(x - 0.5)), j0 = int(floor(y - 0.5));
+        vec2 f = vec2(x - (float(i0) + 0.5), y - (float(j0) + 0.5));
+        return bilinearBlend(f, sourceAt(face, i0, j0, fineSize), sourceAt(face, i0 + 1, j0, fineSize),
+                             sourceAt(face, i0, j0 + 1, fineSize), sourceAt(face, i0 + 1, j0 + 1, fineSize));
+    }
     vec2 uv = texelToFaceUv(x, y, fineSize);
     return fine(face, uv.x, uv.y);
 }
 #include "pyramid_bspline.glsl"
 // A child texel, read at its centre, where the bilinear weights are 1, 0, 0, 0.
-vec3 probeFineTexel(int face, int i, int j, int fineSize) { return fine(face, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize)); }
+vec3 probeFineTexel(int face, int i, int j, int fineSize) {
+    if (kFromSource != 0) return sourceTexel(texelCubePoint(face, i, j, fineSize));
+    return fine(face, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize));
+}
 #include "pyramid_box.glsl"
 
 void main() {
-    int size = params.faceSize >> params.level;
+    int level = params.level, size = params.faceSize >> level;
     uint index = invocationIndex();
+    // With kFromSource, mip 1's texels follow mip 0's.
+    if (kFromSource != 0 && index >= 6u * uint(size * size)) {
+        index -= 6u * uint(size * size);
+        level = 1;
+        size /= 2;
+    }
     if (index >= 6u * uint(size * size)) return;
     ivec3 t = texelCoordinates(index, size); // (i, j, face)
     vec3 value;
-    if (params.level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
+    if (level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
     else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
-    else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, params.level - 1), kInverseSolidAngle != 0);
-    imageStore(pyramidMips[0], t, vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0));
+    else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
+    vec4 stored = vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0);
+    if (level == params.level) imageStore(pyramidMips[0], t, stored);
+    else imageStore(pyramidMips[1], t, stored);
 }

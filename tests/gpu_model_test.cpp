@@ -9,7 +9,6 @@
 
 #include "device.h" // runtime/src: Device::Impl
 #include "gpu_test_support.h"
-#include "narrow_storage_range.h"
 #include "probe/cpu_filter.h"
 #include "probe/error.h"
 #include "probe/error_measures.h"
@@ -116,14 +115,14 @@ TEST_F(GpuTest, PyramidEqualsCpuModel) {
 
 // On a device whose storage-buffer range holds fewer than a level's faces, exact sampling's pass 1
 // writes each level through windows of whole faces (FilterPlan::pyramidWindows): the pyramid is the
-// same. The test device's range is narrowed to two faces of level 0.
+// same. The test device, wrapped, with its range narrowed to two faces of level 0.
 TEST_F(GpuTest, PyramidWrittenInWindowsEqualsCpuModel) {
     const CubeImage source = probetest::randomProbe(32, 11);
-    const VkDeviceSize alignment = probetest::testDevice().impl().limits.minStorageBufferOffsetAlignment;
-    const probetest::NarrowStorageRange narrow(uint32_t(2 * 34 * 34 * 16 + alignment));
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    device.impl().limits.maxStorageBufferRange = uint32_t(2 * 34 * 34 * 16 + device.impl().limits.minStorageBufferOffsetAlignment);
     for (const PyramidSettings& pyramid : kAllPyramids) {
-        gpu::Filter filter(probetest::testDevice(),
-                           settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, pyramid, gpu::Sampling::exact));
+        gpu::Filter filter(device, settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, pyramid, gpu::Sampling::exact));
         filter.run(source);
         int level0 = 0;
         for (const gpu::Dispatch& d : filter.dispatches()) level0 += d.pass == "pyramid" && d.level == 0 && d.groups > 1;
@@ -149,6 +148,28 @@ TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
         ASSERT_EQ(gpuLevels[tailLevel].size, PROBE_PYRAMID_TAIL_SIZE);
         const CubeLevels model = buildPyramid(gpuLevels[tailLevel], pyramid);
         expectLevelsEqual(CubeLevels(gpuLevels.begin() + tailLevel, gpuLevels.end()), model, 1e-5, "pyramid tail " + describe(pyramid));
+    }
+}
+
+// Hardware sampling writes mips 0 and 1 in one dispatch, mip 1 from the source with the exact path's
+// bilinear arithmetic over its texels (not the sampler's): with an RGBA32F pyramid both equal the
+// model to float rounding, the tolerance of exact sampling.
+TEST_F(GpuTest, PyramidMipOneFromTheSourceEqualsCpuModel) {
+    const int size = 64;
+    const CubeImage source = probetest::randomProbe(size, 14);
+    for (const PyramidSettings& pyramid : kAllPyramids) {
+        gpu::Filter filter(probetest::testDevice(),
+                           settingsFor(MethodKind::fis, size, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware));
+        filter.run(source);
+        const CubeLevels gpuLevels = filter.downloadPyramid();
+        const CubeLevels model = buildPyramid(source, pyramid);
+        expectLevelsEqual(CubeLevels(gpuLevels.begin(), gpuLevels.begin() + 2), CubeLevels(model.begin(), model.begin() + 2), 1e-5,
+                          "mips 0 and 1 " + describe(pyramid));
+        // Pass 1: mips 0 and 1, mip 2, then the tail from mip 3 (8x8).
+        std::vector<std::pair<int, int>> pass1;
+        for (const gpu::Dispatch& d : filter.dispatches())
+            if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
+        EXPECT_EQ(pass1, (std::vector<std::pair<int, int>>{{0, 2}, {2, 1}, {3, 1}})) << describe(pyramid);
     }
 }
 

@@ -190,6 +190,8 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
         plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
         // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
         plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount);
+        // Level 1 with level 0 where the tail does not start at it: one dispatch and barrier fewer.
+        plan.pyramidFromSource = plan.pyramidDepth >= 1 && plan.pyramidTailLevel > 1;
     }
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.

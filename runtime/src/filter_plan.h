@@ -56,6 +56,7 @@ struct FilterPlan {
     int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
     int pyramidTailLevel = 0;        // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
+    bool pyramidFromSource = false;  // hardware sampling: pass 1's first dispatch builds levels 0 and 1, both from the source
     std::vector<int> computedLevels; // the output levels computed, ascending
     // Pass 2's dispatches over computedLevels: consecutive levels of one pass (the table's, or FIS's)
     // share one, at most kWrittenMipCount of them (the storage images a dispatch writes); a copy and

@@ -3,8 +3,9 @@
 //   bordered buffer, faces and edges, then its border corners; the reference builds level 0 alone,
 //   the source it reads texel by texel, with no corners;
 // - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image down to face
-//   size PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the mips from there down in one
-//   workgroup, which saves the GPU a dispatch and a barrier per small mip;
+//   size PROBE_PYRAMID_TAIL_SIZE (mips 0 and 1 in one dispatch, both from the source, where the tail
+//   starts below mip 1), then (shaders/pyramid_tail.comp) the mips from there down in one workgroup,
+//   which saves the GPU a dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source.
 #include <algorithm>
@@ -55,7 +56,10 @@ void makePyramidPipelines(Filter::Impl& impl) {
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
     if (impl.plan.sampling == Sampling::hardware) {
         const bool half = impl.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-        impl.pass1 = impl.pipeline(half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv, specialization);
+        const std::span<const uint32_t> spirv = half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv;
+        impl.pass1 = impl.pipeline(spirv, specialization);
+        if (impl.plan.pyramidFromSource) // the shader's kFromSource
+            impl.pass1Source = impl.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
         if (impl.plan.pyramidDepth >= impl.plan.pyramidTailLevel) {
             // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
             const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
@@ -75,7 +79,8 @@ uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
     uint32_t count = 0;
     if (impl.plan.sampling == Sampling::hardware) {
         const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
-        count = uint32_t((impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth) + 1) + (impl.pass1Tail ? 1 : 0);
+        count =
+            uint32_t((impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth) + 1) + (impl.pass1Tail ? 1 : 0) - (impl.pass1Source ? 1 : 0);
     } else {
         count = uint32_t(impl.plan.pyramidWindows.size()) * (impl.pass1Corners ? 2 : 1);
     }
@@ -123,12 +128,21 @@ void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     }
 }
 
-// Hardware sampling: each mip of the pyramid image, the tail's in one dispatch.
+// Hardware sampling: each mip of the pyramid image (mips 0 and 1 in one dispatch where the plan says
+// so), the tail's in one dispatch.
 void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
     const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
     const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
-    for (int level = 0; level <= lastSingle; ++level) {
+    int level = 0;
+    if (impl.pass1Source) {
+        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[0]);
+        const PyramidConstants constants{s.faceSize, 0};
+        const std::size_t texels = texelCount(s.faceSize) + texelCount(s.faceSize >> 1);
+        dispatchPass(impl, commandBuffer, *impl.pass1Source, "pyramid", 0, constants, groupsFor(texels), 1, 2);
+        level = 2;
+    }
+    for (; level <= lastSingle; ++level) {
         if (level > 0) impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
