@@ -10,17 +10,24 @@
 #include "buffers.glsl"
 #include "cube.glsl"
 
-// The 2x2 footprint of a bilinear read at continuous texel coordinates (x, y) of `face` in a bordered
-// level of face size `size`: its first texel's index within the level (pyramidTexelIndex), and in
-// `f` the weights of its second column and row. Shared with pyramid_tail.comp's reads of the levels
-// it keeps in shared memory.
-uint bilinearFootprint(int size, int face, float x, float y, out vec2 f) {
+// The 2x2 footprint of a bilinear read at continuous texel coordinates (x, y) in a face of size
+// `size`: its first texel (i, j), each in [-1, size - 1] (the texel after it may lie one step beyond
+// the face), and in `f` the weights of its second column and row.
+ivec2 footprintFirst(int size, float x, float y, out vec2 f) {
     x = clamp(x, 0.0, float(size));
     y = clamp(y, 0.0, float(size));
     int i0 = int(floor(x - 0.5));
     int j0 = int(floor(y - 0.5));
     f = vec2(x - (float(i0) + 0.5), y - (float(j0) + 0.5));
-    return pyramidTexelIndex(face, i0, j0, size);
+    return ivec2(i0, j0);
+}
+
+// The same footprint of `face` in a bordered level of face size `size`: its first texel's index
+// within the level (pyramidTexelIndex). Shared with pyramid_tail.comp's reads of the levels it keeps
+// in shared memory.
+uint bilinearFootprint(int size, int face, float x, float y, out vec2 f) {
+    ivec2 first = footprintFirst(size, x, y, f);
+    return pyramidTexelIndex(face, first.x, first.y, size);
 }
 
 // The footprint's texels (first, next in its row, first and next of the next row) weighed by the

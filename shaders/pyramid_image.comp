@@ -47,12 +47,10 @@ vec3 sourceAt(int face, int i, int j, int size) {
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
     if (kFromSource != 0) {
-        x = clamp(x, 0.0, float(fineSize));
-        y = clamp(y, 0.0, float(fineSize));
-        int i0 = int(floor(x - 0.5)), j0 = int(floor(y - 0.5));
-        vec2 f = vec2(x - (float(i0) + 0.5), y - (float(j0) + 0.5));
-        return bilinearBlend(f, sourceAt(face, i0, j0, fineSize), sourceAt(face, i0 + 1, j0, fineSize),
-                             sourceAt(face, i0, j0 + 1, fineSize), sourceAt(face, i0 + 1, j0 + 1, fineSize));
+        vec2 f;
+        ivec2 t = footprintFirst(fineSize, x, y, f);
+        return bilinearBlend(f, sourceAt(face, t.x, t.y, fineSize), sourceAt(face, t.x + 1, t.y, fineSize),
+                             sourceAt(face, t.x, t.y + 1, fineSize), sourceAt(face, t.x + 1, t.y + 1, fineSize));
     }
     vec2 uv = texelToFaceUv(x, y, fineSize);
     return fine(face, uv.x, uv.y);

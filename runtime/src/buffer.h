@@ -13,8 +13,8 @@ class Buffer {
 public:
     enum class Kind {
         storage, // device local (preferred), storage and uniform texel buffer, transfer source and destination
-        texels,  // the same, read whole as an RGBA32F texel buffer and written (if at all) through storage-buffer
-                 // windows: its size is bounded by the texel-buffer element count, not the storage-buffer range
+        texels,  // the same, bound whole as an RGBA32F texel buffer or in storage-buffer windows (never whole as
+                 // a storage buffer): its size is bounded by the texel-buffer element count, not the storage-buffer range
         staging, // host visible and coherent, mapped, transfer source and destination
     };
 
