@@ -169,8 +169,8 @@ nlohmann::json describeRun(const FilterOptions& o, const probe::gpu::FilterSetti
     return report;
 }
 
-// The most probes one command filters as a batch: each holds a set of the Filter's per-recording
-// resources (FilterSettings::inFlight).
+// The most probes one command filters as a batch (FilterSettings::batchSize): 6 layers each of the
+// batch's cube-map arrays.
 constexpr std::size_t kMaxBatch = 64;
 
 // A batch's sub-folders, one per input, named by the file's stem ("sky/"); refuses two inputs of one
@@ -228,7 +228,7 @@ void runFilter(const FilterOptions& o) {
     const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     probe::TapTable table;
     probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
-    if (batch) s.inFlight = int(o.inputs.size());
+    if (batch) s.batchSize = int(o.inputs.size());
     std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);
     probe::StagedOutput output(o.out, inputs, o.force);
@@ -272,12 +272,8 @@ void runFilter(const FilterOptions& o) {
         report["slices"] = describeSlices(slices, sliceMs);
     }
     if (batch) {
-        // The dispatches of the whole batch, counted: their list is every probe's in turn.
-        report.erase("dispatches");
-        report["batch"] = {{"probes", probes.size()},
-                           {"dispatches", filter.dispatches().size()},
-                           {"dispatches_per_probe", filter.dispatches().size() / probes.size()},
-                           {"barriers", filter.barriers()}};
+        // The dispatches above filter every probe of the batch.
+        report["batch"] = {{"probes", probes.size()}, {"dispatches", filter.dispatches().size()}, {"barriers", filter.barriers()}};
         report["probes"] = nlohmann::json::array();
     }
     for (std::size_t p = 0; p < probes.size(); ++p) {

@@ -84,11 +84,13 @@ bool sameFilters(const probe::SceneProbe& a, const probe::ProbePlan& pa, const p
            pa.sheenPyramidLevels == pb.sheenPyramidLevels;
 }
 
-// The probes that compute anything, in batches of the same filters (one Filter, one submission
-// each), in the order of their first probes. A batch's sources stay within kBatchTexels: ten 128^2
-// probes, two 256^2 ones, and a larger probe alone, so that batches pay off where fixed costs
-// dominate (small probes) and a scene of large probes holds one probe's images at a time.
+// The probes that compute anything, in batches of the same filters (one Filter, one recording each:
+// FilterSettings::batchSize), in the order of their first probes. A batch's sources stay within
+// kBatchTexels: ten 128^2 probes, two 256^2 ones, and a larger probe alone, so that batches pay off
+// where fixed costs dominate (small probes) and a scene of large probes holds one probe's images at a
+// time; and within kBatchProbes, whose 6 layers each every Vulkan device's 256 array layers hold.
 constexpr std::size_t kBatchTexels = std::size_t{1} << 20;
+constexpr std::size_t kBatchProbes = 42;
 std::vector<std::vector<std::size_t>> batches(const probe::Scene& scene, const probe::Plan& plan) {
     std::vector<std::vector<std::size_t>> list;
     std::vector<std::size_t> texels;
@@ -97,7 +99,8 @@ std::vector<std::vector<std::size_t>> batches(const probe::Scene& scene, const p
         const std::size_t size = probe::texelCount(scene.probes[k].faceSize);
         auto joins = [&](std::size_t g) {
             const std::size_t f = list[g].front();
-            return sameFilters(scene.probes[f], plan.probes[f], scene.probes[k], plan.probes[k]) && texels[g] + size <= kBatchTexels;
+            return sameFilters(scene.probes[f], plan.probes[f], scene.probes[k], plan.probes[k]) && texels[g] + size <= kBatchTexels &&
+                   list[g].size() < kBatchProbes;
         };
         std::size_t g = 0;
         while (g < list.size() && !joins(g)) ++g;
@@ -282,7 +285,7 @@ private:
         probe::TapTable table;
         probe::gpu::FilterSettings settings = filterSettings(p, set, table);
         const std::size_t count = results.size();
-        settings.inFlight = std::max(settings.inFlight, int(count));
+        settings.batchSize = int(count);
         probe::gpu::Filter filter(device_, settings);
         if (count == 1) {
             results[0].*levels = filter.run(results[0].source, 1, probe::gpu::Timestamps::levels);
@@ -293,14 +296,13 @@ private:
             for (std::size_t b = 0; b < count; ++b) results[b].*levels = std::move(filtered[b]);
         }
 
-        // The dispatches are every probe's in turn, as many each.
+        // The batch's dispatches filter every probe of it: each probe ran them all.
         const std::vector<probe::gpu::Dispatch>& all = filter.dispatches();
-        const std::size_t perProbe = all.size() / count;
         const std::vector<probe::gpu::PassTime> levelTimes = filter.levelTimings(); // set.levels' order; a probe alone
         for (std::size_t b = 0; b < count; ++b) {
             const probe::SceneProbe& q = *results[b].probe;
             std::vector<probe::gpu::Dispatch> pyramid, others;
-            for (std::size_t d = b * perProbe; d < (b + 1) * perProbe; ++d) (all[d].pass == "pyramid" ? pyramid : others).push_back(all[d]);
+            for (const probe::gpu::Dispatch& d : all) (d.pass == "pyramid" ? pyramid : others).push_back(d);
             if (!pyramid.empty())
                 passes[b].push_back(pass(set.sheen ? probe::sheenPyramidPass(q.name, pyramid.back().level)
                                                    : probe::pyramidPass(q.name, pyramid.back().level),
@@ -337,7 +339,7 @@ private:
             if (set.method.kind == probe::MethodKind::fis) entry["fis_samples"] = set.method.fis.samples;
             entry["sampling"] = std::string(probe::gpu::samplingName(filter.sampling()));
             entry["gpu_ms"] = medianTimes(filter.timings());
-            if (count == 1) entry["barriers"] = filter.barriers();
+            entry["barriers"] = filter.barriers();
             if (count > 1) {
                 json names = json::array();
                 for (const ProbeResult& r : results) names.push_back(r.probe->name);

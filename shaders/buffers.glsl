@@ -6,6 +6,7 @@
 #ifndef PROBE_BUFFERS_GLSL
 #define PROBE_BUFFERS_GLSL
 
+#include "batch.glsl"
 #include "probe/shared_constants.h"
 
 // Pass 1's pyramid of the source: level 0 is the source at S_0, down to 1x1. Each face of each level
@@ -56,6 +57,13 @@ uint levelOffset(int faceSize, int level) {
 uint pyramidLevelOffset(int faceSize, int level) {
     uint s0 = uint(faceSize), s = uint(faceSize >> level);
     return 8u * (s0 * s0 - s * s) + 48u * (s0 - s) + 24u * uint(level);
+}
+
+// Index of the first texel of the invocation's cube in `level` of a batch's pyramid buffer, which
+// holds each level of every cube in turn (so that a level's faces and cubes are one run of layers).
+uint pyramidLevelFirst(int faceSize, int level) {
+    uint row = uint((faceSize >> level) + 2);
+    return uint(kBatchSize) * pyramidLevelOffset(faceSize, level) + uint(6 * batchCube) * row * row;
 }
 
 // Index of texel (i, j) of `face`, i and j in [-1, size], within a bordered pyramid level of `size`

@@ -30,7 +30,7 @@ uint packUnsignedFloat(float value, uint mantissaBits) {
 void main() {
     uint index = invocationIndex();
     uint s = uint(params.size);
-    if (index >= 6u * s * s) return;
+    if (index >= 6u * uint(kBatchSize) * s * s) return; // every layer of a batch's cubes
     ivec3 t = ivec3(int(index % s), int((index / s) % s), int(index / (s * s)));
     vec3 c = texelFetch(convertInput, t, 0).rgb;
     uint packed = packUnsignedFloat(c.r, 6u) | (packUnsignedFloat(c.g, 6u) << 11) | (packUnsignedFloat(c.b, 5u) << 22);

@@ -17,6 +17,7 @@ layout(push_constant) uniform Params {
 
 void main() {
     uint index = params.firstTexel + invocationIndex();
+    batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
     if (index >= params.endTexel) return;
     // The source texel that holds the texel's centre (computed: the nearest read needs no more).
     int size = params.faceSize >> params.level;

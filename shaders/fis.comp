@@ -35,7 +35,7 @@ layout(push_constant) uniform Params {
 
 vec3 samplePyramid(vec3 direction, float level) {
 #if defined(PROBE_HARDWARE_SAMPLING)
-    return textureLod(pyramidCube, direction, level).rgb;
+    return pyramidRead(direction, level);
 #elif defined(PROBE_PARABOLOID_MAP)
     return sampleParaboloid(params.faceSize, direction, paraboloidLevel(direction, level, params.faceSize));
 #else
@@ -48,6 +48,7 @@ void main() {
     if (slot >= 4u) return;
     int level = params.firstLevel + int(slot), size = params.faceSize >> level;
     uint inLevel = invocationInLevel(groupInLevel);
+    batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
     if (inLevel >= 6u * uint(size * size)) return;
     ivec3 t = texelCoordinates(inLevel, size);
     // Hardware sampling computes the texel's direction, so that no buffer grows with the texel count;

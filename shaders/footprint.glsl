@@ -45,14 +45,14 @@ vec3 sampleBilinearAt(uint first, int size, int face, float x, float y) {
     return bilinearBlend(f, pyramidTexel(t), pyramidTexel(t + 1u), pyramidTexel(t + row), pyramidTexel(t + row + 1u));
 }
 
-// Bilinear value of pyramid level `level` (face size faceSize >> level) at continuous texel
-// coordinates (x, y) of `face`.
+// Bilinear value of pyramid level `level` (face size faceSize >> level) of the invocation's cube at
+// continuous texel coordinates (x, y) of `face`.
 vec3 sampleBilinear(int faceSize, int level, int face, float x, float y) {
-    return sampleBilinearAt(pyramidLevelOffset(faceSize, level), faceSize >> level, face, x, y);
+    return sampleBilinearAt(pyramidLevelFirst(faceSize, level), faceSize >> level, face, x, y);
 }
 
-// Trilinear value of the levels packed as the pyramid is (levelCount levels from faceSize) from texel
-// `first` of the pyramid buffer, at a direction (any length, not zero) and a fractional level,
+// Trilinear value of the levels packed as the pyramid is (levelCount levels from faceSize, the
+// invocation's cube of a batch) from texel `first` of the pyramid buffer, at a direction (any length, not zero) and a fractional level,
 // clamped to [0, levelCount - 1].
 vec3 sampleTrilinearAt(uint first, int faceSize, int levelCount, vec3 direction, float level) {
     level = clamp(level, 0.0, float(levelCount - 1));
@@ -64,10 +64,10 @@ vec3 sampleTrilinearAt(uint first, int faceSize, int levelCount, vec3 direction,
     vec2 unit = uv + 1.0;
     float half0 = 0.5 * float(faceSize >> lower);
     vec3 value = (1.0 - upperWeight) *
-                 sampleBilinearAt(first + pyramidLevelOffset(faceSize, lower), faceSize >> lower, face, unit.x * half0, unit.y * half0);
+                 sampleBilinearAt(first + pyramidLevelFirst(faceSize, lower), faceSize >> lower, face, unit.x * half0, unit.y * half0);
     if (lower + 1 < levelCount && upperWeight > 0.0) {
         float half1 = 0.5 * float(faceSize >> (lower + 1));
-        value += upperWeight * sampleBilinearAt(first + pyramidLevelOffset(faceSize, lower + 1), faceSize >> (lower + 1), face,
+        value += upperWeight * sampleBilinearAt(first + pyramidLevelFirst(faceSize, lower + 1), faceSize >> (lower + 1), face,
                                                 unit.x * half1, unit.y * half1);
     }
     return value;

@@ -7,6 +7,7 @@
 #ifndef PROBE_IMAGES_GLSL
 #define PROBE_IMAGES_GLSL
 
+#include "batch.glsl"
 #include "probe/shared_constants.h"
 
 #if !defined(PROBE_PYRAMID_FORMAT) && !defined(PROBE_OUTPUT_FORMAT)
@@ -15,11 +16,21 @@
 #endif
 
 // The source at S_0, read through a nearest sampler at texel centres: exact texels.
-layout(set = 0, binding = 5) uniform samplerCube sourceCube;
 // The pyramid through a seamless trilinear sampler: pass 2 reads every level; pass 1 reads the level
 // above the one it writes (a view of that mip alone).
+// With PROBE_BATCH both are cube-map arrays, read at the invocation's cube (batch.glsl).
+#ifdef PROBE_BATCH
+layout(set = 0, binding = 5) uniform samplerCubeArray sourceCube;
+layout(set = 0, binding = 6) uniform samplerCubeArray pyramidCube;
+vec4 sourceRead(vec3 direction) { return textureLod(sourceCube, vec4(direction, float(batchCube)), 0.0); }
+vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, vec4(direction, float(batchCube)), level).rgb; }
+#else
+layout(set = 0, binding = 5) uniform samplerCube sourceCube;
 layout(set = 0, binding = 6) uniform samplerCube pyramidCube;
-// The mips a dispatch writes, faces as layers, from element 0: pass 1's pyramid mip (hardware
+vec4 sourceRead(vec3 direction) { return textureLod(sourceCube, direction, 0.0); }
+vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, direction, level).rgb; }
+#endif
+// The mips a dispatch writes, faces as layers (batchLayer), from element 0: pass 1's pyramid mip (hardware
 // sampling), or in its last dispatch (pyramid_tail.comp) the mips of face size
 // PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip, or with
 // PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl). One binding for all keeps
@@ -36,7 +47,7 @@ layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray
 // +-PROBE_FILTER_RANGE_LIMIT: every pass reads the source through here (pass 1's level 0, the copied
 // levels), so the sums after it stay finite whatever finite values the caller's cube holds.
 vec3 sourceTexel(vec3 direction) {
-    return clamp(textureLod(sourceCube, direction, 0.0).rgb, -PROBE_FILTER_RANGE_LIMIT, PROBE_FILTER_RANGE_LIMIT);
+    return clamp(sourceRead(direction).rgb, -PROBE_FILTER_RANGE_LIMIT, PROBE_FILTER_RANGE_LIMIT);
 }
 
 // Texel `index` of a level of face size `size` (face-major, row-major: probe::texelIndex) as image
@@ -47,9 +58,11 @@ ivec3 texelCoordinates(uint index, int size) {
 }
 
 #if defined(PROBE_LEVEL_GROUP)
-// Writes an output texel of the group's level `slot`, clamped to the format's largest finite
-// magnitude so that no texel is Inf. Constant indices: a dynamic one needs a device feature.
+// Writes an output texel (i, j, face) of the invocation's cube in the group's level `slot`, clamped to
+// the format's largest finite magnitude so that no texel is Inf. Constant indices: a dynamic one
+// needs a device feature.
 void storeOutput(uint slot, ivec3 texel, vec3 value) {
+    texel = batchLayer(texel);
     vec4 v = vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0);
     switch (slot) {
     case 0u: imageStore(outputMips[0], texel, v); break;
@@ -59,8 +72,11 @@ void storeOutput(uint slot, ivec3 texel, vec3 value) {
     }
 }
 #elif !defined(PROBE_PYRAMID_FORMAT)
-// Writes an output texel, clamped to the format's largest finite magnitude so that no texel is Inf.
-void storeOutput(ivec3 texel, vec3 value) { imageStore(outputMip, texel, vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0)); }
+// Writes an output texel (i, j, face) of the invocation's cube, clamped to the format's largest finite
+// magnitude so that no texel is Inf.
+void storeOutput(ivec3 texel, vec3 value) {
+    imageStore(outputMip, batchLayer(texel), vec4(clamp(value, -PROBE_OUTPUT_MAX, PROBE_OUTPUT_MAX), 1.0));
+}
 #endif
 
 #endif

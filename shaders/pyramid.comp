@@ -22,7 +22,7 @@ layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the sol
 layout(push_constant) uniform Params {
     int faceSize;  // S_0
     int level;     // the level written: 0 (the source) to log2(S_0)
-    int firstFace; // the faces written
+    int firstFace; // the faces written: layers of a batch's cubes (batch.glsl)
     int faceCount;
     uint window; // the first texel of the window bound at binding 0
 } params;
@@ -30,7 +30,7 @@ layout(push_constant) uniform Params {
 vec3 probeSampleFine(int face, float x, float y, int fineSize) { return sampleBilinear(params.faceSize, params.level - 1, face, x, y); }
 #include "pyramid_bspline.glsl"
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
-    return pyramidTexel(pyramidLevelOffset(params.faceSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
+    return pyramidTexel(pyramidLevelFirst(params.faceSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
 }
 #include "pyramid_box.glsl"
 
@@ -48,7 +48,8 @@ void main() {
     int perFace = row * row;
     uint index = invocationIndex();
     if (index >= uint(params.faceCount * perFace)) return;
-    int face = params.firstFace + int(index) / perFace, k = int(index) % perFace;
+    int layer = params.firstFace + int(index) / perFace, face = layer % 6, k = int(index) % perFace;
+    batchCube = layer / 6;
     int i = k % row - 1, j = k / row - 1;
     bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
 
@@ -57,5 +58,5 @@ void main() {
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     bool edge = insideI != insideJ;
     vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
-    storePyramid(pyramidLevelOffset(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size), params.window, value);
+    storePyramid(pyramidLevelFirst(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size), params.window, value);
 }

@@ -12,7 +12,7 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(push_constant) uniform Params {
     int faceSize;  // S_0
     int level;     // the level whose corners are written
-    int firstFace; // the faces whose corners are written
+    int firstFace; // the faces whose corners are written: layers of a batch's cubes (batch.glsl)
     int faceCount;
     uint window; // the first texel of the window bound at binding 0
 } params;
@@ -21,10 +21,11 @@ void main() {
     uint index = invocationIndex();
     if (index >= uint(4 * params.faceCount)) return;
     int size = params.faceSize >> params.level;
-    int face = params.firstFace + int(index) / 4, corner = int(index) % 4;
+    int layer = params.firstFace + int(index) / 4, face = layer % 6, corner = int(index) % 4;
+    batchCube = layer / 6;
     int i = (corner & 1) != 0 ? size : -1, j = (corner & 2) != 0 ? size : -1;
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
-    uint first = pyramidLevelOffset(params.faceSize, params.level);
+    uint first = pyramidLevelFirst(params.faceSize, params.level);
     vec3 value = (pyramidTexel(first + pyramidTexelIndex(face, ci, cj, size)) + pyramidTexel(first + pyramidTexelIndex(face, i, cj, size)) +
                   pyramidTexel(first + pyramidTexelIndex(face, ci, j, size))) *
                  (1.0 / 3.0);

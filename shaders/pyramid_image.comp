@@ -27,7 +27,7 @@ layout(push_constant) uniform Params {
 } params;
 
 // The fine level at face coordinates (u, v) of `face`.
-vec3 fine(int face, float u, float v) { return textureLod(pyramidCube, faceUvToCubePoint(face, u, v), 0.0).rgb; }
+vec3 fine(int face, float u, float v) { return pyramidRead(faceUvToCubePoint(face, u, v), 0.0); }
 
 // Source texel (i, j) of `face`, i and j in [-1, size]: the adjacent face's texel across an edge, and
 // at a cube corner, where the footprint's fourth texel does not exist, the average of the other three
@@ -66,6 +66,7 @@ vec3 probeFineTexel(int face, int i, int j, int fineSize) {
 void main() {
     int level = params.level, size = params.faceSize >> level;
     uint index = invocationIndex();
+    batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
     // With kFromSource, mip 1's texels follow mip 0's.
     if (kFromSource != 0 && index >= 6u * uint(size * size)) {
         index -= 6u * uint(size * size);
@@ -79,6 +80,6 @@ void main() {
     else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
     else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
     vec4 stored = vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0);
-    if (level == params.level) imageStore(pyramidMips[0], t, stored);
-    else imageStore(pyramidMips[1], t, stored);
+    if (level == params.level) imageStore(pyramidMips[0], batchLayer(t), stored);
+    else imageStore(pyramidMips[1], batchLayer(t), stored);
 }

@@ -40,7 +40,7 @@ int fineFirst = -1;
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
     if (fineFirst < 0) {
         vec2 uv = texelToFaceUv(x, y, fineSize);
-        return textureLod(pyramidCube, faceUvToCubePoint(face, uv.x, uv.y), 0.0).rgb;
+        return pyramidRead(faceUvToCubePoint(face, uv.x, uv.y), 0.0);
     }
     vec2 f;
     uint t = uint(fineFirst) + bilinearFootprint(fineSize, face, x, y, f);
@@ -49,13 +49,14 @@ vec3 probeSampleFine(int face, float x, float y, int fineSize) {
 }
 #include "pyramid_bspline.glsl"
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
-    if (fineFirst < 0) return textureLod(pyramidCube, texelCubePoint(face, i, j, fineSize), 0.0).rgb; // at the centre: the texel
+    if (fineFirst < 0) return pyramidRead(texelCubePoint(face, i, j, fineSize), 0.0); // at the centre: the texel
     return tailTexels[uint(fineFirst) + pyramidTexelIndex(face, i, j, fineSize)];
 }
 #include "pyramid_box.glsl"
 
 // Constant indices: a variable one into an image array needs a device feature.
 void storeTailMip(int k, ivec3 texel, vec3 value) {
+    texel = batchLayer(texel);
     vec4 v = vec4(value, 1.0);
     switch (k) {
     case 0: imageStore(pyramidMips[0], texel, v); break;
@@ -67,6 +68,7 @@ void storeTailMip(int k, ivec3 texel, vec3 value) {
 
 void main() {
     uint lane = gl_LocalInvocationIndex, lanes = gl_WorkGroupSize.x;
+    batchCube = int(gl_WorkGroupID.z); // a workgroup per cube of a batch
     for (int level = params.level; level <= params.lastLevel; ++level) {
         int size = params.faceSize >> level;
         uint first = ((level - params.level) & 1) == 0 ? 0u : uint(kFirstTexels);

@@ -5,10 +5,11 @@
 // textureLod through the seamless sampler, else footprint.glsl's arithmetic over the bordered buffer.
 // After the coefficients, tableEntry(usageFirst + m).x is the tap groups of four that level m uses
 // (probe::tapsInUse; the rest are zero-weight padding). With hardware sampling the dispatch is
-// (groups, rows, 6): a workgroup covers texels of one face of one level, gl_WorkGroupID.z, so that the
-// frames' axes and with them every table index are the same across it (a GPU reads them once per
-// wave). Exact sampling, whose frame loop takes each invocation's axes, runs (groups, rows, 1) over
-// the six faces one after another, so that the smallest levels fill a workgroup instead of six. The
+// (groups, rows, 6 P): a workgroup covers texels of one face of one level, face gl_WorkGroupID.z % 6
+// of cube gl_WorkGroupID.z / 6 of a batch of P (batch.glsl), so that the frames' axes and with them
+// every table index are the same across it (a GPU reads them once per wave). Exact sampling, whose
+// frame loop takes each invocation's axes, runs (groups, rows, P) over the six faces one after
+// another, so that the smallest levels fill a workgroup instead of six. The
 // group's levels follow one another in the grid (level_group.glsl). Within a face the invocations
 // take its interior first, then its edge ring (texelOfInvocation).
 #version 450
@@ -49,7 +50,7 @@ uint levelFirst; // the level's first vec4 in `table`
 vec4 probeTableEntry(uint index) { return tableEntry(levelFirst + index); }
 vec3 probeSamplePyramid(vec3 direction, float level) {
 #ifdef PROBE_HARDWARE_SAMPLING
-    return textureLod(pyramidCube, direction, level).rgb;
+    return pyramidRead(direction, level);
 #else
     return sampleTrilinear(params.faceSize, params.pyramidLevels, direction, level);
 #endif
@@ -90,10 +91,12 @@ void main() {
     int level = params.firstLevel + int(slot), size = params.faceSize >> level;
     uint faceTexels = uint(size * size), inLevel = invocationInLevel(groupInLevel);
 #ifdef PROBE_HARDWARE_SAMPLING
-    uint invocation = inLevel, face = gl_WorkGroupID.z;
+    uint invocation = inLevel, face = gl_WorkGroupID.z % 6u;
+    batchCube = int(gl_WorkGroupID.z / 6u);
     if (invocation >= faceTexels) return;
 #else
     uint invocation = inLevel % faceTexels, face = inLevel / faceTexels;
+    batchCube = int(gl_WorkGroupID.z);
     if (face >= 6u) return;
 #endif
     uint inFace = texelOfInvocation(invocation, size), texel = face * faceTexels + inFace;

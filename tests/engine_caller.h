@@ -70,7 +70,7 @@ struct CubeTexture {
     VkDeviceMemory memory = VK_NULL_HANDLE;
 };
 
-inline CubeTexture cubeTexture(const Caller& c, VkFormat format, int size, int mips, VkImageUsageFlags usage) {
+inline CubeTexture cubeTexture(const Caller& c, VkFormat format, int size, int mips, VkImageUsageFlags usage, int cubes = 1) {
     CubeTexture t;
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
@@ -78,7 +78,7 @@ inline CubeTexture cubeTexture(const Caller& c, VkFormat format, int size, int m
     info.format = format;
     info.extent = {uint32_t(size), uint32_t(size), 1};
     info.mipLevels = uint32_t(mips);
-    info.arrayLayers = 6;
+    info.arrayLayers = uint32_t(6 * cubes);
     info.samples = VK_SAMPLE_COUNT_1_BIT;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = usage;
@@ -101,7 +101,7 @@ inline void transition(VkCommandBuffer cmd, VkImage image, VkImageLayout from, V
     barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, 6};
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0, nullptr, 1,
                          &barrier);
 }
@@ -155,27 +155,34 @@ inline void submitAndWait(VkQueue queue, VkCommandBuffer commandBuffer, const pr
 }
 
 // An engine's probe: its source cube of `sourceFormat` (uploaded by upload()) and output cube of
-// `outputFormat` (read back by readBack()), RGBA16F or RGBA32F, with the staging memory for both.
+// `outputFormat` (read back by readBack()), RGBA16F or RGBA32F, with the staging memory for both; or
+// a batch of probes, as cube-map arrays (a VK_IMAGE_VIEW_TYPE_CUBE_ARRAY source view).
 class EngineProbe {
 public:
     EngineProbe(const Caller& c, const probe::CubeImage& source, int levels, VkFormat sourceFormat = VK_FORMAT_R32G32B32A32_SFLOAT,
                 VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT)
-        : c_(c), size_(source.size), levels_(levels), sourceFormat_(sourceFormat), outputFormat_(outputFormat) {
-        in_ = cubeTexture(c, sourceFormat, size_, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
-        out_ = cubeTexture(c, outputFormat, size_, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        : EngineProbe(c, std::vector<probe::CubeImage>{source}, levels, sourceFormat, outputFormat) {}
+    EngineProbe(const Caller& c, const std::vector<probe::CubeImage>& sources, int levels,
+                VkFormat sourceFormat = VK_FORMAT_R32G32B32A32_SFLOAT, VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT)
+        : c_(c), size_(sources.front().size), levels_(levels), cubes_(int(sources.size())), sourceFormat_(sourceFormat),
+          outputFormat_(outputFormat) {
+        in_ = cubeTexture(c, sourceFormat, size_, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cubes_);
+        out_ = cubeTexture(c, outputFormat, size_, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, cubes_);
         VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         viewInfo.image = in_.image;
-        viewInfo.viewType = VK_IMAGE_VIEW_TYPE_CUBE;
+        viewInfo.viewType = viewType();
         viewInfo.format = sourceFormat;
-        viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 6};
+        viewInfo.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, uint32_t(6 * cubes_)};
         EXPECT_EQ(vkCreateImageView(c.device, &viewInfo, nullptr, &view_), VK_SUCCESS);
-        regions_ = levelRegions(size_, levels, texelBytes(outputFormat));
+        regions_ = levelRegions(size_, levels, texelBytes(outputFormat), cubes_);
         std::size_t outputTexels = 0;
         for (int m = 0; m < levels; ++m) outputTexels += probe::texelCount(size_ >> m);
-        staging_ = hostBuffer(c, std::max(outputTexels * texelBytes(outputFormat), probe::texelCount(size_) * texelBytes(sourceFormat)));
+        const std::size_t cubeTexels = probe::texelCount(size_);
+        staging_ = hostBuffer(c, std::max(outputTexels * texelBytes(outputFormat), cubeTexels * texelBytes(sourceFormat)) * sources.size());
         auto* bytes = reinterpret_cast<unsigned char*>(staging_.data);
-        for (std::size_t t = 0; t < probe::texelCount(size_); ++t)
-            storeTexel(bytes + t * texelBytes(sourceFormat), sourceFormat, source.texel(t));
+        for (std::size_t p = 0; p < sources.size(); ++p) // probe p in layers 6p to 6p + 5
+            for (std::size_t t = 0; t < cubeTexels; ++t)
+                storeTexel(bytes + (p * cubeTexels + t) * texelBytes(sourceFormat), sourceFormat, sources[p].texel(t));
     }
     ~EngineProbe() {
         vkDestroyImageView(c_.device, view_, nullptr);
@@ -189,17 +196,17 @@ public:
     EngineProbe(const EngineProbe&) = delete;
     EngineProbe& operator=(const EngineProbe&) = delete;
 
-    probe::gpu::SourceCube source() const { return {view_, sourceFormat_, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(size_)}; }
+    probe::gpu::SourceCube source() const { return {view_, sourceFormat_, viewType(), uint32_t(size_), uint32_t(6 * cubes_)}; }
     probe::gpu::OutputCube output() const {
-        return {
-            out_.image, outputFormat_, uint32_t(size_), uint32_t(levels_), 6, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+        return {out_.image,        outputFormat_,        uint32_t(size_),
+                uint32_t(levels_), uint32_t(6 * cubes_), VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
     }
 
     // The source from staging, readable by compute; the output in GENERAL for the filter's writes.
     void upload(VkCommandBuffer cmd) const {
         transition(cmd, in_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
         VkBufferImageCopy whole{};
-        whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 6};
+        whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, uint32_t(6 * cubes_)};
         whole.imageExtent = {uint32_t(size_), uint32_t(size_), 1};
         vkCmdCopyBufferToImage(cmd, staging_.buffer, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
         transition(cmd, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
@@ -218,12 +225,14 @@ public:
         VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
     }
-    probe::CubeLevels levels() const {
+    // The levels of probe `cube` of the batch.
+    probe::CubeLevels levels(int cube = 0) const {
         probe::CubeLevels result;
         const auto* bytes = reinterpret_cast<const unsigned char*>(staging_.data);
         for (int m = 0; m < levels_; ++m) {
             probe::CubeImage level(size_ >> m);
-            const unsigned char* first = bytes + regions_[m].bufferOffset;
+            const unsigned char* first =
+                bytes + regions_[m].bufferOffset + std::size_t(cube) * probe::texelCount(level.size) * texelBytes(outputFormat_);
             for (std::size_t t = 0; t < probe::texelCount(level.size); ++t)
                 level.set(t, loadTexel(first + t * texelBytes(outputFormat_), outputFormat_));
             result.push_back(std::move(level));
@@ -232,8 +241,10 @@ public:
     }
 
 private:
+    VkImageViewType viewType() const { return cubes_ > 1 ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE; }
+
     const Caller& c_;
-    int size_, levels_;
+    int size_, levels_, cubes_;
     VkFormat sourceFormat_, outputFormat_;
     CubeTexture in_, out_;
     VkImageView view_ = VK_NULL_HANDLE;

@@ -178,6 +178,40 @@ TEST(FilterPlan, PyramidWindowsCoverEachLevelWithinTheStorageRange) {
     EXPECT_EQ(planFilter(reference, d).pyramidWindows[0].faceCount, kFaceCount);
 }
 
+TEST(FilterPlan, BatchPyramidHoldsEachLevelOfEveryCubeInTurn) {
+    // 64 exact 128^2 probes: level 0 of all of them (384 faces of 130^2 texels, 98.9 MiB) in one
+    // window, each level after the last one of every cube, the buffer 64 times one probe's.
+    FilterSettings s = fisSettings(128);
+    s.sampling = Sampling::exact;
+    const FilterPlan one = planFilter(s, gpu());
+    s.batchSize = 64;
+    DeviceCapabilities d = gpu();
+    d.maxImageArrayLayers = 2048;
+    const FilterPlan plan = planFilter(s, d);
+    EXPECT_EQ(plan.pyramidTexels, 64 * one.pyramidTexels);
+    ASSERT_EQ(plan.pyramidWindows.size(), one.pyramidWindows.size());
+    for (const PyramidWindow& w : plan.pyramidWindows) {
+        EXPECT_EQ(w.firstFace, 0);
+        EXPECT_EQ(w.faceCount, 64 * kFaceCount);
+        EXPECT_EQ(w.first, 64 * std::size_t(plan.pyramidOffsets[std::size_t(w.level)]));
+        EXPECT_EQ(w.texels, pyramidLevelTexels(128 >> w.level) * 64);
+    }
+    // A range of 100 faces at level 0: four windows of whole faces across the cubes.
+    d.maxStorageBufferRange = 100 * 130 * 130 * 16;
+    const FilterPlan narrow = planFilter(s, d);
+    std::vector<int> faces;
+    for (const PyramidWindow& w : narrow.pyramidWindows)
+        if (w.level == 0) faces.push_back(w.faceCount);
+    EXPECT_EQ(faces, (std::vector<int>{100, 100, 100, 84}));
+    // The layers a device makes, cube-map arrays, and batchSize's range.
+    d.maxImageArrayLayers = 256;
+    EXPECT_THROW(planFilter(s, d), ProbeError); // 384 layers
+    s.batchSize = 42;
+    EXPECT_NO_THROW(planFilter(s, d));
+    d.imageCubeArray = false;
+    EXPECT_THROW(planFilter(s, d), ProbeError);
+}
+
 TEST(FilterPlan, RefusesWhatTheDeviceCannotHold) {
     const auto refusal = [](const FilterSettings& s, const DeviceCapabilities& d) {
         try {
@@ -236,6 +270,15 @@ TEST(FilterPlan, RefusesSettingsNamingThem) {
     FilterSettings s = fisSettings(64);
     s.inFlight = 0;
     EXPECT_EQ(field(s), "inFlight");
+    s = fisSettings(64);
+    s.batchSize = 0;
+    EXPECT_EQ(field(s), "batchSize");
+    s.batchSize = 257;
+    EXPECT_EQ(field(s), "batchSize");
+    s = fisSettings(64);
+    s.method.kind = MethodKind::reference;
+    s.batchSize = 2;
+    EXPECT_EQ(field(s), "batchSize");
     s = fisSettings(64);
     s.computedLevels = {2, 1};
     EXPECT_EQ(field(s), "computedLevels");

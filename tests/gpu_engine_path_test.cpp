@@ -94,6 +94,41 @@ TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) recordAndCompare(c, owner, wrapped, sampling);
 }
 
+// A batch recorded as an engine keeps probes: an RGBA16F cube-map array of three probes in, an
+// 18-layer output written in one recording through a wrapped device, each probe's levels those of a
+// Filter of one probe, in both sampling modes, in the dispatches of one probe.
+TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
+    const gpu::Device& owner = probetest::testDevice();
+    const Caller c = callerOf(owner);
+    gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
+    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+        gpu::FilterSettings settings;
+        settings.method.kind = MethodKind::fis;
+        settings.faceSize = 32;
+        settings.levelCount = 5;
+        settings.sampling = sampling;
+        settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+        std::vector<CubeImage> sources;
+        for (int p = 0; p < 3; ++p) sources.push_back(halfRounded(probetest::randomProbe(settings.faceSize, 20 + p)));
+        gpu::Filter alone(owner, settings);
+        settings.batchSize = int(sources.size());
+        gpu::Filter batch(wrapped, settings);
+        const EngineProbe probes(c, sources, settings.levelCount, VK_FORMAT_R16G16B16A16_SFLOAT, settings.outputFormat);
+        EngineCommands commands(c);
+        probes.upload(commands.cmd);
+        const gpu::Completion done = batch.record(commands.cmd, probes.source(), probes.output(), gpu::Timestamps::none);
+        probes.readBack(commands.cmd);
+        commands.submit(done);
+        for (int p = 0; p < int(sources.size()); ++p) {
+            const CubeLevels expected = alone.run(sources[std::size_t(p)]);
+            const CubeLevels recorded = probes.levels(p);
+            for (int m = 0; m < settings.levelCount; ++m)
+                EXPECT_EQ(recorded[m].rgb, expected[m].rgb) << gpu::samplingName(sampling) << " sampling, probe " << p << ", level " << m;
+        }
+        EXPECT_EQ(batch.dispatches().size(), alone.dispatches().size()) << gpu::samplingName(sampling);
+    }
+}
+
 // Finite input gives finite output on the engine path too, where the source never reaches the host:
 // the caller's RGBA32F source holding FLT_MAX, -FLT_MAX, 0 and -0 side by side gives finite levels
 // for every method and sampling mode, into RGBA32F and RGBA16F outputs. The source saturates at
@@ -164,7 +199,8 @@ TEST_F(GpuTest, RecordLargestFiniteValuesEveryMethod) {
 // record() checks the cubes as the engine describes them and refuses a mismatch naming the field,
 // before anything is recorded: a 2D or 2D-array view, a source or output of another face size, an
 // output with fewer mips than levels or not 6 layers, without storage usage, or of another format,
-// and null handles.
+// and null handles; for a batch, a source that is not a cube-map array of its layers, or an output of
+// other layers.
 TEST_F(GpuTest, RecordRefusesCubesThatDoNotMatch) {
     gpu::FilterSettings settings;
     settings.method.kind = MethodKind::fis;
@@ -218,6 +254,24 @@ TEST_F(GpuTest, RecordRefusesCubesThatDoNotMatch) {
         ADD_FAILURE() << "a null command buffer: not refused";
     } catch (const ProbeError& e) {
         EXPECT_NE(std::string(e.what()).find("commandBuffer"), std::string::npos) << e.what();
+    }
+    // A batch of three reads a cube-map array view of 18 layers and writes 18 layers: one cube, a
+    // cube view or an array of another size is refused.
+    settings.batchSize = 3;
+    gpu::Filter batch(probetest::testDevice(), settings);
+    const gpu::SourceCube sources{fake(VkImageView{}), VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE_ARRAY, 32, 18};
+    const gpu::OutputCube outputs{fake(VkImage{}), VK_FORMAT_R16G16B16A16_SFLOAT, 32, 6, 18, VK_IMAGE_USAGE_STORAGE_BIT};
+    const std::vector<Case> batchCases{{"source.viewType", source, outputs},
+                                       {"source.arrayLayers", {sources.view, sources.format, sources.viewType, 32, 6}, outputs},
+                                       {"source.arrayLayers", {sources.view, sources.format, sources.viewType, 32, 24}, outputs},
+                                       {"output.arrayLayers", sources, output}};
+    for (const Case& c : batchCases) {
+        try {
+            (void)batch.record(cmd, c.source, c.output);
+            ADD_FAILURE() << c.field << ": not refused in a batch";
+        } catch (const ProbeError& e) {
+            EXPECT_NE(std::string(e.what()).find(c.field), std::string::npos) << e.what();
+        }
     }
 }
 

@@ -2,6 +2,7 @@
 // Filter into one submission each get their own levels; a recording beyond the sets in flight is
 // refused, not recorded; a Filter destroyed before its recordings complete leaves their resources to
 // the Device, which releases them once the Completion is signalled; slices keep their update's set.
+// Batches (FilterSettings::batchSize): many probes in one recording, in the dispatches of one.
 // Every case runs under the validation layer with synchronization validation on (gpu_test_support.h),
 // which is live: it reports two unordered writes.
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "engine_caller.h"
 #include "gpu_test_support.h"
 #include "probe/error.h"
+#include "probe/table_io.h"
 #include "submission.h"
 
 using namespace probe;
@@ -172,31 +174,78 @@ TEST_F(GpuTest, SlicesKeepTheirUpdatesSet) {
     }
 }
 
-// The tools' batch: every probe in its own set, one submission, each probe's levels those of its own
-// run(), its dispatches and barriers the sum of the probes', timed as a whole; more probes than sets
-// are refused.
-TEST_F(GpuTest, BatchRunEqualsRunsOneByOne) {
+// A batch (FilterSettings::batchSize): the probes as the cubes of cube-map arrays, one recording.
+// Each probe's levels equal, bit for bit, those of a Filter of one probe, for the table (16^2, with
+// its copied level 0) and FIS (32^2, where hardware sampling's first pyramid dispatch writes mips 0
+// and 1), in both sampling modes and with a converted B10G11R11 output; the batch takes the
+// dispatches and barriers one probe takes, whatever its size. A run of another number of probes, and
+// a batch of the reference or of FIS on a paraboloid map, are refused.
+TEST_F(GpuTest, BatchEqualsProbesOneByOneInTheDispatchesOfOne) {
     const gpu::Device& device = testDevice();
-    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
-        const gpu::FilterSettings settings = fisSettings(sampling, 3);
-        gpu::Filter filter(device, settings);
-        const std::vector<CubeImage> sources{randomProbe(16, 80), randomProbe(16, 81), randomProbe(16, 82)};
-        const std::vector<CubeLevels> batch = filter.run(sources);
-        const std::size_t batchDispatches = filter.dispatches().size();
-        const int batchBarriers = filter.barriers();
-        ASSERT_EQ(batch.size(), sources.size());
-        const std::vector<gpu::PassTime> timings = filter.timings();
-        ASSERT_FALSE(timings.empty());
-        EXPECT_EQ(timings.front().name, "batch");
-        for (std::size_t p = 0; p < sources.size(); ++p) {
-            const CubeLevels alone = filter.run(sources[p]);
-            for (int m = 0; m < settings.levelCount; ++m)
-                EXPECT_EQ(batch[p][m].rgb, alone[m].rgb) << gpu::samplingName(sampling) << ", probe " << p << ", level " << m;
-        }
-        EXPECT_EQ(batchDispatches, sources.size() * filter.dispatches().size());
-        EXPECT_EQ(batchBarriers, int(sources.size()) * filter.barriers());
-        EXPECT_THROW(filter.run(std::vector<CubeImage>(4, sources[0])), ParameterError);
-        EXPECT_THROW(filter.run(std::vector<CubeImage>{}), ParameterError);
+    const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
+    for (const MethodKind kind : {MethodKind::table, MethodKind::fis})
+        for (const gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware})
+            for (const VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32}) {
+                gpu::FilterSettings settings = fisSettings(sampling, 2);
+                settings.method.kind = kind;
+                settings.method.table = &table;
+                settings.faceSize = kind == MethodKind::table ? 16 : 32;
+                const std::vector<CubeImage> sources{randomProbe(settings.faceSize, 80), randomProbe(settings.faceSize, 81),
+                                                     randomProbe(settings.faceSize, 82)};
+                settings.outputFormat = format;
+                const std::string name =
+                    fmt::format("{}, {}, {}", methodKindName(kind), gpu::samplingName(sampling), gpu::formatName(format));
+                gpu::Filter alone(device, settings);
+                settings.batchSize = int(sources.size());
+                gpu::Filter batch(device, settings);
+                const std::vector<CubeLevels> levels = batch.run(sources);
+                ASSERT_EQ(levels.size(), sources.size()) << name;
+                for (std::size_t p = 0; p < sources.size(); ++p) {
+                    const CubeLevels expected = alone.run(sources[p]);
+                    for (int m = 0; m < settings.levelCount; ++m)
+                        EXPECT_EQ(levels[p][m].rgb, expected[m].rgb) << name << ", probe " << p << ", level " << m;
+                }
+                EXPECT_EQ(batch.dispatches().size(), alone.dispatches().size()) << name;
+                EXPECT_EQ(batch.barriers(), alone.barriers()) << name;
+                EXPECT_FALSE(batch.timings().empty()) << name;
+                EXPECT_THROW(batch.run(sources.front()), ParameterError) << name;
+                EXPECT_THROW(batch.run(std::vector<CubeImage>(4, sources[0])), ParameterError) << name;
+            }
+    gpu::FilterSettings reference = fisSettings(gpu::Sampling::exact, 2);
+    reference.method.kind = MethodKind::reference;
+    reference.batchSize = 2;
+    EXPECT_THROW(gpu::Filter(device, reference), ParameterError);
+    gpu::FilterSettings paraboloid = fisSettings(gpu::Sampling::exact, 2);
+    paraboloid.method.fis.map = FisMap::paraboloid;
+    paraboloid.batchSize = 2;
+    EXPECT_THROW(gpu::Filter(device, paraboloid), ParameterError);
+    for (int size : {0, 257}) {
+        gpu::FilterSettings s = fisSettings(gpu::Sampling::exact, 2);
+        s.batchSize = size;
+        EXPECT_THROW(gpu::Filter(device, s), ParameterError) << size;
+    }
+}
+
+// A batch whose pyramid levels exceed the device's storage-buffer range is written in windows of whole
+// faces across its cubes (FilterPlan::pyramidWindows), and each probe's levels stay its own.
+TEST_F(GpuTest, BatchPyramidWrittenInWindowsEqualsProbesOneByOne) {
+    const gpu::Device& shared = testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    // Level 0 of three 16^2 cubes (18 faces of 18^2 texels) in windows of four faces.
+    device.impl().limits.maxStorageBufferRange = 4 * 18 * 18 * 16;
+    device.impl().imageCubeArray = shared.impl().imageCubeArray;
+    gpu::FilterSettings settings = fisSettings(gpu::Sampling::exact, 2);
+    const std::vector<CubeImage> sources{randomProbe(16, 90), randomProbe(16, 91), randomProbe(16, 92)};
+    gpu::Filter alone(shared, settings);
+    settings.batchSize = int(sources.size());
+    gpu::Filter batch(device, settings);
+    const std::vector<CubeLevels> levels = batch.run(sources);
+    const auto level0 = std::count_if(batch.dispatches().begin(), batch.dispatches().end(),
+                                      [](const gpu::Dispatch& d) { return d.pass == "pyramid" && d.level == 0; });
+    EXPECT_EQ(level0, 2 * 5) << "18 faces in windows of 4, each with its corners";
+    for (std::size_t p = 0; p < sources.size(); ++p) {
+        const CubeLevels expected = alone.run(sources[p]);
+        for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(levels[p][m].rgb, expected[m].rgb) << "probe " << p << ", level " << m;
     }
 }
 

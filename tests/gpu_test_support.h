@@ -71,16 +71,16 @@ inline constexpr SamplingCase kSamplingCases[] = {{probe::gpu::Sampling::exact, 
 
 // The copy regions of `mips` levels of a cube image (every face of a level in one region) from face
 // size `size`, packed one after another in a buffer of `texelBytes`-byte texels.
-inline std::vector<VkBufferImageCopy> levelRegions(int size, int mips, std::size_t texelBytes) {
+inline std::vector<VkBufferImageCopy> levelRegions(int size, int mips, std::size_t texelBytes, int cubes = 1) {
     std::vector<VkBufferImageCopy> regions;
     VkDeviceSize offset = 0;
     for (int m = 0; m < mips; ++m) {
         VkBufferImageCopy region{};
         region.bufferOffset = offset;
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, uint32_t(6 * cubes)};
         region.imageExtent = {uint32_t(size >> m), uint32_t(size >> m), 1};
         regions.push_back(region);
-        offset += probe::texelCount(size >> m) * texelBytes;
+        offset += probe::texelCount(size >> m) * texelBytes * std::size_t(cubes);
     }
     return regions;
 }

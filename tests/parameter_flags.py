@@ -8,7 +8,7 @@ import sys
 
 root = pathlib.Path(__file__).resolve().parent.parent
 # Settings that scenes and the runtime's FilterSettings set, and no command-line flag does.
-NO_FLAG = {"computedLevels", "pyramidDepth", "inFlight"}
+NO_FLAG = {"computedLevels", "pyramidDepth", "inFlight", "batchSize"}
 
 thrown = set()
 for folder in ("core", "runtime"):

@@ -107,7 +107,8 @@ void PipelineLayout::bind(VkCommandBuffer commandBuffer) const {
 }
 
 ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv,
-                                 std::span<const int32_t> specialization, VkPipelineCreateFlags flags, VkPipelineCache cache)
+                                 std::span<const int32_t> specialization, VkPipelineCreateFlags flags, VkPipelineCache cache,
+                                 int32_t batchSize)
     : device_(device), layout_(layout) {
     VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     moduleInfo.codeSize = spirv.size_bytes();
@@ -120,11 +121,16 @@ ComputePipeline::ComputePipeline(VkDevice device, VkPipelineLayout layout, std::
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    std::vector<int32_t> values(specialization.begin(), specialization.end());
     std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < specialization.size(); ++i) entries.push_back({i, i * uint32_t(sizeof(int32_t)), sizeof(int32_t)});
-    const VkSpecializationInfo specializationInfo{static_cast<uint32_t>(entries.size()), entries.data(), specialization.size_bytes(),
-                                                  specialization.data()};
-    if (!specialization.empty()) info.stage.pSpecializationInfo = &specializationInfo;
+    for (uint32_t i = 0; i < values.size(); ++i) entries.push_back({i, i * uint32_t(sizeof(int32_t)), sizeof(int32_t)});
+    if (batchSize != 1) {
+        entries.push_back({kBatchSizeConstant, uint32_t(values.size() * sizeof(int32_t)), sizeof(int32_t)});
+        values.push_back(batchSize);
+    }
+    const VkSpecializationInfo specializationInfo{static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(int32_t),
+                                                  values.data()};
+    if (!values.empty()) info.stage.pSpecializationInfo = &specializationInfo;
     info.layout = layout_;
     const VkResult result = vkCreateComputePipelines(device_, cache, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(device_, module, nullptr);

@@ -24,6 +24,7 @@ inline constexpr uint32_t kBufferCount = 4; // pyramid, output, geometry, table
 inline constexpr uint32_t kPushConstantBytes = 64;
 inline constexpr uint32_t kWorkgroupSize = PROBE_WORKGROUP_SIZE; // local_size_x of every per-texel shader
 inline constexpr uint32_t kMaxGroupsX = 65535;                   // per dispatch row
+inline constexpr uint32_t kBatchSizeConstant = 15;               // constant_id of shaders/batch.glsl's kBatchSize
 
 // Part of a storage buffer bound at binding 0 or 1: from `offset` (aligned as the device asks),
 // `bytes` long, within the device's storage-buffer range.
@@ -57,13 +58,13 @@ private:
 };
 
 // One compute pipeline from embedded SPIR-V; specialization[i] sets the int constant_id i, for the
-// choices fixed per pipeline, whose untaken paths the driver then compiles out. `flags` and `cache`
-// (the engine's, or none) go to vkCreateComputePipelines (bench/shader_stats/shader_stats asks for the driver's
-// statistics).
+// choices fixed per pipeline, whose untaken paths the driver then compiles out, and `batchSize` the
+// cubes of a batch (kBatchSizeConstant). `flags` and `cache` (the engine's, or none) go to
+// vkCreateComputePipelines (bench/shader_stats/shader_stats asks for the driver's statistics).
 class ComputePipeline {
 public:
     ComputePipeline(VkDevice device, VkPipelineLayout layout, std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {},
-                    VkPipelineCreateFlags flags = 0, VkPipelineCache cache = VK_NULL_HANDLE);
+                    VkPipelineCreateFlags flags = 0, VkPipelineCache cache = VK_NULL_HANDLE, int32_t batchSize = 1);
     ComputePipeline(VkDevice device, const PipelineLayout& layout, std::span<const uint32_t> spirv,
                     std::span<const int32_t> specialization = {})
         : ComputePipeline(device, layout.handle(), spirv, specialization) {}

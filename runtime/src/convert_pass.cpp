@@ -25,9 +25,10 @@ void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage
     for (int m : levels) {
         const int size = impl.settings.faceSize >> m;
         impl.descriptors->bind(commandBuffer, impl.current->convertSets[m]);
-        dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size}, groupsFor(texelCount(size)));
+        dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size},
+                     groupsFor(texelCount(size) * std::size_t(impl.settings.batchSize)));
         VkImageCopy copy{};
-        copy.srcSubresource = copy.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, kFaceCount};
+        copy.srcSubresource = copy.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, impl.current->packed.layers()};
         copy.extent = {uint32_t(size), uint32_t(size), 1};
         copies.push_back(copy);
     }

@@ -3,6 +3,9 @@
 #include <cstdint>
 
 #include <copy_level_b10g11r11.spv.h>
+#include <copy_level_batch_b10g11r11.spv.h>
+#include <copy_level_batch_rgba16f.spv.h>
+#include <copy_level_batch_rgba32f.spv.h>
 #include <copy_level_rgba16f.spv.h>
 #include <copy_level_rgba32f.spv.h>
 
@@ -31,13 +34,15 @@ std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std
 }
 
 std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl) {
-    return impl.pipeline(outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}));
+    return impl.pipeline(
+        impl.batchVariant(outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}),
+                          outputVariant(impl, {kCopyLevelBatchRgba32fSpv, kCopyLevelBatchRgba16fSpv, kCopyLevelBatchB10g11r11Spv})));
 }
 
 void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {
     const CopyLevelConstants constants{impl.settings.faceSize, level, impl.plan.outputOffsets[level], impl.plan.outputOffsets[level + 1]};
     dispatchPass(impl, commandBuffer, *impl.copy, methodKindName(impl.settings.method.kind), level, constants,
-                 groupsFor(impl.plan.outputOffsets[level + 1] - impl.plan.outputOffsets[level]));
+                 groupsFor(impl.plan.outputOffsets[level + 1] - impl.plan.outputOffsets[level]), uint32_t(impl.settings.batchSize));
 }
 
 } // namespace probe::gpu

@@ -240,14 +240,20 @@ Device::Device(const DeviceOptions& options) : impl_(std::make_unique<Impl>()) {
         queueInfo.queueFamilyIndex = d.queueFamily;
         queueInfo.queueCount = 1;
         queueInfo.pQueuePriorities = &priority;
+        VkPhysicalDeviceFeatures supported;
+        vkGetPhysicalDeviceFeatures(d.physical, &supported);
+        VkPhysicalDeviceFeatures enabled{};
+        enabled.imageCubeArray = supported.imageCubeArray; // batches
         VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
         features12.timelineSemaphore = VK_TRUE; // a Filter's Completion
         VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features12};
+        deviceInfo.pEnabledFeatures = &enabled;
         deviceInfo.queueCreateInfoCount = 1;
         deviceInfo.pQueueCreateInfos = &queueInfo;
         vkCheck(vkCreateDevice(d.physical, &deviceInfo, nullptr, &d.device), "vkCreateDevice");
         vkGetDeviceQueue(d.device, d.queueFamily, 0, &d.queue);
         readProperties(d);
+        d.imageCubeArray = enabled.imageCubeArray == VK_TRUE;
     } catch (...) {
         if (d.messenger) {
             auto destroy =
@@ -275,6 +281,7 @@ Device::Device(VkInstance instance, VkPhysicalDevice physicalDevice, VkDevice de
     if (!features12.timelineSemaphore)
         throw ProbeError(fmt::format("Vulkan: {} has no timeline semaphores, which a Filter's Completion is", d.info.name));
     readProperties(d);
+    d.imageCubeArray = features.features.imageCubeArray == VK_TRUE;
 }
 
 Device::~Device() {

@@ -26,6 +26,9 @@ struct Device::Impl {
     VkPhysicalDeviceMemoryProperties memory{};
     uint32_t timestampValidBits = 0;
     bool computeSubgroupVote = false; // subgroupAny in compute shaders (table_filter.comp's exact sampling needs it)
+    // The imageCubeArray feature, which a batch's cube-map arrays need: enabled on an owned device where
+    // it exists; on the engine's device, it exists (enabling it is the engine's part).
+    bool imageCubeArray = false;
     // Optimal-tiling features of the formats the runtime uses, read once (tests may clear bits to
     // stand in for a device that lacks them).
     std::map<VkFormat, VkFormatFeatureFlags> formatFeatures;

@@ -96,7 +96,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
 
     const VkDevice vk = d.device();
     placeholder = CubeImageResource(d, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT);
-    placeholderCube = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_CUBE, 0, 1);
+    placeholderCube = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, cubeViewType(), 0, 1);
     placeholderArray = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
     linear = std::make_unique<Sampler>(vk, true);
     nearest = std::make_unique<Sampler>(vk, false);
@@ -117,7 +117,6 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
 
     recordings.push_back(makeRecording());
     current = recordings.front().get();
-    batchTimer = std::make_unique<GpuTimer>(d, std::vector<std::string>{"batch"});
     VkSemaphoreTypeCreateInfo timeline{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
     timeline.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
     VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &timeline};
@@ -181,23 +180,27 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     r.pyramidView = BufferView(vk, r.pyramidBuffer);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         const int mips = plan.pyramidDepth + 1;
-        r.pyramidImage = CubeImageResource(d, s.faceSize, mips, plan.pyramidFormat,
-                                           VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, 0, uint32_t(mips));
+        r.pyramidImage =
+            CubeImageResource(d, s.faceSize, mips, plan.pyramidFormat,
+                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize);
+        const uint32_t layers = r.pyramidImage.layers();
+        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), plan.pyramidFormat, cubeViewType(), 0, uint32_t(mips), layers);
         for (int k = 0; k < mips; ++k) {
-            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_CUBE, uint32_t(k), 1);
-            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1);
+            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, cubeViewType(), uint32_t(k), 1, layers);
+            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1,
+                                            layers);
         }
     }
     if (plan.convertOutput) {
         r.intermediate = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT);
+                                           VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, s.batchSize);
         r.packed = CubeImageResource(d, s.faceSize, s.levelCount, VK_FORMAT_R32_UINT,
-                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize);
+        const uint32_t layers = r.packed.layers();
         for (int m = 0; m < s.levelCount; ++m) {
             r.intermediateMips.emplace_back(vk, r.intermediate.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY,
-                                            uint32_t(m), 1);
-            r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+                                            uint32_t(m), 1, layers);
+            r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1, layers);
         }
     }
     r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + 2 * s.levelCount + plan.levelGroups.size()));
@@ -232,7 +235,7 @@ void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
         b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
         b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
         b.image = image->handle();
-        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, uint32_t(image->mips()), 0, kFaceCount};
+        b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, uint32_t(image->mips()), 0, image->layers()};
         images.push_back(b);
     }
     const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -242,7 +245,15 @@ void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
 
 std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
     return std::make_unique<ComputePipeline>(device.device(), descriptors->pipelineLayout(), spirv, specialization, 0,
-                                             settings.pipelineCache);
+                                             settings.pipelineCache, settings.batchSize);
+}
+
+VkImageViewType Filter::Impl::cubeViewType() const {
+    return settings.batchSize > 1 ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE;
+}
+
+std::span<const uint32_t> Filter::Impl::batchVariant(std::span<const uint32_t> single, std::span<const uint32_t> batch) const {
+    return settings.batchSize > 1 ? batch : single;
 }
 
 // Every time, not only when the handles change: an image destroyed and another created may reuse a
@@ -307,7 +318,8 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         if (plan.convertOutput) {
             targets[m] = r.intermediateMips[m].handle();
         } else {
-            r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1);
+            r.outputMips[m] = ImageView(vk, output, settings.outputFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1,
+                                        uint32_t(kFaceCount * settings.batchSize));
             targets[m] = r.outputMips[m].handle();
         }
         r.levelSets[m] = levelSet(std::span(&targets[m], 1));
@@ -447,11 +459,18 @@ void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, 
         return ProbeError(fmt::format("Filter::record: {} {}", field, problem));
     };
     const uint32_t faceSize = static_cast<uint32_t>(f.settings.faceSize), levelCount = static_cast<uint32_t>(f.settings.levelCount);
+    const uint32_t layers = uint32_t(kFaceCount * f.settings.batchSize);
+    const bool batch = f.settings.batchSize > 1;
     if (commandBuffer == VK_NULL_HANDLE) throw refuse("commandBuffer", "is VK_NULL_HANDLE");
     if (source.view == VK_NULL_HANDLE) throw refuse("source.view", "is VK_NULL_HANDLE");
-    if (source.viewType != VK_IMAGE_VIEW_TYPE_CUBE)
-        throw refuse("source.viewType", fmt::format("is {}, not VK_IMAGE_VIEW_TYPE_CUBE ({}): the passes read a cube view",
-                                                    int(source.viewType), int(VK_IMAGE_VIEW_TYPE_CUBE)));
+    if (source.viewType != f.cubeViewType())
+        throw refuse("source.viewType",
+                     fmt::format("is {}, not {} ({}): the passes read a {}", int(source.viewType),
+                                 batch ? "VK_IMAGE_VIEW_TYPE_CUBE_ARRAY" : "VK_IMAGE_VIEW_TYPE_CUBE", int(f.cubeViewType()),
+                                 batch ? fmt::format("cube-map array view of the batch's {} probes", f.settings.batchSize) : "cube view"));
+    if (source.arrayLayers != layers)
+        throw refuse("source.arrayLayers", fmt::format("is {}, but the filter reads {} (6 per probe of a batch of {})", source.arrayLayers,
+                                                       layers, f.settings.batchSize));
     if (source.faceSize != faceSize)
         throw refuse("source.faceSize", fmt::format("is {}, but the filter was built for S_0 = {}", source.faceSize, faceSize));
     if (!(f.device.impl().features(source.format) & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT))
@@ -465,7 +484,9 @@ void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, 
         throw refuse("output.faceSize", fmt::format("is {}, but the filter was built for S_0 = {}", output.faceSize, faceSize));
     if (output.mipLevels < levelCount)
         throw refuse("output.mipLevels", fmt::format("is {}, but the filter writes {} levels", output.mipLevels, levelCount));
-    if (output.arrayLayers != 6) throw refuse("output.arrayLayers", fmt::format("is {}, not the 6 faces of a cube", output.arrayLayers));
+    if (output.arrayLayers != layers)
+        throw refuse("output.arrayLayers", fmt::format("is {}, but the filter writes {} (6 per probe of a batch of {})", output.arrayLayers,
+                                                       layers, f.settings.batchSize));
     const VkImageUsageFlags written = f.plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
     if ((output.usage & written) == 0)
         throw refuse("output.usage", f.plan.convertOutput ? "lacks TRANSFER_DST, which a B10G11R11 output on this device is written by"
@@ -475,7 +496,7 @@ void checkRecordArguments(const Filter::Impl& f, VkCommandBuffer commandBuffer, 
 // The texel-taps of output level m (Filter::slices).
 double levelTexelTaps(const Filter::Impl& f, int m) {
     const FilterSettings& s = f.settings;
-    const double texels = double(texelCount(s.faceSize >> m));
+    const double texels = double(texelCount(s.faceSize >> m)) * s.batchSize;
     if (f.plan.isCopy(m)) return texels;
     switch (s.method.kind) {
     case MethodKind::table:
@@ -502,7 +523,6 @@ uint32_t levelsDispatchCount(const Filter::Impl& f, const std::vector<int>& leve
 void startRecording(Filter::Impl& f, const SourceCube& source, const OutputCube& output) {
     f.device.impl().releaseRetired();
     f.acquire();
-    f.batched = false;
     f.bindImages(source.view, output.image);
 }
 
@@ -589,7 +609,6 @@ VkFormat Filter::pyramidFormat() const {
 bool Filter::outputNeedsTransfer() const { return impl_->plan.convertOutput; }
 
 std::vector<PassTime> Filter::timings() const {
-    if (impl_->batched) return impl_->batchTimer->timings();
     // After record(), the caller's submission has completed when this is called.
     const Recording& r = *impl_->current;
     if (!r.timed) return {};

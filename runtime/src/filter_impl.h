@@ -54,7 +54,8 @@ struct Recording {
 
     uint64_t completion = 0; // the semaphore value that ends its last recording; 0: none pending
 
-    // The tools' own source and output cubes (run()), made at the set's first run().
+    // The tools' own source and output cubes (run()), a cube-map array for a batch, made at the set's
+    // first run().
     CubeImageResource runSource, runOutput;
     ImageView runSourceView;
 };
@@ -83,9 +84,7 @@ struct Filter::Impl {
     Recording* slicedUpdate = nullptr; // the set of the last pyramid slice, until another recording takes it
     // The Filter's timeline semaphore: recording n (from 1) has completed once it reaches n.
     VkSemaphore completed = VK_NULL_HANDLE;
-    uint64_t recorded = 0;                // recordings so far
-    std::unique_ptr<GpuTimer> batchTimer; // a batch run() as a whole
-    bool batched = false;                 // the last run was a batch: timings() are the batch's
+    uint64_t recorded = 0; // recordings so far
 
     std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
     std::unique_ptr<ComputePipeline> pass1Tail;     // hardware sampling: the mips from pyramidTailLevel down, in one workgroup
@@ -124,8 +123,12 @@ struct Filter::Impl {
 
     // Makes the current set's output views and every descriptor set for this source and output.
     void bindImages(VkImageView source, VkImage output);
-    // A pipeline of the Filter's layout, through the settings' pipeline cache.
+    // A pipeline of the Filter's layout, through the settings' pipeline cache, for its batch size.
     std::unique_ptr<ComputePipeline> pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization = {}) const;
+    // The view type of the cubes the passes sample: a cube-map array for a batch.
+    VkImageViewType cubeViewType() const;
+    // A shader's SPIR-V, or its batch variant (shaders/batch.glsl) for a batch.
+    std::span<const uint32_t> batchVariant(std::span<const uint32_t> single, std::span<const uint32_t> batch) const;
     // Timer reset, a barrier against earlier use of the Filter's resources, boundary 0, pass 1 and a
     // barrier, a boundary; then the output levels with no barrier between them (they write disjoint
     // mips and read only the pyramid), a dispatch per level group and a boundary after the last, or
@@ -145,6 +148,8 @@ struct Filter::Impl {
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
     // timestamps.
     void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps);
+    // Tools: uploads the batch's probes, runs the passes `repeat` times and returns each one's levels.
+    std::vector<CubeLevels> runBatch(std::span<const CubeImage> sources, int repeat, Timestamps timestamps);
     // A compute barrier of the passes (computeBarrier), counted in `barriers`.
     void barrier(VkCommandBuffer commandBuffer);
 };

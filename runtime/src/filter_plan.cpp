@@ -92,18 +92,19 @@ bool DeviceCapabilities::has(VkFormat format, VkFormatFeatureFlags needed) const
     return f != formatFeatures.end() && (f->second & needed) == needed;
 }
 
-std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, const DeviceCapabilities& d) {
+std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int cubes, const DeviceCapabilities& d) {
     const std::vector<uint32_t> offsets = pyramidOffsetsFor(faceSize, depth + 1);
+    const int layers = kFaceCount * cubes;
     const std::size_t range = d.maxStorageBufferRange / kTexelBytes;
     // A binding's offset is a multiple of the alignment (a power of two), in bytes.
     const std::size_t alignment = std::max<std::size_t>(1, d.minStorageBufferOffsetAlignment / kTexelBytes);
     std::vector<PyramidWindow> windows;
     for (int level = 0; level <= depth; ++level) {
         const std::size_t perFace = pyramidLevelTexels(faceSize >> level) / kFaceCount;
-        for (int face = 0; face < kFaceCount;) {
-            const std::size_t start = offsets[level] + face * perFace, first = start / alignment * alignment;
+        for (int face = 0; face < layers;) {
+            const std::size_t start = std::size_t(cubes) * offsets[level] + face * perFace, first = start / alignment * alignment;
             int count = 0;
-            while (face + count < kFaceCount && start + (count + 1) * perFace - first <= range) ++count;
+            while (face + count < layers && start + (count + 1) * perFace - first <= range) ++count;
             if (count == 0)
                 throw ProbeError(fmt::format("Vulkan: {} writes storage buffers of at most {:.1f} MiB, and a face of the {}^2 pyramid "
                                              "takes {:.1f} MiB; use a smaller --size",
@@ -122,6 +123,8 @@ DeviceCapabilities capabilitiesOf(const Device& device) {
     c.name = d.info.name;
     c.cpu = d.info.type == "cpu";
     c.computeSubgroupVote = d.computeSubgroupVote;
+    c.imageCubeArray = d.imageCubeArray;
+    c.maxImageArrayLayers = d.limits.maxImageArrayLayers;
     c.maxStorageBufferRange = d.limits.maxStorageBufferRange;
     c.minStorageBufferOffsetAlignment = d.limits.minStorageBufferOffsetAlignment;
     c.maxTexelBufferElements = d.limits.maxTexelBufferElements;
@@ -136,6 +139,17 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     validateMethod(s.method, s.faceSize, s.levelCount, s.mapping);
     if (s.inFlight < 1 || s.inFlight > 64)
         throw ParameterError("inFlight", fmt::format("{}: recordings in flight are 1 to 64", s.inFlight));
+    if (s.batchSize < 1 || s.batchSize > kMaxBatchSize)
+        throw ParameterError("batchSize", fmt::format("{}: a batch is 1 to {} probes", s.batchSize, kMaxBatchSize));
+    if (s.batchSize > 1 && (s.method.kind == MethodKind::reference || readsParaboloid(s.method)))
+        throw ParameterError("batchSize",
+                             fmt::format("{}: {} filters one probe at a time", s.batchSize,
+                                         s.method.kind == MethodKind::reference ? "the reference" : "FIS on a paraboloid map"));
+    if (s.batchSize > 1 && !d.imageCubeArray)
+        throw ProbeError(fmt::format("Vulkan: {} has no imageCubeArray feature, which a batch's cube-map arrays need", d.name));
+    if (uint32_t(kFaceCount * s.batchSize) > d.maxImageArrayLayers)
+        throw ProbeError(fmt::format("Vulkan: {} makes images of at most {} layers, and a batch of {} takes {}", d.name,
+                                     d.maxImageArrayLayers, s.batchSize, kFaceCount * s.batchSize));
     FilterPlan plan;
     plan.pyramidLevels = pyramidLevelCount(s.faceSize);
     plan.pyramidDepth = s.pyramidDepth < 0 ? plan.pyramidLevels - 1 : s.pyramidDepth;
@@ -196,7 +210,7 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
     plan.pyramidOffsets = pyramidOffsetsFor(s.faceSize, plan.pyramidLevels);
-    if (plan.buildsPyramid && plan.sampling == Sampling::exact) plan.pyramidTexels = plan.pyramidOffsets.back();
+    if (plan.buildsPyramid && plan.sampling == Sampling::exact) plan.pyramidTexels = std::size_t(s.batchSize) * plan.pyramidOffsets.back();
     else if (kind == MethodKind::reference && filters) plan.pyramidTexels = plan.pyramidOffsets[1];
     if (kind == MethodKind::reference) plan.accumulatorTexels = plan.outputOffsets.back();
     if (plan.paraboloid) plan.accumulatorTexels = paraboloidMapTexels(s.faceSize);
@@ -214,7 +228,8 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
                                      d.name, static_cast<double>(plan.accumulatorTexels * kTexelBytes) / (1 << 20), s.faceSize,
                                      static_cast<double>(d.maxStorageBufferRange) / (1 << 20)));
     if (plan.pyramidTexels > 1)
-        plan.pyramidWindows = pyramidWindows(s.faceSize, plan.buildsPyramid && plan.sampling == Sampling::exact ? plan.pyramidDepth : 0, d);
+        plan.pyramidWindows =
+            pyramidWindows(s.faceSize, plan.buildsPyramid && plan.sampling == Sampling::exact ? plan.pyramidDepth : 0, s.batchSize, d);
     for (const std::size_t texels : {plan.pyramidTexels, plan.geometryTexels})
         if (texels > d.maxTexelBufferElements)
             throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size", d.name,

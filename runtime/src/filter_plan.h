@@ -16,12 +16,14 @@
 namespace probe::gpu {
 
 // What the plan needs of a device: its name (for messages), whether it is a CPU device (automatic
-// sampling reads exactly there), subgroup votes in compute shaders, the buffer limits and the
-// optimal-tiling features of the formats the runtime uses.
+// sampling reads exactly there), subgroup votes in compute shaders, cube-map arrays (batches), the
+// buffer and layer limits and the optimal-tiling features of the formats the runtime uses.
 struct DeviceCapabilities {
     std::string name;
     bool cpu = false;
     bool computeSubgroupVote = true;
+    bool imageCubeArray = true;
+    uint32_t maxImageArrayLayers = 256;
     VkDeviceSize maxStorageBufferRange = 0;
     VkDeviceSize minStorageBufferOffsetAlignment = 1;
     uint32_t maxTexelBufferElements = 0;
@@ -32,7 +34,8 @@ struct DeviceCapabilities {
 DeviceCapabilities capabilitiesOf(const Device& device);
 
 // Part of the bordered pyramid buffer that pass 1 writes through one storage-buffer binding: the
-// faces [firstFace, firstFace + faceCount) of one level, bound from texel `first` (aligned as the
+// faces [firstFace, firstFace + faceCount) of one level (layers of a batch's cubes, which the buffer
+// holds level by level: shaders/buffers.glsl), bound from texel `first` (aligned as the
 // device asks) for `texels` texels, within the device's storage-buffer range. The whole buffer is
 // read as a texel buffer, whose limit is in elements: at 2048^2 it is 513.5 MiB where every device
 // guarantees a storage-buffer range of 128 MiB.
@@ -44,10 +47,13 @@ struct PyramidWindow {
     std::size_t texels = 0;
 };
 
-// The windows of levels 0..depth of a bordered pyramid of `faceSize`, in level order: one per level
-// where the level fits the range, else runs of whole faces. Throws ProbeError where one face does
-// not fit.
-std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, const DeviceCapabilities& device);
+// The windows of levels 0..depth of a bordered pyramid of `faceSize` with `cubes` cubes, in level
+// order: one per level where the level fits the range, else runs of whole faces. Throws ProbeError
+// where one face does not fit.
+std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int cubes, const DeviceCapabilities& device);
+
+// The most probes a batch holds (FilterSettings::batchSize).
+inline constexpr int kMaxBatchSize = 256;
 
 struct FilterPlan {
     Sampling sampling = Sampling::exact;                    // resolved: the reference and the paraboloid map read exactly
@@ -62,13 +68,15 @@ struct FilterPlan {
     // share one, at most kWrittenMipCount of them (the storage images a dispatch writes); a copy and
     // a reference level each have their own.
     std::vector<std::vector<int>> levelGroups;
-    uint32_t copyLevels = 0;                   // bit m: output level m has alpha = 0, a copy of the source
-    uint32_t fisLevels = 0;                    // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)
-    bool filters = false;                      // a computed level is filtered, not copied
-    bool buildsPyramid = false;                // pass 1 builds a pyramid (table or fis with a filtered level computed)
-    bool paraboloid = false;                   // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
-    std::vector<uint32_t> outputOffsets;       // first texel of each output level (packed), and the total
-    std::vector<uint32_t> pyramidOffsets;      // first texel of each bordered pyramid level (buffer.h), and the total
+    uint32_t copyLevels = 0;             // bit m: output level m has alpha = 0, a copy of the source
+    uint32_t fisLevels = 0;              // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)
+    bool filters = false;                // a computed level is filtered, not copied
+    bool buildsPyramid = false;          // pass 1 builds a pyramid (table or fis with a filtered level computed)
+    bool paraboloid = false;             // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
+    std::vector<uint32_t> outputOffsets; // first texel of each output level (packed), and the total
+    // First texel of each bordered pyramid level of a cube (buffer.h), and the total; a batch's level k
+    // starts at batchSize times its offset.
+    std::vector<uint32_t> pyramidOffsets;
     std::vector<PyramidWindow> pyramidWindows; // where pass 1 writes the bordered pyramid (exact sampling, the reference)
     // The geometry buffer holds every pyramid level's directions and solid angles where exact sampling
     // or the box pyramid reads them (hardware sampling computes its directions), else one texel.

@@ -9,6 +9,9 @@
 #include <fis_exact_rgba16f.spv.h>
 #include <fis_exact_rgba32f.spv.h>
 #include <fis_hardware_b10g11r11.spv.h>
+#include <fis_hardware_batch_b10g11r11.spv.h>
+#include <fis_hardware_batch_rgba16f.spv.h>
+#include <fis_hardware_batch_rgba32f.spv.h>
 #include <fis_hardware_rgba16f.spv.h>
 #include <fis_hardware_rgba32f.spv.h>
 #include <fis_paraboloid_b10g11r11.spv.h>
@@ -36,7 +39,9 @@ std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
     const std::span<const uint32_t> spirv =
         impl.plan.paraboloid ? outputVariant(impl, {kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
         : impl.plan.sampling == Sampling::hardware
-            ? outputVariant(impl, {kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv})
+            ? impl.batchVariant(
+                  outputVariant(impl, {kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv}),
+                  outputVariant(impl, {kFisHardwareBatchRgba32fSpv, kFisHardwareBatchRgba16fSpv, kFisHardwareBatchB10g11r11Spv}))
             : outputVariant(impl, {kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
     return impl.pipeline(spirv);
 }
@@ -60,7 +65,8 @@ void recordFisLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::spa
         constants.firstSample[k] = impl.sampleOffsets[std::size_t(levels.front()) + std::min(k, levels.size())];
     // A table's level handed to FIS runs the Filter's FIS pipeline beside the table's.
     const ComputePipeline& pipeline = impl.settings.method.kind == MethodKind::table ? *impl.handOff : *impl.pass2;
-    dispatchPass(impl, commandBuffer, pipeline, "fis", levels.front(), constants, constants.groupEnd.back(), 1, int(levels.size()));
+    dispatchPass(impl, commandBuffer, pipeline, "fis", levels.front(), constants, constants.groupEnd.back(), uint32_t(s.batchSize),
+                 int(levels.size()));
 }
 
 } // namespace probe::gpu

@@ -13,15 +13,15 @@
 
 namespace probe::gpu {
 
-CubeImageResource::CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage)
-    : device_(device.device()), format_(format), faceSize_(faceSize), mips_(mips) {
+CubeImageResource::CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes)
+    : device_(device.device()), format_(format), faceSize_(faceSize), mips_(mips), layers_(uint32_t(kFaceCount * cubes)) {
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
     info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
     info.imageType = VK_IMAGE_TYPE_2D;
     info.format = format;
     info.extent = {uint32_t(faceSize), uint32_t(faceSize), 1};
     info.mipLevels = uint32_t(mips);
-    info.arrayLayers = kFaceCount;
+    info.arrayLayers = layers_;
     info.samples = VK_SAMPLE_COUNT_1_BIT;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = usage;
@@ -55,6 +55,7 @@ CubeImageResource& CubeImageResource::operator=(CubeImageResource&& other) noexc
         format_ = other.format_;
         faceSize_ = other.faceSize_;
         mips_ = other.mips_;
+        layers_ = other.layers_;
     }
     return *this;
 }
@@ -66,13 +67,14 @@ void CubeImageResource::release() {
     memory_ = VK_NULL_HANDLE;
 }
 
-ImageView::ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount)
+ImageView::ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount,
+                     uint32_t layers)
     : device_(device) {
     VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     info.image = image;
     info.viewType = type;
     info.format = format;
-    info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, kFaceCount};
+    info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, layers};
     vkCheck(vkCreateImageView(device_, &info, nullptr, &view_), "vkCreateImageView");
 }
 
@@ -151,7 +153,7 @@ void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMi
     barrier.newLayout = to;
     barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, kFaceCount};
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, VK_REMAINING_ARRAY_LAYERS};
     vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 

@@ -10,11 +10,12 @@
 
 namespace probe::gpu {
 
-// A 2D image of 6 array layers (cube compatible) and `mips` mips from `faceSize`, device local.
+// A 2D image of 6 array layers per cube (cube compatible: `cubes` of them, a cube-map array for a
+// batch) and `mips` mips from `faceSize`, device local.
 class CubeImageResource {
 public:
     CubeImageResource() = default;
-    CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage);
+    CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes = 1);
     ~CubeImageResource();
     CubeImageResource(CubeImageResource&& other) noexcept;
     CubeImageResource& operator=(CubeImageResource&& other) noexcept;
@@ -23,6 +24,7 @@ public:
     VkFormat format() const { return format_; }
     int faceSize() const { return faceSize_; }
     int mips() const { return mips_; }
+    uint32_t layers() const { return layers_; }
 
 private:
     void release();
@@ -33,14 +35,16 @@ private:
     VkFormat format_ = VK_FORMAT_UNDEFINED;
     int faceSize_ = 0;
     int mips_ = 0;
+    uint32_t layers_ = 0;
 };
 
-// A view of mips [firstMip, firstMip + mipCount) of a 6-layer image: a cube to sample, or a 2D
-// array (the faces as layers) to store to or fetch from.
+// A view of mips [firstMip, firstMip + mipCount) and layers [0, layers) of an image: a cube (or a
+// cube-map array) to sample, or a 2D array (the faces as layers) to store to or fetch from.
 class ImageView {
 public:
     ImageView() = default;
-    ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount);
+    ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount,
+              uint32_t layers = kFaceCount);
     ~ImageView();
     ImageView(ImageView&& other) noexcept;
     ImageView& operator=(ImageView&& other) noexcept;

@@ -14,9 +14,14 @@
 
 #include <paraboloid_map.spv.h>
 #include <pyramid.spv.h>
+#include <pyramid_batch.spv.h>
 #include <pyramid_corners.spv.h>
+#include <pyramid_image_batch_rgba16f.spv.h>
+#include <pyramid_image_batch_rgba32f.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
+#include <pyramid_tail_batch_rgba16f.spv.h>
+#include <pyramid_tail_batch_rgba32f.spv.h>
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
 
@@ -56,7 +61,8 @@ void makePyramidPipelines(Filter::Impl& impl) {
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
     if (impl.plan.sampling == Sampling::hardware) {
         const bool half = impl.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-        const std::span<const uint32_t> spirv = half ? std::span<const uint32_t>(kPyramidImageRgba16fSpv) : kPyramidImageRgba32fSpv;
+        const std::span<const uint32_t> spirv = half ? impl.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
+                                                     : impl.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
         impl.pass1 = impl.pipeline(spirv, specialization);
         if (impl.plan.pyramidFromSource) // the shader's kFromSource
             impl.pass1Source = impl.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
@@ -65,12 +71,13 @@ void makePyramidPipelines(Filter::Impl& impl) {
             const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
             const auto lanes = int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
             const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], lanes};
-            impl.pass1Tail =
-                impl.pipeline(half ? std::span<const uint32_t>(kPyramidTailRgba16fSpv) : kPyramidTailRgba32fSpv, tailSpecialization);
+            impl.pass1Tail = impl.pipeline(half ? impl.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
+                                                : impl.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
+                                           tailSpecialization);
         }
         return;
     }
-    impl.pass1 = impl.pipeline(kPyramidSpv, specialization);
+    impl.pass1 = impl.pipeline(impl.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);
     if (impl.plan.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
     if (impl.plan.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
 }
@@ -95,7 +102,7 @@ double pyramidTexelTaps(const Filter::Impl& impl) {
         taps += 4.0 * double(texelCount(impl.settings.faceSize >> level));
     if (impl.paraboloidMap)
         for (int size = paraboloidSize(impl.settings.faceSize); size >= 1; size /= 2) taps += 4.0 * 2.0 * size * size;
-    return taps;
+    return taps * impl.settings.batchSize;
 }
 
 namespace {
@@ -129,9 +136,10 @@ void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
 }
 
 // Hardware sampling: each mip of the pyramid image (mips 0 and 1 in one dispatch where the plan says
-// so), the tail's in one dispatch.
+// so), the tail's in one dispatch; a layer of workgroups per cube of a batch.
 void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const FilterSettings& s = impl.settings;
+    const auto cubes = uint32_t(s.batchSize);
     const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
     const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
     int level = 0;
@@ -139,20 +147,20 @@ void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[0]);
         const PyramidConstants constants{s.faceSize, 0};
         const std::size_t texels = texelCount(s.faceSize) + texelCount(s.faceSize >> 1);
-        dispatchPass(impl, commandBuffer, *impl.pass1Source, "pyramid", 0, constants, groupsFor(texels), 1, 2);
+        dispatchPass(impl, commandBuffer, *impl.pass1Source, "pyramid", 0, constants, groupsFor(texels), cubes, 2);
         level = 2;
     }
     for (; level <= lastSingle; ++level) {
         if (level > 0) impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
-        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)));
+        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)), cubes);
     }
     if (impl.pass1Tail) {
         impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.plan.pyramidTailLevel]);
         const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth};
-        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1);
+        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1, cubes);
     }
 }
 

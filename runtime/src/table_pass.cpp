@@ -8,6 +8,9 @@
 #include <table_filter_exact_rgba16f.spv.h>
 #include <table_filter_exact_rgba32f.spv.h>
 #include <table_filter_hardware_b10g11r11.spv.h>
+#include <table_filter_hardware_batch_b10g11r11.spv.h>
+#include <table_filter_hardware_batch_rgba16f.spv.h>
+#include <table_filter_hardware_batch_rgba32f.spv.h>
 #include <table_filter_hardware_rgba16f.spv.h>
 #include <table_filter_hardware_rgba32f.spv.h>
 
@@ -31,7 +34,10 @@ struct TableConstants {
 std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
     const std::span<const uint32_t> spirv =
         impl.plan.sampling == Sampling::hardware
-            ? outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv})
+            ? impl.batchVariant(
+                  outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv}),
+                  outputVariant(impl, {kTableFilterHardwareBatchRgba32fSpv, kTableFilterHardwareBatchRgba16fSpv,
+                                       kTableFilterHardwareBatchB10g11r11Spv}))
             : outputVariant(impl, {kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
     // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
     const TapTable& table = *impl.settings.method.table;
@@ -55,7 +61,8 @@ uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(t
 
 void recordTableLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {
     const FilterSettings& s = impl.settings;
-    // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp).
+    // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp);
+    // either for each cube of a batch.
     const bool hardware = impl.plan.sampling == Sampling::hardware;
     const auto groupsOf = [&](int m) {
         const std::size_t size = std::size_t(s.faceSize >> m);
@@ -64,7 +71,7 @@ void recordTableLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::s
     const TableConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, levels.front(), impl.tableUsageFirst,
                                    levelGroupEnds(levels, groupsOf)};
     dispatchPass(impl, commandBuffer, *impl.pass2, "table", levels.front(), constants, constants.groupEnd.back(),
-                 hardware ? kFaceCount : 1u, int(levels.size()));
+                 uint32_t(hardware ? kFaceCount * s.batchSize : s.batchSize), int(levels.size()));
 }
 
 } // namespace probe::gpu

@@ -66,7 +66,8 @@ public:
     // be Vulkan 1.2+, and so must the instance's apiVersion (the runtime's SPIR-V is 1.5); `queue`
     // belongs to `queueFamily`, which must support compute. The runtime needs one device feature,
     // timelineSemaphore (Vulkan 1.2 core, which every 1.2 device has: enable it in
-    // VkPhysicalDeviceVulkan12Features), and no extension (the exact sampling mode's table shader uses
+    // VkPhysicalDeviceVulkan12Features), and for batches (FilterSettings::batchSize) imageCubeArray
+    // (Vulkan 1.0, on every desktop GPU), and no extension (the exact sampling mode's table shader uses
     // subgroup vote, a core operation that every desktop driver has). The Filter's constructor (unless given an
     // initialization command buffer), run() and downloadPyramid(), the SH projector and the sphere
     // renderer submit to `queue` and wait: Vulkan has the caller keep other threads from submitting
@@ -141,6 +142,14 @@ struct FilterSettings {
     // turn, so that K probes may be recorded into one submission, or K frames' recordings be pending,
     // before record() refuses another (Filter::record).
     int inFlight = 2;
+    // The probes one recording filters (P, 1 to 256, at most a sixth of the device's
+    // maxImageArrayLayers), kept as cube-map arrays, as engines keep probes: with P > 1 the source is a
+    // VK_IMAGE_VIEW_TYPE_CUBE_ARRAY view of 6 P layers and the output has 6 P layers, probe p in layers
+    // 6p to 6p + 5, and every pass covers all P in the dispatches one probe takes, so that their count
+    // does not grow with P. Table and FIS only (not the reference, nor FIS on a paraboloid map); needs
+    // the device's imageCubeArray feature. Each probe's levels equal, bit for bit, those of a Filter of
+    // batchSize 1.
+    int batchSize = 1;
     // Pass 1 builds pyramid levels 1..pyramidDepth only (-1: all, down to 1x1; table and fis); none
     // of it when every level computed is a copy (alpha = 0). The levels computed must read no deeper:
     // probe::deepestPyramidLevelRead of their taps (probe/plan.h) is the depth they need.
@@ -177,25 +186,28 @@ struct Dispatch {
 };
 
 // The caller's source cube for Filter::record, described as the engine made it (record() checks
-// every field and refuses a mismatch naming it): a view of type VK_IMAGE_VIEW_TYPE_CUBE whose first
-// mip is the S_0 face size (other mips are not read), of a format the device can sample
+// every field and refuses a mismatch naming it): a view of type VK_IMAGE_VIEW_TYPE_CUBE (of
+// VK_IMAGE_VIEW_TYPE_CUBE_ARRAY with 6 P layers for a batch of P) whose first mip is the S_0 face
+// size (other mips are not read), of a format the device can sample
 // (VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT): RGBA16F, RGBA32F and B10G11R11 on every desktop GPU.
 struct SourceCube {
     VkImageView view = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
-    VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_MAX_ENUM; // the view's type: VK_IMAGE_VIEW_TYPE_CUBE
+    VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_MAX_ENUM; // the view's type: VK_IMAGE_VIEW_TYPE_CUBE (or _CUBE_ARRAY)
     uint32_t faceSize = 0;                                  // the view's first mip: S_0
+    uint32_t arrayLayers = 6;                               // the view's layers: 6 (6 P)
 };
 
 // The caller's output cube for Filter::record, described as the engine made it: a 2D image with 6
-// array layers (cube compatible or not) and at least M mips, mip m of face size S_0 >> m, of
-// FilterSettings::outputFormat, with usage STORAGE (TRANSFER_DST where outputNeedsTransfer()).
+// array layers (6 P for a batch of P; cube compatible or not) and at least M mips, mip m of face size
+// S_0 >> m, of FilterSettings::outputFormat, with usage STORAGE (TRANSFER_DST where
+// outputNeedsTransfer()).
 struct OutputCube {
     VkImage image = VK_NULL_HANDLE;
     VkFormat format = VK_FORMAT_UNDEFINED;
     uint32_t faceSize = 0;       // mip 0's width and height: S_0
     uint32_t mipLevels = 0;      // at least M
-    uint32_t arrayLayers = 0;    // 6
+    uint32_t arrayLayers = 0;    // 6 (6 P)
     VkImageUsageFlags usage = 0; // as created
 };
 
@@ -305,10 +317,10 @@ public:
     // output levels as run() does; sliceMs gets each slice's GPU time (empty without timestamps).
     CubeLevels run(const CubeImage& source, const std::vector<Slice>& slices, std::vector<double>& sliceMs);
 
-    // Tools: a batch, every probe in its own set (at most FilterSettings::inFlight of them) recorded
-    // one after another into one command buffer, submitted `repeat` times; returns each probe's levels
-    // as run() does. timings() then gives the batch's GPU time as "batch" and "total", dispatches() and
-    // barriers() the whole batch's.
+    // Tools: a batch of FilterSettings::batchSize probes, uploaded into one cube-map array and filtered
+    // by one recording, submitted `repeat` times; returns each probe's levels as run() does (the
+    // one-probe run() needs a batch size of 1). timings() then gives the batch's GPU time as "batch"
+    // and "total".
     std::vector<CubeLevels> run(const std::vector<CubeImage>& sources, int repeat = 1);
 
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
@@ -329,8 +341,8 @@ public:
     // after a previous use of the Filter's resources).
     const std::vector<Dispatch>& dispatches() const;
     int barriers() const;
-    // The pyramid of the last run (levels 0..pyramidDepth, log2(S_0) by default); empty for the
-    // reference method.
+    // The pyramid of the last run (levels 0..pyramidDepth, log2(S_0) by default; a batch's first
+    // probe's); empty for the reference method.
     CubeLevels downloadPyramid() const;
 
     struct Impl;
