@@ -304,9 +304,9 @@ private:
             std::vector<probe::gpu::Dispatch> pyramid, others;
             for (const probe::gpu::Dispatch& d : all) (d.pass == "pyramid" ? pyramid : others).push_back(d);
             if (!pyramid.empty())
-                passes[b].push_back(pass(set.sheen ? probe::sheenPyramidPass(q.name, pyramid.back().level)
-                                                   : probe::pyramidPass(q.name, pyramid.back().level),
-                                         "gpu", describeDispatches(pyramid)));
+                passes[b].push_back(
+                    pass(set.sheen ? probe::sheenPyramidPass(q.name, set.pyramidDepth) : probe::pyramidPass(q.name, set.pyramidDepth),
+                         "gpu", describeDispatches(pyramid)));
             // Named by what ran: the method's pass, or FIS at a level the table hands to it; a dispatch
             // that writes several levels (a batch's) is each one's.
             for (const probe::gpu::Dispatch& d : others) {

@@ -1,9 +1,12 @@
-// Pass 1 with hardware sampling, its small mips in one dispatch: one workgroup builds mips
-// params.level (face size PROBE_PYRAMID_TAIL_SIZE or less) to params.lastLevel, where a dispatch per
-// mip would pay a barrier each for a few hundred texels or fewer. The first mip reads the one above
-// through the sampler, as pyramid_image.comp does; each later one reads the mip before from shared
-// memory, which keeps it with a one-texel border per face as the exact path's buffer does
-// (pyramid.comp, pyramid_corners.comp) and reads it with that path's arithmetic (footprint.glsl).
+// Pass 1, its small mips in one dispatch: one workgroup (per cube of a batch) builds mips params.level
+// (face size PROBE_PYRAMID_TAIL_SIZE or less) to params.lastLevel, where a dispatch per mip would pay
+// a barrier each for a few hundred texels or fewer. The first mip reads the one above through the
+// sampler, as pyramid_image.comp does (with PROBE_EXACT_TAIL, exact sampling's: from the bordered
+// buffer, as pyramid.comp does); each later one reads the mip before from shared memory, which keeps
+// it with a one-texel border per face as the exact path's buffer does (pyramid.comp,
+// pyramid_corners.comp) and reads it with that path's arithmetic (footprint.glsl). Hardware sampling
+// stores each mip's faces to the pyramid image; exact sampling each mip's bordered texels, border
+// and corners included, to the buffer, the same values pyramid.comp and pyramid_corners.comp write.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -26,6 +29,7 @@ layout(push_constant) uniform Params {
     int faceSize;  // S_0
     int level;     // the first mip written (face size PROBE_PYRAMID_TAIL_SIZE or less), from mip level - 1
     int lastLevel; // the last mip written
+    uint window;   // PROBE_EXACT_TAIL: the first texel of the window bound at binding 0
 } params;
 
 // Two bordered mips, the one read and the one written: the first mip written at 0, the next after
@@ -39,8 +43,12 @@ int fineFirst = -1;
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
     if (fineFirst < 0) {
+#ifdef PROBE_EXACT_TAIL
+        return sampleBilinear(params.faceSize, params.level - 1, face, x, y);
+#else
         vec2 uv = texelToFaceUv(x, y, fineSize);
         return pyramidRead(faceUvToCubePoint(face, uv.x, uv.y), 0.0);
+#endif
     }
     vec2 f;
     uint t = uint(fineFirst) + bilinearFootprint(fineSize, face, x, y, f);
@@ -49,7 +57,12 @@ vec3 probeSampleFine(int face, float x, float y, int fineSize) {
 }
 #include "pyramid_bspline.glsl"
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
+#ifdef PROBE_EXACT_TAIL
+    if (fineFirst < 0)
+        return pyramidTexel(pyramidLevelFirst(params.faceSize, params.level - 1) + pyramidTexelIndex(face, i, j, fineSize));
+#else
     if (fineFirst < 0) return pyramidRead(texelCubePoint(face, i, j, fineSize), 0.0); // at the centre: the texel
+#endif
     return tailTexels[uint(fineFirst) + pyramidTexelIndex(face, i, j, fineSize)];
 }
 #include "pyramid_box.glsl"
@@ -78,8 +91,10 @@ void main() {
             vec3 value;
             if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
             else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
+#ifndef PROBE_EXACT_TAIL
             value = clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX);
             storeTailMip(level - params.level, t, value);
+#endif
             tailTexels[first + pyramidTexelIndex(t.z, t.x, t.y, size)] = value;
         }
         memoryBarrierShared();
@@ -106,6 +121,12 @@ void main() {
         }
         memoryBarrierShared();
         barrier();
+#ifdef PROBE_EXACT_TAIL
+        // The bordered mip, laid out in shared memory as in the buffer.
+        uint row = uint(size + 2), levelFirst = pyramidLevelFirst(params.faceSize, level);
+        for (uint index = lane; index < 6u * row * row; index += lanes)
+            storePyramid(levelFirst + index, params.window, tailTexels[first + index]);
+#endif
         fineFirst = int(first);
     }
 }

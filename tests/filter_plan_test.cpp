@@ -155,23 +155,28 @@ TEST(FilterPlan, PyramidWindowsCoverEachLevelWithinTheStorageRange) {
         EXPECT_GE(w.faceCount, 1);
         face += w.faceCount;
         ++windowsOf[std::size_t(w.level)];
-        // Aligned, within the range, and holding the window's faces.
+        // Aligned, within the range, and holding the window's faces (the tail's: its levels' faces).
         const std::size_t perFace = pyramidLevelTexels(2048 >> w.level) / kFaceCount;
         const std::size_t start = plan.pyramidOffsets[std::size_t(w.level)] + std::size_t(w.firstFace) * perFace;
+        const bool tail = w.level == plan.pyramidTailLevel;
         EXPECT_EQ(w.first * 16 % 256, 0u);
         EXPECT_LE(w.first, start);
-        EXPECT_EQ(w.first + w.texels, start + std::size_t(w.faceCount) * perFace);
+        EXPECT_EQ(w.first + w.texels, tail ? plan.pyramidOffsets.back() : start + std::size_t(w.faceCount) * perFace);
         EXPECT_LE(w.texels * 16, std::size_t(1) << 27);
     }
-    EXPECT_EQ(level, plan.pyramidLevels - 1);
+    EXPECT_EQ(plan.pyramidTailLevel, 8); // 8^2: the tail writes levels 8 to 11 through one window
+    EXPECT_EQ(level, plan.pyramidTailLevel);
     EXPECT_EQ(face, kFaceCount);
     EXPECT_EQ(windowsOf[0], 6); // a 2050^2 face takes 64.1 MiB: one a window
     EXPECT_EQ(windowsOf[1], 1); // the whole level takes 96.5 MiB
-    // 128^2 and the reference: one window per level written.
+    // 128^2 and the reference: one window per level written, the tail's for levels 4 to 7.
     EXPECT_EQ(planFilter(fisSettings(128), d).pyramidWindows.size(), 0u); // FIS reads a cube image where it can
     FilterSettings exact128 = fisSettings(128);
     exact128.sampling = Sampling::exact;
-    EXPECT_EQ(planFilter(exact128, d).pyramidWindows.size(), 8u);
+    EXPECT_EQ(planFilter(exact128, d).pyramidWindows.size(), 5u);
+    exact128.pyramidDepth = 3; // no level from the tail's on
+    EXPECT_EQ(planFilter(exact128, d).pyramidTailLevel, 0);
+    EXPECT_EQ(planFilter(exact128, d).pyramidWindows.size(), 4u);
     FilterSettings reference = exact128;
     reference.method.kind = MethodKind::reference;
     ASSERT_EQ(planFilter(reference, d).pyramidWindows.size(), 1u);
@@ -180,7 +185,8 @@ TEST(FilterPlan, PyramidWindowsCoverEachLevelWithinTheStorageRange) {
 
 TEST(FilterPlan, BatchPyramidHoldsEachLevelOfEveryCubeInTurn) {
     // 64 exact 128^2 probes: level 0 of all of them (384 faces of 130^2 texels, 98.9 MiB) in one
-    // window, each level after the last one of every cube, the buffer 64 times one probe's.
+    // window, each level after the last one of every cube, the buffer 64 times one probe's; the
+    // tail's window from its level to the buffer's end.
     FilterSettings s = fisSettings(128);
     s.sampling = Sampling::exact;
     const FilterPlan one = planFilter(s, gpu());
@@ -194,7 +200,8 @@ TEST(FilterPlan, BatchPyramidHoldsEachLevelOfEveryCubeInTurn) {
         EXPECT_EQ(w.firstFace, 0);
         EXPECT_EQ(w.faceCount, 64 * kFaceCount);
         EXPECT_EQ(w.first, 64 * std::size_t(plan.pyramidOffsets[std::size_t(w.level)]));
-        EXPECT_EQ(w.texels, pyramidLevelTexels(128 >> w.level) * 64);
+        if (w.level == plan.pyramidTailLevel) EXPECT_EQ(w.first + w.texels, plan.pyramidTexels);
+        else EXPECT_EQ(w.texels, pyramidLevelTexels(128 >> w.level) * 64);
     }
     // A range of 100 faces at level 0: four windows of whole faces across the cubes.
     d.maxStorageBufferRange = 100 * 130 * 130 * 16;

@@ -298,7 +298,7 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             // reads both from the source; any other dispatch its one mip.
             std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
             if (k == 0 && plan.pyramidFromSource) mips.push_back(r.pyramidMipArrays[1].handle());
-            if (k == plan.pyramidTailLevel)
+            if (plan.pyramidTailLevel > 0 && k == plan.pyramidTailLevel)
                 for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
                     mips.push_back(r.pyramidMipArrays[e].handle());
             descriptors->writeMips(set, mips);

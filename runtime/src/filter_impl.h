@@ -87,7 +87,7 @@ struct Filter::Impl {
     uint64_t recorded = 0; // recordings so far
 
     std::unique_ptr<ComputePipeline> pass1;         // the pyramid (the reference: its level 0, the source)
-    std::unique_ptr<ComputePipeline> pass1Tail;     // hardware sampling: the mips from pyramidTailLevel down, in one workgroup
+    std::unique_ptr<ComputePipeline> pass1Tail;     // the levels from pyramidTailLevel down, in one workgroup
     std::unique_ptr<ComputePipeline> pass1Source;   // hardware sampling: mips 0 and 1 from the source (plan.pyramidFromSource)
     std::unique_ptr<ComputePipeline> pass1Corners;  // exact sampling: the border corners of each pyramid level
     std::unique_ptr<ComputePipeline> paraboloidMap; // fis on a paraboloid map: its levels, after the source's level

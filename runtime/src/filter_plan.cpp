@@ -92,13 +92,19 @@ bool DeviceCapabilities::has(VkFormat format, VkFormatFeatureFlags needed) const
     return f != formatFeatures.end() && (f->second & needed) == needed;
 }
 
-std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int cubes, const DeviceCapabilities& d) {
+std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int tailLevel, int cubes, const DeviceCapabilities& d) {
     const std::vector<uint32_t> offsets = pyramidOffsetsFor(faceSize, depth + 1);
     const int layers = kFaceCount * cubes;
     const std::size_t range = d.maxStorageBufferRange / kTexelBytes;
     // A binding's offset is a multiple of the alignment (a power of two), in bytes.
     const std::size_t alignment = std::max<std::size_t>(1, d.minStorageBufferOffsetAlignment / kTexelBytes);
     std::vector<PyramidWindow> windows;
+    if (tailLevel > 0 && tailLevel <= depth) { // a few thousand texels a cube: within every range
+        const std::size_t start = std::size_t(cubes) * offsets[tailLevel], first = start / alignment * alignment;
+        windows.push_back({tailLevel, 0, layers, first, std::size_t(cubes) * offsets[depth + 1] - first});
+        depth = tailLevel - 1;
+    }
+    const std::size_t tail = windows.size();
     for (int level = 0; level <= depth; ++level) {
         const std::size_t perFace = pyramidLevelTexels(faceSize >> level) / kFaceCount;
         for (int face = 0; face < layers;) {
@@ -114,6 +120,7 @@ std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int cubes, co
             face += count;
         }
     }
+    std::rotate(windows.begin(), windows.begin() + std::ptrdiff_t(tail), windows.end()); // the tail's last
     return windows;
 }
 
@@ -200,12 +207,15 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
                                      "sampling needs (use hardware sampling)",
                                      d.name));
     plan.convertOutput = checkOutputFormat(d, s.outputFormat);
-    if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
-        plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
+    if (plan.buildsPyramid && !plan.paraboloid) {
         // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
         plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount);
+        if (plan.pyramidTailLevel > plan.pyramidDepth) plan.pyramidTailLevel = 0;
+    }
+    if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
+        plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
         // Level 1 with level 0 where the tail does not start at it: one dispatch and barrier fewer.
-        plan.pyramidFromSource = plan.pyramidDepth >= 1 && plan.pyramidTailLevel > 1;
+        plan.pyramidFromSource = plan.pyramidDepth >= 1 && plan.pyramidTailLevel != 1;
     }
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
@@ -228,8 +238,9 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
                                      d.name, static_cast<double>(plan.accumulatorTexels * kTexelBytes) / (1 << 20), s.faceSize,
                                      static_cast<double>(d.maxStorageBufferRange) / (1 << 20)));
     if (plan.pyramidTexels > 1)
-        plan.pyramidWindows =
-            pyramidWindows(s.faceSize, plan.buildsPyramid && plan.sampling == Sampling::exact ? plan.pyramidDepth : 0, s.batchSize, d);
+        plan.pyramidWindows = plan.buildsPyramid && plan.sampling == Sampling::exact
+                                  ? pyramidWindows(s.faceSize, plan.pyramidDepth, plan.pyramidTailLevel, s.batchSize, d)
+                                  : pyramidWindows(s.faceSize, 0, 0, s.batchSize, d);
     for (const std::size_t texels : {plan.pyramidTexels, plan.geometryTexels})
         if (texels > d.maxTexelBufferElements)
             throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size", d.name,

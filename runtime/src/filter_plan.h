@@ -48,9 +48,10 @@ struct PyramidWindow {
 };
 
 // The windows of levels 0..depth of a bordered pyramid of `faceSize` with `cubes` cubes, in level
-// order: one per level where the level fits the range, else runs of whole faces. Throws ProbeError
-// where one face does not fit.
-std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int cubes, const DeviceCapabilities& device);
+// order: one per level where the level fits the range, else runs of whole faces; from `tailLevel` (a
+// level from 1 with faces of PROBE_PYRAMID_TAIL_SIZE or smaller; 0: none) the levels down to `depth`
+// in one window, which pass 1's last dispatch writes. Throws ProbeError where one face does not fit.
+std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int tailLevel, int cubes, const DeviceCapabilities& device);
 
 // The most probes a batch holds (FilterSettings::batchSize).
 inline constexpr int kMaxBatchSize = 256;
@@ -61,7 +62,7 @@ struct FilterPlan {
     bool convertOutput = false;                             // B10G11R11 through the conversion pass
     int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
-    int pyramidTailLevel = 0;        // hardware sampling: pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth
+    int pyramidTailLevel = 0;                               // pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth (0: none)
     bool pyramidFromSource = false;  // hardware sampling: pass 1's first dispatch builds levels 0 and 1, both from the source
     std::vector<int> computedLevels; // the output levels computed, ascending
     // Pass 2's dispatches over computedLevels: consecutive levels of one pass (the table's, or FIS's)

@@ -1,7 +1,9 @@
 // Pass 1, per pyramid level down to the depth, the source first (level 0):
 // - exact sampling (shaders/pyramid.comp, then shaders/pyramid_corners.comp): each level of the
-//   bordered buffer, faces and edges, then its border corners; the reference builds level 0 alone,
-//   the source it reads texel by texel, with no corners;
+//   bordered buffer, faces and edges, then its border corners, down to face size
+//   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
+//   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
+//   texel, with no corners;
 // - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image down to face
 //   size PROBE_PYRAMID_TAIL_SIZE (mips 0 and 1 in one dispatch, both from the source, where the tail
 //   starts below mip 1), then (shaders/pyramid_tail.comp) the mips from there down in one workgroup,
@@ -22,6 +24,7 @@
 #include <pyramid_image_rgba32f.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
 #include <pyramid_tail_batch_rgba32f.spv.h>
+#include <pyramid_tail_exact.spv.h>
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
 
@@ -50,7 +53,14 @@ struct PyramidTailConstants {
     int32_t faceSize;
     int32_t level;     // the first mip written
     int32_t lastLevel; // the last
+    uint32_t window;   // exact sampling: the first texel of its window
 };
+
+// The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
+int32_t tailLanes(const Filter::Impl& impl) {
+    const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
+    return int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
+}
 
 } // namespace
 
@@ -66,11 +76,8 @@ void makePyramidPipelines(Filter::Impl& impl) {
         impl.pass1 = impl.pipeline(spirv, specialization);
         if (impl.plan.pyramidFromSource) // the shader's kFromSource
             impl.pass1Source = impl.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
-        if (impl.plan.pyramidDepth >= impl.plan.pyramidTailLevel) {
-            // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
-            const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
-            const auto lanes = int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
-            const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], lanes};
+        if (impl.plan.pyramidTailLevel > 0) {
+            const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], tailLanes(impl)};
             impl.pass1Tail = impl.pipeline(half ? impl.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
                                                 : impl.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
                                            tailSpecialization);
@@ -79,6 +86,8 @@ void makePyramidPipelines(Filter::Impl& impl) {
     }
     impl.pass1 = impl.pipeline(impl.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);
     if (impl.plan.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
+    if (impl.plan.pyramidTailLevel > 0)
+        impl.pass1Tail = impl.pipeline(kPyramidTailExactSpv, std::array<int32_t, 3>{specialization[0], specialization[1], tailLanes(impl)});
     if (impl.plan.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
 }
 
@@ -89,7 +98,8 @@ uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
         count =
             uint32_t((impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth) + 1) + (impl.pass1Tail ? 1 : 0) - (impl.pass1Source ? 1 : 0);
     } else {
-        count = uint32_t(impl.plan.pyramidWindows.size()) * (impl.pass1Corners ? 2 : 1);
+        // Each window a dispatch, and one for its corners; the tail's one in all.
+        count = uint32_t(impl.plan.pyramidWindows.size()) * (impl.pass1Corners ? 2 : 1) - (impl.pass1Tail ? 1 : 0);
     }
     if (impl.paraboloidMap)
         for (int level = 0; (paraboloidSize(impl.settings.faceSize) >> level) >= 1; ++level) ++count;
@@ -108,14 +118,21 @@ double pyramidTexelTaps(const Filter::Impl& impl) {
 namespace {
 
 // Exact sampling: each level's windows (FilterPlan::pyramidWindows), every texel of their faces with
-// the border, then their faces' border corners. A level split into windows (a device whose
-// storage-buffer range is smaller than the level) costs a dispatch and a barrier more per window.
+// the border, then their faces' border corners; the tail's levels in one dispatch, a workgroup per
+// cube. A level split into windows (a device whose storage-buffer range is smaller than the level)
+// costs a dispatch and a barrier more per window.
 void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     const std::vector<PyramidWindow>& windows = impl.plan.pyramidWindows;
     for (std::size_t first = 0, end = 0; first < windows.size(); first = end) {
         const int level = windows[first].level;
         for (end = first; end < windows.size() && windows[end].level == level;) ++end;
         if (level > 0) impl.barrier(commandBuffer);
+        if (impl.pass1Tail && level == impl.plan.pyramidTailLevel) {
+            impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[first]);
+            const PyramidTailConstants constants{impl.settings.faceSize, level, impl.plan.pyramidDepth, uint32_t(windows[first].first)};
+            dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", level, constants, 1, uint32_t(impl.settings.batchSize));
+            continue;
+        }
         const std::size_t perFace = pyramidLevelTexels(impl.settings.faceSize >> level) / kFaceCount;
         for (const bool corners : {false, true}) {
             if (corners && !impl.pass1Corners) break;
@@ -159,7 +176,7 @@ void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
     if (impl.pass1Tail) {
         impl.barrier(commandBuffer);
         impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.plan.pyramidTailLevel]);
-        const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth};
+        const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth, 0};
         dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1, cubes);
     }
 }
