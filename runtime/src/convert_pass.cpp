@@ -5,7 +5,8 @@
 
 #include <convert_b10g11r11.spv.h>
 
-#include "filter_impl.h"
+#include "filter_passes.h"
+#include "recording.h"
 
 namespace probe::gpu {
 
@@ -17,28 +18,29 @@ struct ConvertConstants {
 
 } // namespace
 
-std::unique_ptr<ComputePipeline> makeConvertPipeline(const Filter::Impl& impl) { return impl.pipeline(kConvertB10g11r11Spv); }
+ConvertPass::ConvertPass(const PassContext& context) : context_(context), pipeline_(context.pipeline(kConvertB10g11r11Spv)) {}
 
-void recordConversion(Filter::Impl& impl, VkCommandBuffer commandBuffer, VkImage output, const std::vector<int>& levels) {
-    impl.barrier(commandBuffer);
+void ConvertPass::record(const PassRecorder& recorder, const Recording& recording, VkImage output, const std::vector<int>& levels) const {
+    const VkCommandBuffer commandBuffer = recorder.commandBuffer;
+    recorder.barrier();
     std::vector<VkImageCopy> copies;
     for (int m : levels) {
-        const int size = impl.settings.faceSize >> m;
-        impl.descriptors->bind(commandBuffer, impl.current->convertSets[m]);
-        dispatchPass(impl, commandBuffer, *impl.convert, "convert", m, ConvertConstants{size},
-                     groupsFor(texelCount(size) * std::size_t(impl.settings.batchSize)));
+        const int size = context_.settings.faceSize >> m;
+        recorder.bind(recording.convertSets[m]);
+        recorder.dispatch(*pipeline_, "convert", m, ConvertConstants{size},
+                          groupsFor(texelCount(size) * std::size_t(context_.settings.batchSize)));
         VkImageCopy copy{};
-        copy.srcSubresource = copy.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, impl.current->packed.layers()};
+        copy.srcSubresource = copy.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, recording.packed.layers()};
         copy.extent = {uint32_t(size), uint32_t(size), 1};
         copies.push_back(copy);
     }
-    const auto mips = uint32_t(impl.current->packed.mips());
-    imageBarrier(commandBuffer, impl.current->packed.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    const auto mips = uint32_t(recording.packed.mips());
+    imageBarrier(commandBuffer, recording.packed.handle(), 0, mips, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyImage(commandBuffer, impl.current->packed.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output,
+    vkCmdCopyImage(commandBuffer, recording.packed.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, output,
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(copies.size()), copies.data());
-    imageBarrier(commandBuffer, impl.current->packed.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    imageBarrier(commandBuffer, recording.packed.handle(), 0, mips, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT);
 }

@@ -9,7 +9,7 @@
 #include <copy_level_rgba16f.spv.h>
 #include <copy_level_rgba32f.spv.h>
 
-#include "filter_impl.h"
+#include "filter_passes.h"
 
 namespace probe::gpu {
 
@@ -24,25 +24,17 @@ struct CopyLevelConstants {
 
 } // namespace
 
-std::span<const uint32_t> outputVariant(const Filter::Impl& impl, std::array<std::span<const uint32_t>, 3> variants) {
-    if (impl.plan.convertOutput) return variants[0];
-    switch (impl.settings.outputFormat) {
-    case VK_FORMAT_R16G16B16A16_SFLOAT: return variants[1];
-    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return variants[2];
-    default: return variants[0];
-    }
+CopyLevelPass::CopyLevelPass(const PassContext& context) : context_(context) {
+    pipeline_ = context.pipeline(
+        context.batchVariant(context.outputVariant({kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}),
+                             context.outputVariant({kCopyLevelBatchRgba32fSpv, kCopyLevelBatchRgba16fSpv, kCopyLevelBatchB10g11r11Spv})));
 }
 
-std::unique_ptr<ComputePipeline> makeCopyLevelPipeline(const Filter::Impl& impl) {
-    return impl.pipeline(
-        impl.batchVariant(outputVariant(impl, {kCopyLevelRgba32fSpv, kCopyLevelRgba16fSpv, kCopyLevelB10g11r11Spv}),
-                          outputVariant(impl, {kCopyLevelBatchRgba32fSpv, kCopyLevelBatchRgba16fSpv, kCopyLevelBatchB10g11r11Spv})));
-}
-
-void recordCopyLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int level) {
-    const CopyLevelConstants constants{impl.settings.faceSize, level, impl.plan.outputOffsets[level], impl.plan.outputOffsets[level + 1]};
-    dispatchPass(impl, commandBuffer, *impl.copy, methodKindName(impl.settings.method.kind), level, constants,
-                 groupsFor(impl.plan.outputOffsets[level + 1] - impl.plan.outputOffsets[level]), uint32_t(impl.settings.batchSize));
+void CopyLevelPass::record(const PassRecorder& recorder, int level) const {
+    const FilterPlan& plan = context_.plan;
+    const CopyLevelConstants constants{context_.settings.faceSize, level, plan.outputOffsets[level], plan.outputOffsets[level + 1]};
+    recorder.dispatch(*pipeline_, methodKindName(context_.settings.method.kind), level, constants,
+                      groupsFor(plan.outputOffsets[level + 1] - plan.outputOffsets[level]), uint32_t(context_.settings.batchSize));
 }
 
 } // namespace probe::gpu

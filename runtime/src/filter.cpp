@@ -77,12 +77,12 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     : device(d), settings(s), plan(planFilter(s, capabilitiesOf(d))) {
     const MethodKind kind = s.method.kind;
     std::vector<float> tableData;
+    std::vector<uint32_t> sampleOffsets; // FIS's, or a table's hand-offs': each output level's first sample, and the end
     if (kind == MethodKind::table) {
         tableData = tableBufferData(*s.method.table);
-        tableUsageFirst = gpu::tableUsageFirst(*s.method.table);
-        appendFisSamples(handOffSamples(*s.method.table), tableData, sampleOffsets);
+        sampleOffsets = appendFisSamples(handOffSamples(*s.method.table), tableData);
     } else if (kind == MethodKind::fis) {
-        appendFisSamples(fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe), tableData, sampleOffsets);
+        sampleOffsets = appendFisSamples(fisSamplesPerLevel(s.faceSize, s.levelCount, s.mapping, s.method.fis, s.method.lobe), tableData);
     }
     if (tableData.empty()) tableData.assign(4, 0.0f); // the reference, or every level a copy: a buffer cannot be empty
     const std::vector<float> geometryData = plan.geometry ? geometryTexels(s.faceSize, plan.pyramidLevels) : std::vector<float>(4, 0.0f);
@@ -102,18 +102,14 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     nearest = std::make_unique<Sampler>(vk, false);
     descriptors = std::make_unique<FilterDescriptors>(vk);
 
-    if (plan.buildsPyramid || (kind == MethodKind::reference && plan.filters)) makePyramidPipelines(*this);
-    switch (kind) {
-    case MethodKind::table:
-        pass2 = makeTablePipeline(*this);
-        if (plan.fisLevels != 0) handOff = makeFisPipeline(*this);
-        break;
-    case MethodKind::fis: pass2 = makeFisPipeline(*this); break;
-    case MethodKind::reference: pass2 = makeReferencePipeline(*this); break;
-    }
+    const PassContext context{d, settings, plan, descriptors->pipelineLayout()};
+    if (plan.buildsPyramid || (kind == MethodKind::reference && plan.filters)) pyramid.emplace(context);
+    if (kind == MethodKind::table) tablePass.emplace(context);
+    if (kind == MethodKind::fis || plan.fisLevels != 0) fisPass.emplace(context, std::move(sampleOffsets));
+    if (kind == MethodKind::reference) referencePass.emplace(context);
     if (std::any_of(plan.computedLevels.begin(), plan.computedLevels.end(), [&](int m) { return plan.isCopy(m); }))
-        copy = makeCopyLevelPipeline(*this);
-    if (plan.convertOutput) convert = makeConvertPipeline(*this);
+        copyPass.emplace(context);
+    if (plan.convertOutput) convertPass.emplace(context);
 
     recordings.push_back(makeRecording());
     current = recordings.front().get();
@@ -207,7 +203,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
 
     const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
-        if (pass1) passes.emplace_back("pyramid");
+        if (pyramid) passes.emplace_back("pyramid");
         passes.insert(passes.end(), levelPasses.begin(), levelPasses.end());
         if (plan.convertOutput) passes.emplace_back("convert");
         return passes;
@@ -243,18 +239,28 @@ void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
     ++barriers;
 }
 
-std::unique_ptr<ComputePipeline> Filter::Impl::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
-    return std::make_unique<ComputePipeline>(device.device(), descriptors->pipelineLayout(), spirv, specialization, 0,
-                                             settings.pipelineCache, settings.batchSize);
+std::unique_ptr<ComputePipeline> PassContext::pipeline(std::span<const uint32_t> spirv, std::span<const int32_t> specialization) const {
+    return std::make_unique<ComputePipeline>(device.device(), layout, spirv, specialization, 0, settings.pipelineCache, settings.batchSize);
+}
+
+std::span<const uint32_t> PassContext::batchVariant(std::span<const uint32_t> single, std::span<const uint32_t> batch) const {
+    return settings.batchSize > 1 ? batch : single;
+}
+
+std::span<const uint32_t> PassContext::outputVariant(std::array<std::span<const uint32_t>, 3> variants) const {
+    if (plan.convertOutput) return variants[0];
+    switch (settings.outputFormat) {
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return variants[1];
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return variants[2];
+    default: return variants[0];
+    }
 }
 
 VkImageViewType Filter::Impl::cubeViewType() const {
     return settings.batchSize > 1 ? VK_IMAGE_VIEW_TYPE_CUBE_ARRAY : VK_IMAGE_VIEW_TYPE_CUBE;
 }
 
-std::span<const uint32_t> Filter::Impl::batchVariant(std::span<const uint32_t> single, std::span<const uint32_t> batch) const {
-    return settings.batchSize > 1 ? batch : single;
-}
+PassRecorder Filter::Impl::recorder(VkCommandBuffer commandBuffer) { return {commandBuffer, *descriptors, dispatches, barriers}; }
 
 // Every time, not only when the handles change: an image destroyed and another created may reuse a
 // handle, and the views of the first would remain.
@@ -281,14 +287,14 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     };
     const bool hardware = plan.buildsPyramid && plan.sampling == Sampling::hardware;
     r.pyramidSets.clear();
-    if (pass1)
+    if (pyramid)
         for (const PyramidWindow& w : plan.pyramidWindows) {
             const VkDescriptorSet set = r.pool->allocate();
             common(set);
             descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle(), w.first * kTexelBytes, w.texels * kTexelBytes);
             r.pyramidSets.push_back(set);
         }
-    if (pass1 && hardware)
+    if (pyramid && hardware)
         for (int k = 0; k <= plan.pyramidDepth; ++k) {
             const VkDescriptorSet set = r.pool->allocate();
             common(set);
@@ -341,18 +347,13 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     r.boundOutput = output;
 }
 
-void Filter::Impl::barrier(VkCommandBuffer commandBuffer) {
-    computeBarrier(commandBuffer);
-    ++barriers;
-}
-
 void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
     descriptors->bind(commandBuffer, current->levelSets[m]);
     const std::span<const int> level(&m, 1);
-    if (plan.isCopy(m)) recordCopyLevel(*this, commandBuffer, m);
-    else if (settings.method.kind == MethodKind::table && !plan.isHandedOff(m)) recordTableLevels(*this, commandBuffer, level);
-    else if (settings.method.kind != MethodKind::reference) recordFisLevels(*this, commandBuffer, level);
-    else recordReferenceLevel(*this, commandBuffer, m);
+    if (plan.isCopy(m)) copyPass->record(recorder(commandBuffer), m);
+    else if (tablePass && !plan.isHandedOff(m)) tablePass->record(recorder(commandBuffer), level);
+    else if (fisPass) fisPass->record(recorder(commandBuffer), level);
+    else referencePass->record(recorder(commandBuffer), m);
 }
 
 std::vector<std::vector<int>> Filter::Impl::dispatchGroups(const std::vector<int>& levels) const {
@@ -370,8 +371,8 @@ std::vector<std::vector<int>> Filter::Impl::dispatchGroups(const std::vector<int
 void Filter::Impl::recordLevelGroup(VkCommandBuffer commandBuffer, const std::vector<int>& group) {
     if (group.size() == 1) return recordLevel(commandBuffer, group.front());
     descriptors->bind(commandBuffer, current->groupSets[group.front()]);
-    if (settings.method.kind == MethodKind::table && !plan.isHandedOff(group.front())) recordTableLevels(*this, commandBuffer, group);
-    else recordFisLevels(*this, commandBuffer, group);
+    if (tablePass && !plan.isHandedOff(group.front())) tablePass->record(recorder(commandBuffer), group);
+    else fisPass->record(recorder(commandBuffer), group);
 }
 
 std::string_view Filter::Impl::levelPass(int m) const {
@@ -392,9 +393,9 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
     if (r.timed) r.timer->reset(commandBuffer);
     firstBarrier(commandBuffer, true);
     mark();
-    if (pass1) {
-        recordPyramidPass(*this, commandBuffer);
-        barrier(commandBuffer);
+    if (pyramid) {
+        pyramid->record(recorder(commandBuffer), r);
+        recorder(commandBuffer).barrier();
         mark();
     }
     // Timed level by level, each level has its own dispatch; otherwise each level group one.
@@ -408,26 +409,26 @@ void Filter::Impl::recordPasses(VkCommandBuffer commandBuffer, Timestamps timest
         mark();
     }
     if (plan.convertOutput) {
-        recordConversion(*this, commandBuffer, r.boundOutput, plan.computedLevels);
+        convertPass->record(recorder(commandBuffer), r, r.boundOutput, plan.computedLevels);
         mark();
     }
 }
 
-void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps) {
+void Filter::Impl::recordSlice(VkCommandBuffer commandBuffer, bool withPyramid, const std::vector<int>& levels, bool timestamps) {
     dispatches.clear();
     barriers = 0;
     Recording& r = *current;
     r.timed = timestamps;
     r.timer = r.sliceTimer.get();
     if (r.timed) r.timer->reset(commandBuffer);
-    firstBarrier(commandBuffer, pyramid); // a level slice reads the pyramid its update's pyramid slice built
+    firstBarrier(commandBuffer, withPyramid); // a level slice reads the pyramid its update's pyramid slice built
     if (r.timed) r.timer->boundary(commandBuffer, 0);
-    if (pyramid && pass1) {
-        recordPyramidPass(*this, commandBuffer);
-        barrier(commandBuffer);
+    if (withPyramid && pyramid) {
+        pyramid->record(recorder(commandBuffer), r);
+        recorder(commandBuffer).barrier();
     }
     for (const std::vector<int>& group : dispatchGroups(levels)) recordLevelGroup(commandBuffer, group);
-    if (plan.convertOutput && !levels.empty()) recordConversion(*this, commandBuffer, r.boundOutput, levels);
+    if (convertPass && !levels.empty()) convertPass->record(recorder(commandBuffer), r, r.boundOutput, levels);
     if (r.timed) r.timer->boundary(commandBuffer, 1);
 }
 
@@ -513,7 +514,7 @@ uint32_t levelsDispatchCount(const Filter::Impl& f, const std::vector<int>& leve
     uint32_t count = f.plan.convertOutput ? uint32_t(levels.size()) : 0u;
     for (const std::vector<int>& group : f.dispatchGroups(levels)) {
         const int m = group.front();
-        count += group.size() == 1 && !f.plan.isCopy(m) && f.settings.method.kind == MethodKind::reference ? referenceDispatchCount(f) : 1u;
+        count += group.size() == 1 && !f.plan.isCopy(m) && f.referencePass ? f.referencePass->dispatchCount() : 1u;
     }
     return count;
 }
@@ -547,7 +548,7 @@ std::vector<Slice> Filter::slices(int count) const {
     const Impl& f = *impl_;
     if (count < 1) throw ProbeError(fmt::format("Filter::slices: count {} is below 1", count));
     std::vector<Slice> out;
-    if (f.pass1) out.push_back({true, {}, pyramidDispatchCount(f), pyramidTexelTaps(f)});
+    if (f.pyramid) out.push_back({true, {}, f.pyramid->dispatchCount(), f.pyramid->texelTaps()});
     if (count == 1) { // the whole update, pass 1 and every level
         if (out.empty()) out.push_back({});
         for (int m : f.plan.computedLevels) {
@@ -564,7 +565,7 @@ std::vector<Slice> Filter::slices(int count) const {
     double done = 0.0;
     for (int m : f.plan.computedLevels) {
         const int k = std::min(levelSlices - 1, int(done * levelSlices / std::max(total, 1e-300)));
-        if (out.empty() || out.back().pyramid || int(out.size()) - (f.pass1 ? 1 : 0) <= k) out.push_back({});
+        if (out.empty() || out.back().pyramid || int(out.size()) - (f.pyramid ? 1 : 0) <= k) out.push_back({});
         out.back().levels.push_back(m);
         out.back().texelTaps += levelTexelTaps(f, m);
         done += levelTexelTaps(f, m);
@@ -582,9 +583,9 @@ Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& sourc
             (k > 0 && slice.levels[k] <= slice.levels[k - 1]))
             throw ProbeError(fmt::format(
                 "Filter::record: slice.levels: {} is not one of the levels the filter computes, in ascending order", slice.levels[k]));
-    if (slice.pyramid || !f.pass1) {
+    if (slice.pyramid || !f.pyramid) {
         startRecording(f, source, output);
-        f.slicedUpdate = f.pass1 ? f.current : nullptr;
+        f.slicedUpdate = f.pyramid ? f.current : nullptr;
     } else {
         // The levels read the pyramid that the update's first slice built, in that slice's set: its
         // descriptor sets are read again, not rewritten, so the earlier slices may still be pending.
@@ -620,7 +621,7 @@ std::vector<PassTime> Filter::levelTimings() const {
     const Recording& r = *impl_->current;
     if (!r.timed || r.timer != r.levelTimer.get()) return {};
     std::vector<std::string> names;
-    if (impl_->pass1) names.push_back("pass 1");
+    if (impl_->pyramid) names.push_back("pass 1");
     for (int m : impl_->plan.computedLevels) names.push_back(fmt::format("level {}", m));
     if (impl_->plan.convertOutput) names.push_back("convert");
     std::vector<PassTime> segments = r.timer->segmentTimings(names);

@@ -18,7 +18,7 @@
 #include <fis_paraboloid_rgba16f.spv.h>
 #include <fis_paraboloid_rgba32f.spv.h>
 
-#include "filter_impl.h"
+#include "filter_passes.h"
 #include "probe/fis.h"
 
 namespace probe::gpu {
@@ -35,38 +35,38 @@ struct FisConstants {
 
 } // namespace
 
-std::unique_ptr<ComputePipeline> makeFisPipeline(const Filter::Impl& impl) {
+FisPass::FisPass(const PassContext& context, std::vector<uint32_t> sampleOffsets)
+    : context_(context), sampleOffsets_(std::move(sampleOffsets)) {
     const std::span<const uint32_t> spirv =
-        impl.plan.paraboloid ? outputVariant(impl, {kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
-        : impl.plan.sampling == Sampling::hardware
-            ? impl.batchVariant(
-                  outputVariant(impl, {kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv}),
-                  outputVariant(impl, {kFisHardwareBatchRgba32fSpv, kFisHardwareBatchRgba16fSpv, kFisHardwareBatchB10g11r11Spv}))
-            : outputVariant(impl, {kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
-    return impl.pipeline(spirv);
+        context.plan.paraboloid ? context.outputVariant({kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
+        : context.plan.sampling == Sampling::hardware
+            ? context.batchVariant(
+                  context.outputVariant({kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv}),
+                  context.outputVariant({kFisHardwareBatchRgba32fSpv, kFisHardwareBatchRgba16fSpv, kFisHardwareBatchB10g11r11Spv}))
+            : context.outputVariant({kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
+    pipeline_ = context.pipeline(spirv);
 }
 
-void appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector<float>& data, std::vector<uint32_t>& sampleOffsets) {
-    sampleOffsets = {static_cast<uint32_t>(data.size() / 4)};
+std::vector<uint32_t> appendFisSamples(const std::vector<std::vector<Tap>>& perLevel, std::vector<float>& data) {
+    std::vector<uint32_t> sampleOffsets{static_cast<uint32_t>(data.size() / 4)};
     for (const std::vector<Tap>& level : perLevel) {
         for (const Tap& sample : level)
             data.insert(data.end(), {static_cast<float>(sample.direction.x), static_cast<float>(sample.direction.y),
                                      static_cast<float>(sample.direction.z), static_cast<float>(sample.level)});
         sampleOffsets.push_back(sampleOffsets.back() + static_cast<uint32_t>(level.size()));
     }
+    return sampleOffsets;
 }
 
-void recordFisLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {
-    const FilterSettings& s = impl.settings;
-    const auto groupsOf = [&](int m) { return groupsFor(impl.plan.outputOffsets[m + 1] - impl.plan.outputOffsets[m]); };
-    FisConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, levels.front(), levelGroupEnds(levels, groupsOf), {}};
+void FisPass::record(const PassRecorder& recorder, std::span<const int> levels) const {
+    const FilterSettings& s = context_.settings;
+    const FilterPlan& plan = context_.plan;
+    const auto groupsOf = [&](int m) { return groupsFor(plan.outputOffsets[m + 1] - plan.outputOffsets[m]); };
+    FisConstants constants{s.faceSize, plan.pyramidDepth + 1, levels.front(), levelGroupEnds(levels, groupsOf), {}};
     // Level levels[k]'s samples end where the next level's start (the groups' levels are consecutive).
     for (std::size_t k = 0; k < constants.firstSample.size(); ++k)
-        constants.firstSample[k] = impl.sampleOffsets[std::size_t(levels.front()) + std::min(k, levels.size())];
-    // A table's level handed to FIS runs the Filter's FIS pipeline beside the table's.
-    const ComputePipeline& pipeline = impl.settings.method.kind == MethodKind::table ? *impl.handOff : *impl.pass2;
-    dispatchPass(impl, commandBuffer, pipeline, "fis", levels.front(), constants, constants.groupEnd.back(), uint32_t(s.batchSize),
-                 int(levels.size()));
+        constants.firstSample[k] = sampleOffsets_[std::size_t(levels.front()) + std::min(k, levels.size())];
+    recorder.dispatch(*pipeline_, "fis", levels.front(), constants, constants.groupEnd.back(), uint32_t(s.batchSize), int(levels.size()));
 }
 
 } // namespace probe::gpu

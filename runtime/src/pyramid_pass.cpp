@@ -29,8 +29,9 @@
 #include <pyramid_tail_rgba32f.spv.h>
 
 #include "device.h"
-#include "filter_impl.h"
+#include "filter_passes.h"
 #include "probe/paraboloid.h"
+#include "recording.h"
 
 namespace probe::gpu {
 
@@ -57,96 +58,93 @@ struct PyramidTailConstants {
 };
 
 // The tail's workgroup size (its constant_id 2): 256 lanes where the device allows.
-int32_t tailLanes(const Filter::Impl& impl) {
-    const VkPhysicalDeviceLimits& limits = impl.device.impl().limits;
+int32_t tailLanes(const Device& device) {
+    const VkPhysicalDeviceLimits& limits = device.impl().limits;
     return int32_t(std::min({256u, limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0]}));
 }
 
 } // namespace
 
-void makePyramidPipelines(Filter::Impl& impl) {
-    const PyramidSettings pyramid = impl.settings.method.pyramid();
+PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
+    const FilterPlan& plan = context.plan;
+    const PyramidSettings pyramid = context.settings.method.pyramid();
     // The shaders' kBoxKind and kInverseSolidAngle.
     const std::array<int32_t, 2> specialization{pyramid.kind == PyramidKind::box ? 1 : 0,
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
-    if (impl.plan.sampling == Sampling::hardware) {
-        const bool half = impl.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-        const std::span<const uint32_t> spirv = half ? impl.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
-                                                     : impl.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
-        impl.pass1 = impl.pipeline(spirv, specialization);
-        if (impl.plan.pyramidFromSource) // the shader's kFromSource
-            impl.pass1Source = impl.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
-        if (impl.plan.pyramidTailLevel > 0) {
-            const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], tailLanes(impl)};
-            impl.pass1Tail = impl.pipeline(half ? impl.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
-                                                : impl.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
-                                           tailSpecialization);
-        }
+    const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], tailLanes(context.device)};
+    if (plan.sampling == Sampling::hardware) {
+        const bool half = plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+        const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
+                                                     : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
+        levels_ = context.pipeline(spirv, specialization);
+        if (plan.pyramidFromSource) // the shader's kFromSource
+            fromSource_ = context.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
+        if (plan.pyramidTailLevel > 0)
+            tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
+                                          : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
+                                     tailSpecialization);
         return;
     }
-    impl.pass1 = impl.pipeline(impl.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);
-    if (impl.plan.buildsPyramid) impl.pass1Corners = impl.pipeline(kPyramidCornersSpv);
-    if (impl.plan.pyramidTailLevel > 0)
-        impl.pass1Tail = impl.pipeline(kPyramidTailExactSpv, std::array<int32_t, 3>{specialization[0], specialization[1], tailLanes(impl)});
-    if (impl.plan.paraboloid) impl.paraboloidMap = impl.pipeline(kParaboloidMapSpv);
+    levels_ = context.pipeline(context.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);
+    if (plan.buildsPyramid) corners_ = context.pipeline(kPyramidCornersSpv);
+    if (plan.pyramidTailLevel > 0) tail_ = context.pipeline(kPyramidTailExactSpv, tailSpecialization);
+    if (plan.paraboloid) paraboloidMap_ = context.pipeline(kParaboloidMapSpv);
 }
 
-uint32_t pyramidDispatchCount(const Filter::Impl& impl) {
+uint32_t PyramidPass::dispatchCount() const {
+    const FilterPlan& plan = context_.plan;
     uint32_t count = 0;
-    if (impl.plan.sampling == Sampling::hardware) {
-        const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
-        count =
-            uint32_t((impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth) + 1) + (impl.pass1Tail ? 1 : 0) - (impl.pass1Source ? 1 : 0);
+    if (plan.sampling == Sampling::hardware) {
+        const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
+        count = uint32_t((tail_ ? plan.pyramidTailLevel - 1 : depth) + 1) + (tail_ ? 1 : 0) - (fromSource_ ? 1 : 0);
     } else {
         // Each window a dispatch, and one for its corners; the tail's one in all.
-        count = uint32_t(impl.plan.pyramidWindows.size()) * (impl.pass1Corners ? 2 : 1) - (impl.pass1Tail ? 1 : 0);
+        count = uint32_t(plan.pyramidWindows.size()) * (corners_ ? 2 : 1) - (tail_ ? 1 : 0);
     }
-    if (impl.paraboloidMap)
-        for (int level = 0; (paraboloidSize(impl.settings.faceSize) >> level) >= 1; ++level) ++count;
+    if (paraboloidMap_)
+        for (int level = 0; (paraboloidSize(context_.settings.faceSize) >> level) >= 1; ++level) ++count;
     return count;
 }
 
-double pyramidTexelTaps(const Filter::Impl& impl) {
-    double taps = double(texelCount(impl.settings.faceSize)); // level 0: the source, one read a texel
-    for (int level = 1; level <= (impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0); ++level)
-        taps += 4.0 * double(texelCount(impl.settings.faceSize >> level));
-    if (impl.paraboloidMap)
-        for (int size = paraboloidSize(impl.settings.faceSize); size >= 1; size /= 2) taps += 4.0 * 2.0 * size * size;
-    return taps * impl.settings.batchSize;
+double PyramidPass::texelTaps() const {
+    const FilterSettings& s = context_.settings;
+    double taps = double(texelCount(s.faceSize)); // level 0: the source, one read a texel
+    for (int level = 1; level <= (context_.plan.buildsPyramid ? context_.plan.pyramidDepth : 0); ++level)
+        taps += 4.0 * double(texelCount(s.faceSize >> level));
+    if (paraboloidMap_)
+        for (int size = paraboloidSize(s.faceSize); size >= 1; size /= 2) taps += 4.0 * 2.0 * size * size;
+    return taps * s.batchSize;
 }
-
-namespace {
 
 // Exact sampling: each level's windows (FilterPlan::pyramidWindows), every texel of their faces with
 // the border, then their faces' border corners; the tail's levels in one dispatch, a workgroup per
 // cube. A level split into windows (a device whose storage-buffer range is smaller than the level)
 // costs a dispatch and a barrier more per window.
-void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
-    const std::vector<PyramidWindow>& windows = impl.plan.pyramidWindows;
+void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recording& recording) const {
+    const FilterSettings& s = context_.settings;
+    const std::vector<PyramidWindow>& windows = context_.plan.pyramidWindows;
     for (std::size_t first = 0, end = 0; first < windows.size(); first = end) {
         const int level = windows[first].level;
         for (end = first; end < windows.size() && windows[end].level == level;) ++end;
-        if (level > 0) impl.barrier(commandBuffer);
-        if (impl.pass1Tail && level == impl.plan.pyramidTailLevel) {
-            impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[first]);
-            const PyramidTailConstants constants{impl.settings.faceSize, level, impl.plan.pyramidDepth, uint32_t(windows[first].first)};
-            dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", level, constants, 1, uint32_t(impl.settings.batchSize));
+        if (level > 0) recorder.barrier();
+        if (tail_ && level == context_.plan.pyramidTailLevel) {
+            recorder.bind(recording.pyramidSets[first]);
+            const PyramidTailConstants constants{s.faceSize, level, context_.plan.pyramidDepth, uint32_t(windows[first].first)};
+            recorder.dispatch(*tail_, "pyramid", level, constants, 1, uint32_t(s.batchSize));
             continue;
         }
-        const std::size_t perFace = pyramidLevelTexels(impl.settings.faceSize >> level) / kFaceCount;
+        const std::size_t perFace = pyramidLevelTexels(s.faceSize >> level) / kFaceCount;
         for (const bool corners : {false, true}) {
-            if (corners && !impl.pass1Corners) break;
-            if (corners) impl.barrier(commandBuffer);
+            if (corners && !corners_) break;
+            if (corners) recorder.barrier();
             for (std::size_t w = first; w < end; ++w) {
                 // The windows of a level write apart, but each binds the whole buffer for reading.
-                if (w > first) impl.barrier(commandBuffer);
+                if (w > first) recorder.barrier();
                 const PyramidWindow& window = windows[w];
-                impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[w]);
-                const PyramidWindowConstants constants{impl.settings.faceSize, level, window.firstFace, window.faceCount,
-                                                       uint32_t(window.first)};
+                recorder.bind(recording.pyramidSets[w]);
+                const PyramidWindowConstants constants{s.faceSize, level, window.firstFace, window.faceCount, uint32_t(window.first)};
                 const std::size_t texels = corners ? 4 * std::size_t(window.faceCount) : perFace * window.faceCount;
-                dispatchPass(impl, commandBuffer, corners ? *impl.pass1Corners : *impl.pass1, "pyramid", level, constants,
-                             groupsFor(texels));
+                recorder.dispatch(corners ? *corners_ : *levels_, "pyramid", level, constants, groupsFor(texels));
             }
         }
     }
@@ -154,45 +152,44 @@ void recordBorderedLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
 
 // Hardware sampling: each mip of the pyramid image (mips 0 and 1 in one dispatch where the plan says
 // so), the tail's in one dispatch; a layer of workgroups per cube of a batch.
-void recordPyramidMips(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
-    const FilterSettings& s = impl.settings;
+void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& recording) const {
+    const FilterSettings& s = context_.settings;
+    const FilterPlan& plan = context_.plan;
     const auto cubes = uint32_t(s.batchSize);
-    const int depth = impl.plan.buildsPyramid ? impl.plan.pyramidDepth : 0;
-    const int lastSingle = impl.pass1Tail ? impl.plan.pyramidTailLevel - 1 : depth;
+    const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
+    const int lastSingle = tail_ ? plan.pyramidTailLevel - 1 : depth;
     int level = 0;
-    if (impl.pass1Source) {
-        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[0]);
+    if (fromSource_) {
+        recorder.bind(recording.pyramidSets[0]);
         const PyramidConstants constants{s.faceSize, 0};
         const std::size_t texels = texelCount(s.faceSize) + texelCount(s.faceSize >> 1);
-        dispatchPass(impl, commandBuffer, *impl.pass1Source, "pyramid", 0, constants, groupsFor(texels), cubes, 2);
+        recorder.dispatch(*fromSource_, "pyramid", 0, constants, groupsFor(texels), cubes, 2);
         level = 2;
     }
     for (; level <= lastSingle; ++level) {
-        if (level > 0) impl.barrier(commandBuffer);
-        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[level]);
+        if (level > 0) recorder.barrier();
+        recorder.bind(recording.pyramidSets[level]);
         const PyramidConstants constants{s.faceSize, level};
-        dispatchPass(impl, commandBuffer, *impl.pass1, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)), cubes);
+        recorder.dispatch(*levels_, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)), cubes);
     }
-    if (impl.pass1Tail) {
-        impl.barrier(commandBuffer);
-        impl.descriptors->bind(commandBuffer, impl.current->pyramidSets[impl.plan.pyramidTailLevel]);
-        const PyramidTailConstants constants{s.faceSize, impl.plan.pyramidTailLevel, depth, 0};
-        dispatchPass(impl, commandBuffer, *impl.pass1Tail, "pyramid", impl.plan.pyramidTailLevel, constants, 1, cubes);
+    if (tail_) {
+        recorder.barrier();
+        recorder.bind(recording.pyramidSets[plan.pyramidTailLevel]);
+        const PyramidTailConstants constants{s.faceSize, plan.pyramidTailLevel, depth, 0};
+        recorder.dispatch(*tail_, "pyramid", plan.pyramidTailLevel, constants, 1, cubes);
     }
 }
 
-} // namespace
-
-void recordPyramidPass(Filter::Impl& impl, VkCommandBuffer commandBuffer) {
-    const FilterSettings& s = impl.settings;
-    if (impl.plan.sampling == Sampling::exact) recordBorderedLevels(impl, commandBuffer);
-    else recordPyramidMips(impl, commandBuffer);
-    if (!impl.paraboloidMap) return;
+void PyramidPass::record(const PassRecorder& recorder, const Recording& recording) const {
+    const FilterSettings& s = context_.settings;
+    if (context_.plan.sampling == Sampling::exact) recordBorderedLevels(recorder, recording);
+    else recordMips(recorder, recording);
+    if (!paraboloidMap_) return;
     for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {
-        impl.barrier(commandBuffer);
+        recorder.barrier();
         const PyramidConstants constants{s.faceSize, level};
         const std::size_t size = static_cast<std::size_t>(paraboloidSize(s.faceSize) >> level);
-        dispatchPass(impl, commandBuffer, *impl.paraboloidMap, "pyramid", level, constants, groupsFor(2 * size * size));
+        recorder.dispatch(*paraboloidMap_, "pyramid", level, constants, groupsFor(2 * size * size));
     }
 }
 

@@ -8,7 +8,7 @@
 #include <reference_rgba16f.spv.h>
 #include <reference_rgba32f.spv.h>
 
-#include "filter_impl.h"
+#include "filter_passes.h"
 
 namespace probe::gpu {
 
@@ -31,8 +31,8 @@ struct ReferenceConstants {
 
 } // namespace
 
-std::unique_ptr<ComputePipeline> makeReferencePipeline(const Filter::Impl& impl) {
-    return impl.pipeline(outputVariant(impl, {kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
+ReferencePass::ReferencePass(const PassContext& context) : context_(context) {
+    pipeline_ = context.pipeline(context.outputVariant({kReferenceRgba32fSpv, kReferenceRgba16fSpv, kReferenceB10g11r11Spv}));
 }
 
 namespace {
@@ -41,19 +41,19 @@ int rowsPerChunk(const FilterSettings& s) { return std::clamp(kChunkTexels / s.f
 
 } // namespace
 
-uint32_t referenceDispatchCount(const Filter::Impl& impl) {
-    const int rows = kFaceCount * impl.settings.faceSize, chunk = rowsPerChunk(impl.settings);
+uint32_t ReferencePass::dispatchCount() const {
+    const int rows = kFaceCount * context_.settings.faceSize, chunk = rowsPerChunk(context_.settings);
     return uint32_t((rows + chunk - 1) / chunk);
 }
 
-void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int m) {
-    const FilterSettings& s = impl.settings;
+void ReferencePass::record(const PassRecorder& recorder, int m) const {
+    const FilterSettings& s = context_.settings;
     const double alpha = lobeAlpha(s.method.lobe, levelAlpha(s.mapping, m, s.levelCount));
     const LobeConstants lobe = lobeConstants(s.method.lobe, alpha);
     const int chunk = rowsPerChunk(s);
     const int rows = kFaceCount * s.faceSize;
     for (int firstRow = 0; firstRow < rows; firstRow += chunk) {
-        if (firstRow > 0) impl.barrier(commandBuffer);
+        if (firstRow > 0) recorder.barrier();
         const int stage = (firstRow == 0 ? 1 : 0) | (firstRow + chunk >= rows ? 2 : 0);
         const ReferenceConstants constants{s.faceSize,
                                            m,
@@ -63,7 +63,7 @@ void recordReferenceLevel(Filter::Impl& impl, VkCommandBuffer commandBuffer, int
                                            firstRow,
                                            chunk,
                                            stage};
-        dispatchPass(impl, commandBuffer, *impl.pass2, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
+        recorder.dispatch(*pipeline_, "reference", m, constants, groupsFor(texelCount(s.faceSize >> m)));
     }
 }
 

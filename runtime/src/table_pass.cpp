@@ -14,7 +14,7 @@
 #include <table_filter_hardware_rgba16f.spv.h>
 #include <table_filter_hardware_rgba32f.spv.h>
 
-#include "filter_impl.h"
+#include "filter_passes.h"
 #include "probe/tap_table.h"
 
 namespace probe::gpu {
@@ -31,18 +31,18 @@ struct TableConstants {
 
 } // namespace
 
-std::unique_ptr<ComputePipeline> makeTablePipeline(const Filter::Impl& impl) {
+TablePass::TablePass(const PassContext& context) : context_(context), usageFirst_(tableUsageFirst(*context.settings.method.table)) {
     const std::span<const uint32_t> spirv =
-        impl.plan.sampling == Sampling::hardware
-            ? impl.batchVariant(
-                  outputVariant(impl, {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv}),
-                  outputVariant(impl, {kTableFilterHardwareBatchRgba32fSpv, kTableFilterHardwareBatchRgba16fSpv,
-                                       kTableFilterHardwareBatchB10g11r11Spv}))
-            : outputVariant(impl, {kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
+        context.plan.sampling == Sampling::hardware
+            ? context.batchVariant(
+                  context.outputVariant({kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv}),
+                  context.outputVariant(
+                      {kTableFilterHardwareBatchRgba32fSpv, kTableFilterHardwareBatchRgba16fSpv, kTableFilterHardwareBatchB10g11r11Spv}))
+            : context.outputVariant({kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
     // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
-    const TapTable& table = *impl.settings.method.table;
+    const TapTable& table = *context.settings.method.table;
     const std::array<int32_t, 3> specialization{coefficientCount(table.form), 0, table.taps};
-    return impl.pipeline(spirv, specialization);
+    pipeline_ = context.pipeline(spirv, specialization);
 }
 
 std::vector<float> tableBufferData(const TapTable& table) {
@@ -59,19 +59,19 @@ std::vector<float> tableBufferData(const TapTable& table) {
 
 uint32_t tableUsageFirst(const TapTable& table) { return static_cast<uint32_t>(table.levelCount * table.coefficientsPerLevel() / 4); }
 
-void recordTableLevels(Filter::Impl& impl, VkCommandBuffer commandBuffer, std::span<const int> levels) {
-    const FilterSettings& s = impl.settings;
+void TablePass::record(const PassRecorder& recorder, std::span<const int> levels) const {
+    const FilterSettings& s = context_.settings;
     // Hardware sampling: a face per workgroup layer; exact: the faces one after another (table_filter.comp);
     // either for each cube of a batch.
-    const bool hardware = impl.plan.sampling == Sampling::hardware;
+    const bool hardware = context_.plan.sampling == Sampling::hardware;
     const auto groupsOf = [&](int m) {
         const std::size_t size = std::size_t(s.faceSize >> m);
         return groupsFor(hardware ? size * size : kFaceCount * size * size);
     };
-    const TableConstants constants{s.faceSize, impl.plan.pyramidDepth + 1, levels.front(), impl.tableUsageFirst,
+    const TableConstants constants{s.faceSize, context_.plan.pyramidDepth + 1, levels.front(), usageFirst_,
                                    levelGroupEnds(levels, groupsOf)};
-    dispatchPass(impl, commandBuffer, *impl.pass2, "table", levels.front(), constants, constants.groupEnd.back(),
-                 uint32_t(hardware ? kFaceCount * s.batchSize : s.batchSize), int(levels.size()));
+    recorder.dispatch(*pipeline_, "table", levels.front(), constants, constants.groupEnd.back(),
+                      uint32_t(hardware ? kFaceCount * s.batchSize : s.batchSize), int(levels.size()));
 }
 
 } // namespace probe::gpu
