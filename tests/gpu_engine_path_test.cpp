@@ -96,7 +96,8 @@ TEST_F(GpuTest, RecordIntoCallersCommandBufferEqualsRun) {
 
 // A batch recorded as an engine keeps probes: an RGBA16F cube-map array of three probes in, an
 // 18-layer output written in one recording through a wrapped device, each probe's levels those of a
-// Filter of one probe, in both sampling modes, in the dispatches of one probe.
+// Filter of one probe, in both sampling modes, in the dispatches of one probe; and in three slices,
+// a submission each, the same levels.
 TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
     const gpu::Device& owner = probetest::testDevice();
     const Caller c = callerOf(owner);
@@ -126,6 +127,21 @@ TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
                 EXPECT_EQ(recorded[m].rgb, expected[m].rgb) << gpu::samplingName(sampling) << " sampling, probe " << p << ", level " << m;
         }
         EXPECT_EQ(batch.dispatches().size(), alone.dispatches().size()) << gpu::samplingName(sampling);
+
+        // The same batch spread over three frames: a slice a submission, the same bits.
+        const EngineProbe sliced(c, sources, settings.levelCount, VK_FORMAT_R16G16B16A16_SFLOAT, settings.outputFormat);
+        sliced.upload(commands.cmd);
+        for (const gpu::Slice& slice : batch.slices(3)) {
+            const gpu::Completion sliceDone = batch.record(commands.cmd, sliced.source(), sliced.output(), slice);
+            EXPECT_EQ(batch.dispatches().size(), slice.dispatches);
+            commands.submit(sliceDone);
+        }
+        sliced.readBack(commands.cmd);
+        commands.submit({});
+        for (int p = 0; p < int(sources.size()); ++p)
+            for (int m = 0; m < settings.levelCount; ++m)
+                EXPECT_EQ(sliced.levels(p)[m].rgb, probes.levels(p)[m].rgb)
+                    << gpu::samplingName(sampling) << " sampling, sliced, probe " << p << ", level " << m;
     }
 }
 
