@@ -45,13 +45,19 @@ CubeLevels recordOnce(const Caller& c, gpu::Filter& engine, const gpu::FilterSet
     return probe.levels();
 }
 
-void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
+// FIS at 32^2, 5 levels, into RGBA16F: what an engine's probe filter might be.
+gpu::FilterSettings engineSettings(gpu::Sampling sampling) {
     gpu::FilterSettings settings;
     settings.method.kind = MethodKind::fis;
     settings.faceSize = 32;
     settings.levelCount = 5;
     settings.sampling = sampling;
     settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    return settings;
+}
+
+void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
+    const gpu::FilterSettings settings = engineSettings(sampling);
     const CubeImage source = halfRounded(probetest::randomProbe(settings.faceSize, 7));
     gpu::Filter tool(owner, settings);
     const CubeLevels expected = tool.run(source);
@@ -103,12 +109,7 @@ TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
     const Caller c = callerOf(owner);
     gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
-        gpu::FilterSettings settings;
-        settings.method.kind = MethodKind::fis;
-        settings.faceSize = 32;
-        settings.levelCount = 5;
-        settings.sampling = sampling;
-        settings.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+        gpu::FilterSettings settings = engineSettings(sampling);
         std::vector<CubeImage> sources;
         for (int p = 0; p < 3; ++p) sources.push_back(halfRounded(probetest::randomProbe(settings.faceSize, 20 + p)));
         gpu::Filter alone(owner, settings);
