@@ -1,7 +1,7 @@
-// The state of a probe::gpu::Filter, shared by the pass recorders.
+// The state of a probe::gpu::Filter: its resources, the passes it computes (filter_passes.h) and the
+// recordings in flight, shared by filter.cpp (the engine path) and filter_run.cpp (the tools').
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -103,7 +103,7 @@ struct Filter::Impl {
     std::string_view levelPass(int m) const;
     // One slice: a barrier against earlier use, pass 1 if asked and a barrier, then its levels; no
     // timestamps.
-    void recordSlice(VkCommandBuffer commandBuffer, bool pyramid, const std::vector<int>& levels, bool timestamps);
+    void recordSlice(VkCommandBuffer commandBuffer, bool withPyramid, const std::vector<int>& levels, bool timestamps);
     // Tools: uploads the batch's probes, runs the passes `repeat` times and returns each one's levels.
     std::vector<CubeLevels> runBatch(std::span<const CubeImage> sources, int repeat, Timestamps timestamps);
 };
