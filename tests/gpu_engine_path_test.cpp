@@ -116,6 +116,18 @@ TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
         settings.batchSize = int(sources.size());
         gpu::Filter batch(wrapped, settings);
         const EngineProbe probes(c, sources, settings.levelCount, VK_FORMAT_R16G16B16A16_SFLOAT, settings.outputFormat);
+        // The output as the Filter sizes it: what the engine's is, and an image the device makes.
+        const VkImageCreateInfo info = batch.outputImageInfo();
+        const gpu::OutputCube output = probes.output();
+        EXPECT_EQ(info.format, output.format);
+        EXPECT_EQ(info.extent.width, output.faceSize);
+        EXPECT_EQ(info.extent.height, output.faceSize);
+        EXPECT_EQ(info.mipLevels, output.mipLevels);
+        EXPECT_EQ(info.arrayLayers, output.arrayLayers);
+        EXPECT_EQ(output.usage & info.usage & ~VkImageUsageFlags(VK_IMAGE_USAGE_SAMPLED_BIT), VK_IMAGE_USAGE_STORAGE_BIT);
+        VkImage made = VK_NULL_HANDLE;
+        EXPECT_EQ(vkCreateImage(c.device, &info, nullptr, &made), VK_SUCCESS);
+        vkDestroyImage(c.device, made, nullptr);
         EngineCommands commands(c);
         probes.upload(commands.cmd);
         const gpu::Completion done = batch.record(commands.cmd, probes.source(), probes.output(), gpu::Timestamps::none);

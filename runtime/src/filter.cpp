@@ -609,6 +609,23 @@ VkFormat Filter::pyramidFormat() const {
 }
 bool Filter::outputNeedsTransfer() const { return impl_->plan.convertOutput; }
 
+VkImageCreateInfo Filter::outputImageInfo() const {
+    const FilterSettings& s = impl_->settings;
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = s.outputFormat;
+    info.extent = {uint32_t(s.faceSize), uint32_t(s.faceSize), 1};
+    info.mipLevels = uint32_t(s.levelCount);
+    info.arrayLayers = uint32_t(kFaceCount * s.batchSize);
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = VK_IMAGE_USAGE_SAMPLED_BIT | (impl_->plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT);
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    return info;
+}
+
 std::vector<PassTime> Filter::timings() const {
     // After record(), the caller's submission has completed when this is called.
     const Recording& r = *impl_->current;

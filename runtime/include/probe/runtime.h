@@ -323,6 +323,12 @@ public:
     // and "total".
     std::vector<CubeLevels> run(const std::vector<CubeImage>& sources, int repeat = 1);
 
+    // The output cube a recording writes, sized by the Filter, as the engine creates it (vkCreateImage):
+    // cube compatible, face size S_0, M mips, 6 layers (6 P for a batch), the output format, optimal
+    // tiling, usage STORAGE (TRANSFER_DST where outputNeedsTransfer()) and SAMPLED for the engine's
+    // readers (add the engine's own usages). An engine spreading updates over frames (slices) creates
+    // two from it and swaps them.
+    VkImageCreateInfo outputImageInfo() const;
     // The pyramid's sampling mode (automatic resolved), the pyramid's format (RGBA16F or RGBA32F),
     // and whether a B10G11R11 output is converted through a copy.
     Sampling sampling() const;
