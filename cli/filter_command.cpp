@@ -228,6 +228,10 @@ void runFilter(const FilterOptions& o) {
     const probe::PyramidSettings pyramid{probe::parsePyramidKind(o.pyramid), probe::parsePyramidWeighting(o.weighting)};
     probe::TapTable table;
     probe::gpu::FilterSettings s = filterSettings(o, pyramid, table);
+    if (batch && (s.method.kind == probe::MethodKind::reference ||
+                  (s.method.kind == probe::MethodKind::fis && s.method.fis.map == probe::FisMap::paraboloid)))
+        throw probe::ProbeError(fmt::format("several inputs run as one batch, and --method {} filters one probe at a time: give one input",
+                                            s.method.kind == probe::MethodKind::reference ? "reference" : "fis --fis-map paraboloid"));
     if (batch) s.batchSize = int(o.inputs.size());
     std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
     if (!o.table.empty() && std::filesystem::exists(o.table)) inputs.emplace_back(o.table);

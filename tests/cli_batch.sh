@@ -3,8 +3,9 @@
 # lavapipe with the validation layer, in both sampling modes. Each input's levels, KTX2 and irradiance
 # go into a folder named after it, equal file for file to that input filtered alone; one report.json
 # lists the probes, and the batch takes the dispatches and barriers of one probe. Two inputs of one
-# name, slices or level times with several inputs, and a bad input among good ones are refused (exit
-# 2, the reason on stderr, nothing written).
+# name, slices or level times with several inputs, the reference or FIS on a paraboloid map with
+# several, and a bad input among good ones are refused (exit 2, the reason on stderr, nothing
+# written).
 set -euo pipefail
 : "${PROBEFILTER:?}"
 work="$(mktemp -d)"
@@ -59,6 +60,8 @@ mkdir other && cp sky.exr other/sky.exr
 refused same_name "same name" sky.exr other/sky.exr --size 16
 refused slices "take one input" sky.exr room.exr --size 16 --slices 2
 refused level_times "take one input" sky.exr room.exr --size 16 --level-times
+refused reference "one probe at a time: give one input" sky.exr room.exr --size 16 --method reference
+refused paraboloid "one probe at a time: give one input" sky.exr room.exr --size 16 --method fis --fis-map paraboloid
 head -c 100 sky.exr > broken.exr
 refused bad_input "broken.exr" sky.exr broken.exr --size 16
 echo "cli_batch: ok"
