@@ -297,7 +297,7 @@ void runFilter(const FilterOptions& o) {
     if (o.slices) total = std::accumulate(sliceMs.begin(), sliceMs.end(), 0.0);
     const probe::gpu::DeviceInfo& info = device.info();
     const std::string timing = o.slices ? fmt::format("{} slices", slices.size())
-                               : batch  ? fmt::format("{} probes in one submission, median of {}", probes.size(), o.repeat)
+                               : batch  ? fmt::format("{} probes in one recording, median of {}", probes.size(), o.repeat)
                                         : fmt::format("median of {}", o.repeat);
     fmt::print("filter: {} ({} sampling) on {} ({}): {} levels of {}^2, GPU {:.3f} ms ({}) -> {}\n", o.method,
                probe::gpu::samplingName(filter.sampling()), info.name, info.driver, s.levelCount, s.faceSize, total, timing, o.out);
@@ -311,7 +311,7 @@ void addFilterCommand(CLI::App& app) {
         app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
     cmd->add_option("inputs", o->inputs,
                     fmt::format("Probe images: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip; several (at most {}) are "
-                                "filtered as one batch, one submission, each into a folder of --out named after the file",
+                                "filtered as one batch, one recording, each into a folder of --out named after the file",
                                 kMaxBatch))
         ->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();

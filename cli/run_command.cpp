@@ -343,7 +343,7 @@ private:
             if (count > 1) {
                 json names = json::array();
                 for (const ProbeResult& r : results) names.push_back(r.probe->name);
-                // gpu_ms is then the whole batch's: one submission.
+                // gpu_ms is then the whole batch's: one recording.
                 entry["batch"] = {{"probes", names}, {"dispatches", all.size()}, {"barriers", filter.barriers()}};
             }
         }

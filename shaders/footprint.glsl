@@ -52,8 +52,8 @@ vec3 sampleBilinear(int faceSize, int level, int face, float x, float y) {
 }
 
 // Trilinear value of the levels packed as the pyramid is (levelCount levels from faceSize, the
-// invocation's cube of a batch) from texel `first` of the pyramid buffer, at a direction (any length, not zero) and a fractional level,
-// clamped to [0, levelCount - 1].
+// invocation's cube of a batch) from texel `first` of the pyramid buffer, at a direction (any length,
+// not zero) and a fractional level, clamped to [0, levelCount - 1].
 vec3 sampleTrilinearAt(uint first, int faceSize, int levelCount, vec3 direction, float level) {
     level = clamp(level, 0.0, float(levelCount - 1));
     int lower = int(floor(level));

@@ -9,9 +9,9 @@
 // of cube gl_WorkGroupID.z / 6 of a batch of P (batch.glsl), so that the frames' axes and with them
 // every table index are the same across it (a GPU reads them once per wave). Exact sampling, whose
 // frame loop takes each invocation's axes, runs (groups, rows, P) over the six faces one after
-// another, so that the smallest levels fill a workgroup instead of six. The
-// group's levels follow one another in the grid (level_group.glsl). Within a face the invocations
-// take its interior first, then its edge ring (texelOfInvocation).
+// another, so that the smallest levels fill a workgroup instead of six. The group's levels follow one
+// another in the grid (level_group.glsl). Within a face the invocations take its interior first, then
+// its edge ring (texelOfInvocation).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -222,7 +222,7 @@ struct Completion {
     uint64_t value = 0;
 };
 
-// A part of one probe's update, for spreading it over frames (Filter::slices, Filter::record): pass 1,
+// A part of one probe's (or one batch's) update, for spreading it over frames (Filter::slices, Filter::record): pass 1,
 // which builds the Filter's pyramid from the source, and some output levels, which read the pyramid
 // that an earlier slice (or this one) built.
 struct Slice {
