@@ -32,8 +32,9 @@ inline constexpr const char* kForceHelp =
 static_assert(probe::kMaxFaceSize == 2048, "kGpuSizeHelp states the face-size limit");
 inline constexpr const char* kGpuSizeHelp =
     "Output face size S_0, a power of two, at most 2048; exact sampling (and the box pyramid) reads per-texel buffers of every "
-    "pyramid level as texel buffers, which the device's maxTexelBufferElements must hold (33.6 million texels at 2048^2; lavapipe "
-    "and the common GPUs hold 2^27), hardware sampling none; the reference's sums need a storage buffer of every output level "
+    "pyramid level as texel buffers, which the device's maxTexelBufferElements must hold (33.6 million texels at 2048^2, 70.0 "
+    "million for FIS on the paraboloid map; lavapipe and the common GPUs hold 2^27), hardware sampling none; the reference's sums "
+    "need a storage buffer of every output level "
     "(512 MiB at 2048^2); refused up front otherwise";
 
 inline constexpr const char* kAllowLongHelp =

@@ -1,6 +1,8 @@
 // The dual-paraboloid map of FIS (probe/paraboloid.h, mirrored line by line): two images per level,
-// level k of size (2 S_0) >> k, packed level after level in the accumulator buffer (binding 1), each
-// level the front image then the back image, row-major.
+// level k of size (2 S_0) >> k, packed level after level in the pyramid buffer after the bordered
+// source (its level 0, which the map's level 0 reads), each level the front image then the back
+// image, row-major. Written through windows of binding 0 (paraboloid_map.comp), read through
+// pyramidTexel: the whole map can exceed the storage-buffer range a device guarantees.
 #ifndef PROBE_PARABOLOID_GLSL
 #define PROBE_PARABOLOID_GLSL
 
@@ -10,10 +12,11 @@
 int paraboloidSize(int faceSize) { return 2 * faceSize; }
 int paraboloidLevelCount(int faceSize) { return findMSB(uint(paraboloidSize(faceSize))) + 1; }
 
-// First texel of map level k: 2 sum_{l < k} (S >> l)^2 = 8 (S^2 - (S >> k)^2) / 3.
+// First texel of map level k in the pyramid buffer: after the bordered source, 2 sum_{l < k} (S >> l)^2
+// = 8 (S^2 - (S >> k)^2) / 3.
 uint paraboloidLevelOffset(int faceSize, int level) {
     uint s0 = uint(paraboloidSize(faceSize)), s = s0 >> uint(level);
-    return 8u * (s0 * s0 - s * s) / 3u;
+    return pyramidLevelOffset(faceSize, 1) + 8u * (s0 * s0 - s * s) / 3u;
 }
 
 // probe::paraboloidDirection
@@ -50,9 +53,9 @@ vec3 sampleParaboloidLevel(int faceSize, int level, vec3 d) {
     uint first = paraboloidLevelOffset(faceSize, level) + uint(image) * uint(size * size);
     int ia = clamp(i0, 0, size - 1), ib = clamp(i0 + 1, 0, size - 1);
     int ja = clamp(j0, 0, size - 1), jb = clamp(j0 + 1, 0, size - 1);
-    return ((1.0 - fx) * (1.0 - fy)) * outputTexels[first + uint(ja * size + ia)].rgb +
-           (fx * (1.0 - fy)) * outputTexels[first + uint(ja * size + ib)].rgb +
-           ((1.0 - fx) * fy) * outputTexels[first + uint(jb * size + ia)].rgb + (fx * fy) * outputTexels[first + uint(jb * size + ib)].rgb;
+    return ((1.0 - fx) * (1.0 - fy)) * pyramidTexel(first + uint(ja * size + ia)) +
+           (fx * (1.0 - fy)) * pyramidTexel(first + uint(ja * size + ib)) + ((1.0 - fx) * fy) * pyramidTexel(first + uint(jb * size + ia)) +
+           (fx * fy) * pyramidTexel(first + uint(jb * size + ib));
 }
 
 // Trilinear value of the map at a direction and a fractional level, clamped to the chain.

@@ -1,4 +1,5 @@
-// Pass 1 of FIS on a dual-paraboloid map (probe::buildParaboloidMap), one map level per dispatch:
+// Pass 1 of FIS on a dual-paraboloid map (probe::buildParaboloidMap), one map level per dispatch, or
+// a window of it where the level exceeds the device's storage-buffer range (FilterPlan::paraboloidWindows):
 // level 0 reads the bordered source (pyramid level 0) bilinearly at each texel centre's direction,
 // level k averages the 2x2 texels of level k - 1.
 #version 450
@@ -11,12 +12,15 @@ layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 layout(push_constant) uniform Params {
     int faceSize; // S_0
     int level;    // the map level written
+    uint start;   // its texels [start, start + count) (front image, then back image)
+    uint count;
+    uint window; // the pyramid-buffer texel where the window bound at binding 0 starts
 } params;
 
 void main() {
     int size = paraboloidSize(params.faceSize) >> params.level;
-    uint index = invocationIndex();
-    if (index >= uint(2 * size * size)) return;
+    if (invocationIndex() >= params.count) return;
+    uint index = params.start + invocationIndex();
     int image = int(index) / (size * size), j = int(index) / size % size, i = int(index) % size;
     vec3 value;
     if (params.level == 0) {
@@ -28,8 +32,7 @@ void main() {
     } else {
         int fine = 2 * size;
         uint f = paraboloidLevelOffset(params.faceSize, params.level - 1) + uint(image * fine * fine + 2 * j * fine + 2 * i);
-        value = 0.25 * (outputTexels[f].rgb + outputTexels[f + 1u].rgb + outputTexels[f + uint(fine)].rgb +
-                        outputTexels[f + uint(fine) + 1u].rgb);
+        value = 0.25 * (pyramidTexel(f) + pyramidTexel(f + 1u) + pyramidTexel(f + uint(fine)) + pyramidTexel(f + uint(fine) + 1u));
     }
-    outputTexels[paraboloidLevelOffset(params.faceSize, params.level) + index] = vec4(value, 1.0);
+    storePyramid(paraboloidLevelOffset(params.faceSize, params.level) + index, params.window, value);
 }

@@ -183,6 +183,49 @@ TEST(FilterPlan, PyramidWindowsCoverEachLevelWithinTheStorageRange) {
     EXPECT_EQ(planFilter(reference, d).pyramidWindows[0].faceCount, kFaceCount);
 }
 
+TEST(FilterPlan, ParaboloidMapWindowsCoverEachLevelWithinTheStorageRange) {
+    // FIS on the paraboloid map at 2048^2: the map (682.7 MiB, level 0 two 4096^2 images) follows the
+    // bordered source in the pyramid buffer, written through windows of at most 128 MiB with aligned
+    // offsets, read as one texel buffer of 70.0 million texels.
+    FilterSettings s = fisSettings(2048);
+    s.method.fis.map = FisMap::paraboloid;
+    DeviceCapabilities d = gpu();
+    d.minStorageBufferOffsetAlignment = 256;
+    const FilterPlan plan = planFilter(s, d);
+    ASSERT_TRUE(plan.paraboloid);
+    EXPECT_EQ(plan.accumulatorTexels, 1u);
+    std::size_t mapTexels = 0;
+    for (int size = 4096; size >= 1; size /= 2) mapTexels += 2 * std::size_t(size) * std::size_t(size);
+    EXPECT_EQ(plan.pyramidTexels, plan.pyramidOffsets[1] + mapTexels);
+    EXPECT_EQ(plan.pyramidWindows.size(), 6u); // the bordered source, a face a window
+    int level = -1;
+    std::size_t next = 0, levelFirst = plan.pyramidOffsets[1], levelTexels = 0;
+    std::vector<int> windowsOf(13, 0);
+    for (const ParaboloidWindow& w : plan.paraboloidWindows) {
+        if (w.level != level) { // a new level starts at its texel 0, after the last one ended
+            EXPECT_EQ(next, levelTexels);
+            EXPECT_EQ(w.level, level + 1);
+            levelFirst += levelTexels;
+            level = w.level;
+            levelTexels = 2 * std::size_t(4096 >> level) * std::size_t(4096 >> level);
+            next = 0;
+        }
+        EXPECT_EQ(w.start, next);
+        EXPECT_GE(w.count, 1u);
+        next += w.count;
+        ++windowsOf[std::size_t(w.level)];
+        EXPECT_EQ(w.first * 16 % 256, 0u);
+        EXPECT_LE(w.first, levelFirst + w.start);
+        EXPECT_EQ(w.first + w.texels, levelFirst + w.start + w.count);
+        EXPECT_LE(w.texels * 16, std::size_t(1) << 27);
+    }
+    EXPECT_EQ(level, 12);
+    EXPECT_EQ(next, 2u);
+    EXPECT_EQ(windowsOf[0], 5); // 512 MiB in windows of 128 MiB, the first starting after an aligned offset
+    EXPECT_EQ(windowsOf[1], 2); // 128 MiB, and a window is that less its offset's slack
+    EXPECT_EQ(levelFirst + 2, plan.pyramidTexels);
+}
+
 TEST(FilterPlan, BatchPyramidHoldsEachLevelOfEveryCubeInTurn) {
     // 64 exact 128^2 probes: level 0 of all of them (384 faces of 130^2 texels, 98.9 MiB) in one
     // window, each level after the last one of every cube, the buffer 64 times one probe's; the
@@ -242,6 +285,14 @@ TEST(FilterPlan, RefusesWhatTheDeviceCannotHold) {
     s.sampling = Sampling::hardware;
     EXPECT_EQ(refusal(s, few), "planned");
     EXPECT_EQ(refusal(s, narrow), "planned");
+    // FIS on the paraboloid map reads the source and the map as one texel buffer of 70.0 million texels.
+    FilterSettings paraboloid = fisSettings(2048);
+    paraboloid.method.fis.map = FisMap::paraboloid;
+    DeviceCapabilities fewer = gpu();
+    fewer.maxTexelBufferElements = 1u << 26;
+    EXPECT_NE(refusal(paraboloid, fewer).find("at most 67108864 texels, this one has 69954242"), std::string::npos)
+        << refusal(paraboloid, fewer);
+    EXPECT_EQ(refusal(paraboloid, gpu()), "planned");
     // The reference's running sums are a storage buffer of every output level.
     FilterSettings reference = fisSettings(2048);
     reference.method.kind = MethodKind::reference;

@@ -371,6 +371,32 @@ TEST_F(GpuTest, ParaboloidFisEqualsCpuModel) {
     EXPECT_THROW(gpu::Filter(probetest::testDevice(), s), ParameterError);
 }
 
+// A map larger than the device's storage-buffer range is written in windows (FilterPlan::paraboloidWindows),
+// each level's after the level above, as at 2048^2 where its level 0 takes 512 MiB: the same bits as
+// a map written level by level.
+TEST_F(GpuTest, ParaboloidMapWrittenInWindowsEqualsOneWindowALevel) {
+    const gpu::Device& shared = probetest::testDevice();
+    const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    // 3000 texels a window: the bordered 32^2 source (6 faces of 34^2) in three windows of two faces,
+    // the map's level 0 (two 64^2 images) in three, its level 1 (two 32^2) in one.
+    device.impl().limits.maxStorageBufferRange = 3000 * 16;
+    device.impl().limits.minStorageBufferOffsetAlignment = 16;
+    gpu::FilterSettings s = settingsFor(MethodKind::fis, 32, 5, RoughnessMapping::gltf, kAllPyramids[0], gpu::Sampling::exact);
+    s.method.fis.map = FisMap::paraboloid;
+    const CubeImage source = probetest::randomProbe(32, 34);
+    gpu::Filter whole(shared, s), windowed(device, s);
+    const CubeLevels expected = whole.run(source), levels = windowed.run(source);
+    const auto pyramidDispatches = [](const gpu::Filter& f, int level) {
+        return std::count_if(f.dispatches().begin(), f.dispatches().end(),
+                             [&](const gpu::Dispatch& d) { return d.pass == "pyramid" && d.level == level; });
+    };
+    for (int m = 0; m < 5; ++m) EXPECT_EQ(levels[m].rgb, expected[m].rgb) << "level " << m;
+    // Level 0: the bordered source and its corners per window, then the map's level 0.
+    EXPECT_EQ(pyramidDispatches(whole, 0), 2 + 1);
+    EXPECT_EQ(pyramidDispatches(windowed, 0), 3 * 2 + 3);
+    EXPECT_EQ(pyramidDispatches(windowed, 1), 1);
+}
+
 TEST_F(GpuTest, WhiteFurnaceEveryMethod) {
     const glm::vec3 radiance(0.25f, 1.0f, 3.0f);
     const CubeImage constant = constantProbe(32, radiance);

@@ -199,7 +199,8 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
             r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1, layers);
         }
     }
-    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + 2 * s.levelCount + plan.levelGroups.size()));
+    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + plan.paraboloidWindows.size() +
+                                            2 * s.levelCount + plan.levelGroups.size()));
 
     const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
@@ -287,13 +288,16 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
     };
     const bool hardware = plan.buildsPyramid && plan.sampling == Sampling::hardware;
     r.pyramidSets.clear();
+    // A set per window of the pyramid buffer: the pyramid's, then the paraboloid map's.
+    const auto windowSet = [&](std::size_t first, std::size_t texels) {
+        const VkDescriptorSet set = r.pool->allocate();
+        common(set);
+        descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle(), first * kTexelBytes, texels * kTexelBytes);
+        r.pyramidSets.push_back(set);
+    };
     if (pyramid)
-        for (const PyramidWindow& w : plan.pyramidWindows) {
-            const VkDescriptorSet set = r.pool->allocate();
-            common(set);
-            descriptors->writeBuffer(set, kPyramidBuffer, r.pyramidBuffer.handle(), w.first * kTexelBytes, w.texels * kTexelBytes);
-            r.pyramidSets.push_back(set);
-        }
+        for (const PyramidWindow& w : plan.pyramidWindows) windowSet(w.first, w.texels);
+    for (const ParaboloidWindow& w : plan.paraboloidWindows) windowSet(w.first, w.texels);
     if (pyramid && hardware)
         for (int k = 0; k <= plan.pyramidDepth; ++k) {
             const VkDescriptorSet set = r.pool->allocate();

@@ -124,6 +124,27 @@ std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int tailLevel
     return windows;
 }
 
+std::vector<ParaboloidWindow> paraboloidWindows(int faceSize, std::size_t mapFirst, const DeviceCapabilities& d) {
+    const std::size_t range = d.maxStorageBufferRange / kTexelBytes;
+    const std::size_t alignment = std::max<std::size_t>(1, d.minStorageBufferOffsetAlignment / kTexelBytes);
+    if (range < alignment) // a window starts up to alignment - 1 texels before its first texel
+        throw ProbeError(fmt::format("Vulkan: {} writes storage buffers of at most {} bytes, below its offset alignment", d.name,
+                                     d.maxStorageBufferRange));
+    std::vector<ParaboloidWindow> windows;
+    std::size_t levelFirst = mapFirst;
+    for (int level = 0, size = paraboloidSize(faceSize); size >= 1; ++level, size /= 2) {
+        const std::size_t levelTexels = 2 * std::size_t(size) * std::size_t(size);
+        for (std::size_t start = 0; start < levelTexels;) {
+            const std::size_t first = (levelFirst + start) / alignment * alignment;
+            const std::size_t count = std::min(levelTexels - start, range - (levelFirst + start - first));
+            windows.push_back({level, start, count, first, levelFirst + start + count - first});
+            start += count;
+        }
+        levelFirst += levelTexels;
+    }
+    return windows;
+}
+
 DeviceCapabilities capabilitiesOf(const Device& device) {
     const Device::Impl& d = device.impl();
     DeviceCapabilities c;
@@ -220,10 +241,12 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
     plan.pyramidOffsets = pyramidOffsetsFor(s.faceSize, plan.pyramidLevels);
-    if (plan.buildsPyramid && plan.sampling == Sampling::exact) plan.pyramidTexels = std::size_t(s.batchSize) * plan.pyramidOffsets.back();
+    // The paraboloid map follows the bordered source.
+    if (plan.paraboloid) plan.pyramidTexels = plan.pyramidOffsets[1] + paraboloidMapTexels(s.faceSize);
+    else if (plan.buildsPyramid && plan.sampling == Sampling::exact)
+        plan.pyramidTexels = std::size_t(s.batchSize) * plan.pyramidOffsets.back();
     else if (kind == MethodKind::reference && filters) plan.pyramidTexels = plan.pyramidOffsets[1];
     if (kind == MethodKind::reference) plan.accumulatorTexels = plan.outputOffsets.back();
-    if (plan.paraboloid) plan.accumulatorTexels = paraboloidMapTexels(s.faceSize);
     plan.geometry = plan.sampling == Sampling::exact || s.method.pyramid().kind == PyramidKind::box;
     if (plan.geometry) {
         plan.geometryTexels = 0;
@@ -241,6 +264,7 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
         plan.pyramidWindows = plan.buildsPyramid && plan.sampling == Sampling::exact
                                   ? pyramidWindows(s.faceSize, plan.pyramidDepth, plan.pyramidTailLevel, s.batchSize, d)
                                   : pyramidWindows(s.faceSize, 0, 0, s.batchSize, d);
+    if (plan.paraboloid) plan.paraboloidWindows = paraboloidWindows(s.faceSize, plan.pyramidOffsets[1], d);
     for (const std::size_t texels : {plan.pyramidTexels, plan.geometryTexels})
         if (texels > d.maxTexelBufferElements)
             throw ProbeError(fmt::format("Vulkan: {} reads texel buffers of at most {} texels, this one has {}; use a smaller size", d.name,

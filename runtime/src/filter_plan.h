@@ -53,6 +53,23 @@ struct PyramidWindow {
 // in one window, which pass 1's last dispatch writes. Throws ProbeError where one face does not fit.
 std::vector<PyramidWindow> pyramidWindows(int faceSize, int depth, int tailLevel, int cubes, const DeviceCapabilities& device);
 
+// Part of a level of FIS's dual-paraboloid map that one dispatch of pass 1 writes through one
+// storage-buffer binding: the level's texels [start, start + count) (its front image, then its back
+// image, row-major: shaders/paraboloid.glsl), bound from pyramid-buffer texel `first` (aligned as the
+// device asks) for `texels` texels. The map follows the bordered source in the pyramid buffer, whose
+// reads go through a texel buffer: at 2048^2 its level 0 alone takes 512 MiB.
+struct ParaboloidWindow {
+    int level = 0;
+    std::size_t start = 0;
+    std::size_t count = 0;
+    std::size_t first = 0;
+    std::size_t texels = 0;
+};
+
+// The windows of every level of the map of a source of `faceSize`, the map starting at pyramid-buffer
+// texel `mapFirst`, in level order, each as large as the device's storage-buffer range allows.
+std::vector<ParaboloidWindow> paraboloidWindows(int faceSize, std::size_t mapFirst, const DeviceCapabilities& device);
+
 // The most probes a batch holds (FilterSettings::batchSize).
 inline constexpr int kMaxBatchSize = 256;
 
@@ -73,12 +90,13 @@ struct FilterPlan {
     uint32_t fisLevels = 0;              // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)
     bool filters = false;                // a computed level is filtered, not copied
     bool buildsPyramid = false;          // pass 1 builds a pyramid (table or fis with a filtered level computed)
-    bool paraboloid = false;             // fis on a dual-paraboloid map: pass 1 builds it in the accumulator buffer
+    bool paraboloid = false;             // fis on a dual-paraboloid map: pass 1 builds it in the pyramid buffer
     std::vector<uint32_t> outputOffsets; // first texel of each output level (packed), and the total
     // First texel of each bordered pyramid level of a cube (buffer.h), and the total; a batch's level k
     // starts at batchSize times its offset.
     std::vector<uint32_t> pyramidOffsets;
-    std::vector<PyramidWindow> pyramidWindows; // where pass 1 writes the bordered pyramid (exact sampling, the reference)
+    std::vector<PyramidWindow> pyramidWindows;       // where pass 1 writes the bordered pyramid (exact sampling, the reference)
+    std::vector<ParaboloidWindow> paraboloidWindows; // and then the paraboloid map, after the bordered source
     // The geometry buffer holds every pyramid level's directions and solid angles where exact sampling
     // or the box pyramid reads them (hardware sampling computes its directions), else one texel.
     bool geometry = false;

@@ -9,7 +9,7 @@
 //   starts below mip 1), then (shaders/pyramid_tail.comp) the mips from there down in one workgroup,
 //   which saves the GPU a dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
-// the bordered source.
+// the bordered source, in windows where a level exceeds the storage-buffer range.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -48,6 +48,14 @@ struct PyramidWindowConstants {
     int32_t firstFace; // the window's faces
     int32_t faceCount;
     uint32_t window; // its first texel
+};
+
+struct ParaboloidWindowConstants {
+    int32_t faceSize;
+    int32_t level;
+    uint32_t start; // the level's texels the window holds
+    uint32_t count;
+    uint32_t window; // the window's first texel
 };
 
 struct PyramidTailConstants {
@@ -101,8 +109,7 @@ uint32_t PyramidPass::dispatchCount() const {
         // Each window a dispatch, and one for its corners; the tail's one in all.
         count = uint32_t(plan.pyramidWindows.size()) * (corners_ ? 2 : 1) - (tail_ ? 1 : 0);
     }
-    if (paraboloidMap_)
-        for (int level = 0; (paraboloidSize(context_.settings.faceSize) >> level) >= 1; ++level) ++count;
+    if (paraboloidMap_) count += uint32_t(plan.paraboloidWindows.size());
     return count;
 }
 
@@ -185,11 +192,14 @@ void PyramidPass::record(const PassRecorder& recorder, const Recording& recordin
     if (context_.plan.sampling == Sampling::exact) recordBorderedLevels(recorder, recording);
     else recordMips(recorder, recording);
     if (!paraboloidMap_) return;
-    for (int level = 0; (paraboloidSize(s.faceSize) >> level) >= 1; ++level) {
+    // A barrier before each window: each reads the level above, and binds the whole buffer for it.
+    const std::vector<ParaboloidWindow>& windows = context_.plan.paraboloidWindows;
+    for (std::size_t w = 0; w < windows.size(); ++w) {
         recorder.barrier();
-        const PyramidConstants constants{s.faceSize, level};
-        const std::size_t size = static_cast<std::size_t>(paraboloidSize(s.faceSize) >> level);
-        recorder.dispatch(*paraboloidMap_, "pyramid", level, constants, groupsFor(2 * size * size));
+        recorder.bind(recording.pyramidSets[context_.plan.pyramidWindows.size() + w]);
+        const ParaboloidWindowConstants constants{s.faceSize, windows[w].level, uint32_t(windows[w].start), uint32_t(windows[w].count),
+                                                  uint32_t(windows[w].first)};
+        recorder.dispatch(*paraboloidMap_, "pyramid", windows[w].level, constants, groupsFor(windows[w].count));
     }
 }
 

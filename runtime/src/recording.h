@@ -22,7 +22,7 @@ namespace probe::gpu {
 // contents it makes anew.
 struct Recording {
     Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
-    Buffer accumulator;   // the reference's running sums, or the paraboloid map (one vec4 when unused)
+    Buffer accumulator;   // the reference's running sums (one vec4 when unused)
     BufferView pyramidView;
     CubeImageResource pyramidImage;          // hardware sampling: mips 0..pyramidDepth
     ImageView pyramidAll;                    // cube (a cube-map array for a batch), every mip: pass 2 reads
@@ -36,8 +36,8 @@ struct Recording {
     VkImage boundOutput = VK_NULL_HANDLE;
     std::vector<ImageView> outputMips; // views of the bound output (or of `intermediate`), per output level
     std::unique_ptr<DescriptorPool> pool;
-    // Pass 1's: per pyramid window (FilterPlan::pyramidWindows) with exact sampling, per pyramid level
-    // 0..pyramidDepth with hardware sampling.
+    // Pass 1's: per pyramid window (FilterPlan::pyramidWindows) with exact sampling, then per paraboloid
+    // window (FilterPlan::paraboloidWindows); per pyramid level 0..pyramidDepth with hardware sampling.
     std::vector<VkDescriptorSet> pyramidSets;
     std::vector<VkDescriptorSet> levelSets;   // per output level
     std::vector<VkDescriptorSet> groupSets;   // per output level: the set of the level group it starts (its levels' mips)
