@@ -28,9 +28,11 @@ layout(constant_id = 0) const int kFixedSampleCount = 0;
 layout(push_constant) uniform Params {
     int faceSize;      // S_0
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
-    int firstLevel;      // the group's first output level
-    uint groupEnd[4];    // per level of the group, the end of its workgroups (level_group.glsl)
-    uint firstSample[5]; // level firstLevel + k's samples: [firstSample[k], firstSample[k + 1])
+    int firstLevel;    // the group's first output level
+    // Per level of the group, the end of its workgroups (level_group.glsl), and level firstLevel + k's
+    // samples: [firstSample[k], firstSample[k + 1]).
+    uint groupEnd[PROBE_MAX_GROUP_LEVELS];
+    uint firstSample[PROBE_MAX_GROUP_LEVELS + 1];
 } params;
 
 vec3 samplePyramid(vec3 direction, float level) {
@@ -45,7 +47,7 @@ vec3 samplePyramid(vec3 direction, float level) {
 
 void main() {
     uint groupInLevel, slot = levelSlot(params.groupEnd, groupInLevel);
-    if (slot >= 4u) return;
+    if (slot >= uint(PROBE_LEVEL_GROUP_WIDTH)) return;
     int level = params.firstLevel + int(slot), size = params.faceSize >> level;
     uint inLevel = invocationInLevel(groupInLevel);
     batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch

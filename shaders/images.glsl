@@ -33,12 +33,20 @@ vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, d
 // The mips a dispatch writes, faces as layers (batchLayer), from element 0: pass 1's pyramid mip (hardware
 // sampling), or in its last dispatch (pyramid_tail.comp) the mips of face size
 // PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip, or with
-// PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl). One binding for all keeps
-// every pipeline within the four storage images per stage that every Vulkan device offers.
+// PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl): PROBE_LEVEL_GROUP_WIDTH of
+// them, 4 or, in the variant for devices that offer as many storage images per stage,
+// PROBE_MAX_GROUP_LEVELS. One binding for all keeps every other pipeline within the four storage
+// images per stage that every Vulkan device offers.
+#ifndef PROBE_LEVEL_GROUP_WIDTH
+#define PROBE_LEVEL_GROUP_WIDTH 4
+#endif
+#if PROBE_LEVEL_GROUP_WIDTH != 4 && PROBE_LEVEL_GROUP_WIDTH != PROBE_MAX_GROUP_LEVELS
+#error "storeOutput writes groups of 4 or of PROBE_MAX_GROUP_LEVELS levels"
+#endif
 #if defined(PROBE_PYRAMID_FORMAT)
 layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[4];
 #elif defined(PROBE_LEVEL_GROUP)
-layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMips[4];
+layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMips[PROBE_LEVEL_GROUP_WIDTH];
 #else
 layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMip;
 #endif
@@ -68,7 +76,19 @@ void storeOutput(uint slot, ivec3 texel, vec3 value) {
     case 0u: imageStore(outputMips[0], texel, v); break;
     case 1u: imageStore(outputMips[1], texel, v); break;
     case 2u: imageStore(outputMips[2], texel, v); break;
+#if PROBE_LEVEL_GROUP_WIDTH == 4
     default: imageStore(outputMips[3], texel, v); break;
+#else
+    case 3u: imageStore(outputMips[3], texel, v); break;
+    case 4u: imageStore(outputMips[4], texel, v); break;
+    case 5u: imageStore(outputMips[5], texel, v); break;
+    case 6u: imageStore(outputMips[6], texel, v); break;
+    case 7u: imageStore(outputMips[7], texel, v); break;
+    case 8u: imageStore(outputMips[8], texel, v); break;
+    case 9u: imageStore(outputMips[9], texel, v); break;
+    case 10u: imageStore(outputMips[10], texel, v); break;
+    default: imageStore(outputMips[11], texel, v); break;
+#endif
     }
 }
 #elif !defined(PROBE_PYRAMID_FORMAT)

@@ -40,7 +40,8 @@ layout(push_constant) uniform Params {
     int pyramidLevels; // the levels pass 1 built (log2(S_0) + 1 in a full run): exact reads clamp to them
     int firstLevel;    // the group's first output level
     uint usageFirst;   // index of level 0's tap group count in `table`
-    uint groupEnd[4];  // per level of the group, the end of its workgroups (level_group.glsl)
+    // Per level of the group, the end of its workgroups (level_group.glsl).
+    uint groupEnd[PROBE_MAX_GROUP_LEVELS];
 } params;
 
 uint levelFirst; // the level's first vec4 in `table`
@@ -87,7 +88,7 @@ uint texelOfInvocation(uint k, int size) {
 
 void main() {
     uint groupInLevel, slot = levelSlot(params.groupEnd, groupInLevel);
-    if (slot >= 4u) return;
+    if (slot >= uint(PROBE_LEVEL_GROUP_WIDTH)) return;
     int level = params.firstLevel + int(slot), size = params.faceSize >> level;
     uint faceTexels = uint(size * size), inLevel = invocationInLevel(groupInLevel);
 #ifdef PROBE_HARDWARE_SAMPLING

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "filter_descriptors.h"
+#include "probe/limits.h"
 
 namespace {
 
@@ -27,6 +28,10 @@ TEST(FilterLayout, StaysWithinTheLimitsEveryDeviceOffers) {
     // Pass 1's last dispatch writes the tail's mips through the one storage-image binding.
     EXPECT_EQ(kFilterBindings[kWrittenMips].type, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
     EXPECT_EQ(kFilterBindings[kWrittenMips].count, uint32_t(kPyramidTailMipCount));
+    // The wide layout (FilterPlan::writtenMipCount, for a device that offers its storage images) has
+    // them for every level of the largest face size, and nothing else more.
+    EXPECT_EQ(filterDescriptorCount(VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kWideWrittenMipCount), uint32_t(probe::kMaxLevels));
+    EXPECT_EQ(filterDescriptorCount(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kWideWrittenMipCount), storageBuffers);
 }
 
 } // namespace

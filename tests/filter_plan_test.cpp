@@ -80,6 +80,22 @@ TEST(FilterPlan, LevelGroupsShareADispatch) {
     const FilterPlan plan = planFilter(handOff, gpu());
     EXPECT_EQ(plan.fisLevels, 1u << 2);
     EXPECT_EQ(plan.levelGroups, (Groups{{0}, {1}, {2}, {3, 4, 5}}));
+
+    // A device with the storage images of every level: the filtered levels in one dispatch, a
+    // Charlie lobe's from level 0 at the largest size; the copy, a level handed to FIS and the
+    // reference's levels still apart.
+    EXPECT_EQ(planFilter(fisSettings(128), gpu()).writtenMipCount, kWrittenMipCount);
+    DeviceCapabilities wide = gpu();
+    wide.maxPerStageDescriptorStorageImages = kWideWrittenMipCount;
+    EXPECT_EQ(planFilter(fisSettings(128), wide).writtenMipCount, kWideWrittenMipCount);
+    EXPECT_EQ(planFilter(fisSettings(128), wide).levelGroups, (Groups{{0}, {1, 2, 3, 4, 5, 6}}));
+    FilterSettings everyLevel = fisSettings(2048, Lobe::charlie);
+    everyLevel.levelCount = 12;
+    EXPECT_EQ(planFilter(everyLevel, wide).levelGroups, (Groups{{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}}));
+    EXPECT_EQ(planFilter(handOff, wide).levelGroups, (Groups{{0}, {1}, {2}, {3, 4, 5}}));
+    EXPECT_EQ(planFilter(reference, wide).levelGroups, (Groups{{0}, {1}, {2}, {3}, {4}}));
+    wide.maxPerStageDescriptorStorageImages = kWideWrittenMipCount - 1;
+    EXPECT_EQ(planFilter(fisSettings(128), wide).levelGroups, (Groups{{0}, {1, 2, 3, 4}, {5, 6}}));
 }
 
 TEST(FilterPlan, SamplingByDeviceAndMethod) {

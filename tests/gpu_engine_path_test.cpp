@@ -407,7 +407,7 @@ TEST_F(GpuTest, SlicesEqualTheWholeUpdate) {
                     EXPECT_GT(slice.texelTaps, 0.0) << what;
                 }
                 EXPECT_EQ(levels, (std::vector<int>{0, 1, 2, 3})) << what;
-                // A level group that the slices split costs a dispatch per level.
+                // A level group that the slices split costs a dispatch per part.
                 if (count == 1) EXPECT_EQ(dispatches, wholeDispatches) << what;
                 else EXPECT_GE(dispatches, wholeDispatches) << what;
                 const CubeLevels sliced = recordOnce(c, filter, s, source, VK_FORMAT_R32G32B32A32_SFLOAT, gpu::Timestamps::none, &slices);

@@ -7,7 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "device.h" // runtime/src: Device::Impl
+#include "device.h"             // runtime/src: Device::Impl
+#include "filter_descriptors.h" // runtime/src: kWideWrittenMipCount
 #include "gpu_test_support.h"
 #include "probe/cpu_filter.h"
 #include "probe/error.h"
@@ -395,6 +396,48 @@ TEST_F(GpuTest, ParaboloidMapWrittenInWindowsEqualsOneWindowALevel) {
     EXPECT_EQ(pyramidDispatches(whole, 0), 2 + 1);
     EXPECT_EQ(pyramidDispatches(windowed, 0), 3 * 2 + 3);
     EXPECT_EQ(pyramidDispatches(windowed, 1), 1);
+}
+
+// Pass 2's filtered levels in one dispatch where the device offers a storage image for each (lavapipe
+// does), in groups of four where it offers the four every device does: the same bits, in both
+// sampling modes, for the table and FIS, and a dispatch fewer at 64^2 (GGX: level 0 copied, levels
+// 1-6 in one, not 1-4 and 5-6; Charlie, which copies none: levels 0-6 in one, not 0-3 and 4-6).
+TEST_F(GpuTest, LevelsInOneDispatchEqualGroupsOfFour) {
+    const gpu::Device& shared = probetest::testDevice();
+    ASSERT_GE(shared.impl().limits.maxPerStageDescriptorStorageImages, gpu::kWideWrittenMipCount)
+        << "the test device's own groups are wide";
+    const gpu::Device narrow(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
+    narrow.impl().limits.maxPerStageDescriptorStorageImages = 4;
+    const TapTable table = randomTable(64, 7, 8, TableForm::quadratic, RoughnessMapping::gltf, kAllPyramids[0], 41);
+    const CubeImage source = probetest::randomProbe(64, 42);
+    using Groups = std::vector<std::pair<int, int>>; // (first level, levels) of each dispatch
+    struct Case {
+        MethodKind method;
+        Lobe lobe;
+        Groups wide, four;
+    };
+    const Case cases[] = {{MethodKind::table, Lobe::ggx, {{0, 1}, {1, 6}}, {{0, 1}, {1, 4}, {5, 2}}},
+                          {MethodKind::fis, Lobe::ggx, {{0, 1}, {1, 6}}, {{0, 1}, {1, 4}, {5, 2}}},
+                          {MethodKind::fis, Lobe::charlie, {{0, 7}}, {{0, 4}, {4, 3}}}};
+    for (const probetest::SamplingCase& c : probetest::kSamplingCases)
+        for (const Case& k : cases) {
+            gpu::FilterSettings s = settingsFor(k.method, 64, 7, RoughnessMapping::gltf, kAllPyramids[0], c.sampling);
+            s.method.table = &table;
+            s.method.lobe = k.lobe;
+            gpu::Filter wide(shared, s), four(narrow, s);
+            const CubeLevels expected = four.run(source), levels = wide.run(source);
+            const std::string what = fmt::format("{} {} {}", describe(c.sampling), methodKindName(k.method), lobeName(k.lobe));
+            for (int m = 0; m < 7; ++m) EXPECT_EQ(levels[m].rgb, expected[m].rgb) << what << ", level " << m;
+            const auto groups = [&](const gpu::Filter& f) {
+                Groups g;
+                for (const gpu::Dispatch& d : f.dispatches())
+                    if (d.pass == methodKindName(k.method)) g.emplace_back(d.level, d.levels);
+                return g;
+            };
+            EXPECT_EQ(groups(wide), k.wide) << what;
+            EXPECT_EQ(groups(four), k.four) << what;
+            EXPECT_EQ(wide.dispatches().size() + 1, four.dispatches().size()) << what;
+        }
 }
 
 TEST_F(GpuTest, WhiteFurnaceEveryMethod) {

@@ -191,8 +191,9 @@ StatisticsDevice::StatisticsDevice() : impl_(std::make_unique<Impl>()) {
     d.executableRepresentations = reinterpret_cast<PFN_vkGetPipelineExecutableInternalRepresentationsKHR>(
         vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutableInternalRepresentationsKHR"));
     // The Filter's pipeline layout: its bindings 0-4 are shaders/buffers.glsl's, which the SH projector
-    // and the sphere renderer bind too, so one layout serves every shader.
-    d.layout = std::make_unique<gpu::FilterDescriptors>(d.device);
+    // and the sphere renderer bind too, so one layout serves every shader; its written mips are as
+    // many as the wide level groups declare (RADV and lavapipe offer them).
+    d.layout = std::make_unique<gpu::FilterDescriptors>(d.device, gpu::kWideWrittenMipCount);
 }
 
 StatisticsDevice::~StatisticsDevice() {

@@ -20,8 +20,8 @@
 
 namespace probe::gpu {
 
-inline constexpr uint32_t kBufferCount = 4; // pyramid, output, geometry, table
-inline constexpr uint32_t kPushConstantBytes = 64;
+inline constexpr uint32_t kBufferCount = 4;                      // pyramid, output, geometry, table
+inline constexpr uint32_t kPushConstantBytes = 128;              // what every device offers (maxPushConstantsSize)
 inline constexpr uint32_t kWorkgroupSize = PROBE_WORKGROUP_SIZE; // local_size_x of every per-texel shader
 inline constexpr uint32_t kMaxGroupsX = 65535;                   // per dispatch row
 inline constexpr uint32_t kBatchSizeConstant = 15;               // constant_id of shaders/batch.glsl's kBatchSize

@@ -100,7 +100,7 @@ Filter::Impl::Impl(const Device& d, const FilterSettings& s, VkCommandBuffer ini
     placeholderArray = ImageView(vk, placeholder.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, 0, 1);
     linear = std::make_unique<Sampler>(vk, true);
     nearest = std::make_unique<Sampler>(vk, false);
-    descriptors = std::make_unique<FilterDescriptors>(vk);
+    descriptors = std::make_unique<FilterDescriptors>(vk, plan.writtenMipCount);
 
     const PassContext context{d, settings, plan, descriptors->pipelineLayout()};
     if (plan.buildsPyramid || (kind == MethodKind::reference && plan.filters)) pyramid.emplace(context);
@@ -199,8 +199,9 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
             r.packedMips.emplace_back(vk, r.packed.handle(), VK_FORMAT_R32_UINT, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(m), 1, layers);
         }
     }
-    r.pool = descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + plan.paraboloidWindows.size() +
-                                            2 * s.levelCount + plan.levelGroups.size()));
+    // The pyramid's and the map's sets, and per output level its own, a group set and a conversion set.
+    r.pool =
+        descriptors->makePool(uint32_t(plan.pyramidLevels + plan.pyramidWindows.size() + plan.paraboloidWindows.size() + 3 * s.levelCount));
 
     const auto segments = [&](const std::vector<std::string>& levelPasses) {
         std::vector<std::string> passes;
@@ -246,6 +247,11 @@ std::unique_ptr<ComputePipeline> PassContext::pipeline(std::span<const uint32_t>
 
 std::span<const uint32_t> PassContext::batchVariant(std::span<const uint32_t> single, std::span<const uint32_t> batch) const {
     return settings.batchSize > 1 ? batch : single;
+}
+
+std::span<const uint32_t> PassContext::groupVariant(std::array<std::span<const uint32_t>, 3> narrow,
+                                                    std::array<std::span<const uint32_t>, 3> wide) const {
+    return outputVariant(plan.writtenMipCount == kWideWrittenMipCount ? wide : narrow);
 }
 
 std::span<const uint32_t> PassContext::outputVariant(std::array<std::span<const uint32_t>, 3> variants) const {
@@ -341,12 +347,15 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             r.convertSets[m] = c;
         }
     }
+    // From each level of a group, the mips of the group's levels from it on: a run of them (a whole
+    // group, or a slice's part of it) binds its first level's set.
     r.groupSets.assign(settings.levelCount, VK_NULL_HANDLE);
-    for (const std::vector<int>& group : plan.levelGroups) {
-        std::vector<VkImageView> mips;
-        for (int m : group) mips.push_back(targets[m]);
-        r.groupSets[group.front()] = group.size() > 1 ? levelSet(mips) : r.levelSets[group.front()];
-    }
+    for (const std::vector<int>& group : plan.levelGroups)
+        for (std::size_t k = 0; k < group.size(); ++k) {
+            std::vector<VkImageView> mips;
+            for (std::size_t e = k; e < group.size(); ++e) mips.push_back(targets[group[e]]);
+            r.groupSets[group[k]] = mips.size() > 1 ? levelSet(mips) : r.levelSets[group[k]];
+        }
     r.boundSource = source;
     r.boundOutput = output;
 }
@@ -363,12 +372,12 @@ void Filter::Impl::recordLevel(VkCommandBuffer commandBuffer, int m) {
 std::vector<std::vector<int>> Filter::Impl::dispatchGroups(const std::vector<int>& levels) const {
     const auto holds = [&](int m) { return std::find(levels.begin(), levels.end(), m) != levels.end(); };
     std::vector<std::vector<int>> out;
-    for (const std::vector<int>& group : plan.levelGroups) {
-        if (std::all_of(group.begin(), group.end(), holds)) out.push_back(group);
-        else
-            for (int m : group)
-                if (holds(m)) out.push_back({m});
-    }
+    for (const std::vector<int>& group : plan.levelGroups)
+        for (std::size_t k = 0; k < group.size(); ++k) {
+            if (!holds(group[k])) continue;
+            if (k == 0 || !holds(group[k - 1])) out.emplace_back();
+            out.back().push_back(group[k]);
+        }
     return out;
 }
 

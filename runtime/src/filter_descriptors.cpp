@@ -8,12 +8,13 @@
 
 namespace probe::gpu {
 
-DescriptorPool::DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets) : device_(device), layout_(layout) {
+DescriptorPool::DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets, uint32_t writtenMips)
+    : device_(device), layout_(layout) {
     std::array<VkDescriptorPoolSize, 4> sizes{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 0},
                                                {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, 0},
                                                {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 0},
                                                {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 0}}};
-    for (VkDescriptorPoolSize& size : sizes) size.descriptorCount = filterDescriptorCount(size.type) * maxSets;
+    for (VkDescriptorPoolSize& size : sizes) size.descriptorCount = filterDescriptorCount(size.type, writtenMips) * maxSets;
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = maxSets;
     poolInfo.poolSizeCount = static_cast<uint32_t>(sizes.size());
@@ -35,10 +36,11 @@ VkDescriptorSet DescriptorPool::allocate() {
 
 void DescriptorPool::reset() { vkCheck(vkResetDescriptorPool(device_, pool_, 0), "vkResetDescriptorPool"); }
 
-FilterDescriptors::FilterDescriptors(VkDevice device) : device_(device) {
+FilterDescriptors::FilterDescriptors(VkDevice device, uint32_t writtenMips) : device_(device), writtenMips_(writtenMips) {
     std::array<VkDescriptorSetLayoutBinding, kFilterBindingCount> bindings{};
     for (uint32_t b = 0; b < kFilterBindingCount; ++b)
-        bindings[b] = {b, kFilterBindings[b].type, kFilterBindings[b].count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        bindings[b] = {b, kFilterBindings[b].type, b == kWrittenMips ? writtenMips : kFilterBindings[b].count, VK_SHADER_STAGE_COMPUTE_BIT,
+                       nullptr};
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.bindingCount = kFilterBindingCount;
     setInfo.pBindings = bindings.data();
@@ -59,7 +61,7 @@ FilterDescriptors::~FilterDescriptors() {
 }
 
 std::unique_ptr<DescriptorPool> FilterDescriptors::makePool(uint32_t maxSets) const {
-    return std::make_unique<DescriptorPool>(device_, setLayout_, maxSets);
+    return std::make_unique<DescriptorPool>(device_, setLayout_, maxSets, writtenMips_);
 }
 
 void FilterDescriptors::writeBuffer(VkDescriptorSet set, FilterBinding binding, VkBuffer buffer, VkDeviceSize offset,
@@ -91,10 +93,10 @@ void FilterDescriptors::writeSampled(VkDescriptorSet set, FilterBinding binding,
 }
 
 void FilterDescriptors::writeMips(VkDescriptorSet set, std::span<const VkImageView> mips) const {
-    std::array<VkDescriptorImageInfo, kWrittenMipCount> infos{};
-    for (uint32_t e = 0; e < kWrittenMipCount; ++e)
+    std::array<VkDescriptorImageInfo, kWideWrittenMipCount> infos{};
+    for (uint32_t e = 0; e < writtenMips_; ++e)
         infos[e] = {VK_NULL_HANDLE, mips[std::min<std::size_t>(e, mips.size() - 1)], VK_IMAGE_LAYOUT_GENERAL};
-    writeImages(set, kWrittenMips, infos);
+    writeImages(set, kWrittenMips, std::span(infos).first(writtenMips_));
 }
 
 void FilterDescriptors::writeImages(VkDescriptorSet set, FilterBinding binding, std::span<const VkDescriptorImageInfo> infos) const {

@@ -24,7 +24,7 @@ enum FilterBinding : uint32_t {
     kPyramidTexels = 4, // uniform texel buffer: the bordered pyramid, read
     kSourceCube = 5,    // combined image sampler: the source cube, nearest
     kPyramidCube = 6,   // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
-    kWrittenMips = 7,   // storage images (kWrittenMipCount): the mips a dispatch writes, from element 0
+    kWrittenMips = 7,   // storage images (kWrittenMipCount, or kWideWrittenMipCount): the mips a dispatch writes, from element 0
     kTableBuffer = 8,   // storage buffer: the tap table or FIS samples again (hardware sampling)
     kFilterBindingCount = 9,
 };
@@ -33,6 +33,9 @@ enum FilterBinding : uint32_t {
 // (pyramid_tail.comp); every other dispatch writes one mip.
 inline constexpr int kPyramidTailMipCount = std::bit_width(unsigned(PROBE_PYRAMID_TAIL_SIZE));
 inline constexpr uint32_t kWrittenMipCount = kPyramidTailMipCount;
+// Where a device offers as many storage images per stage: the mips of every output level, which pass
+// 2's level groups then write in one dispatch (FilterPlan::writtenMipCount).
+inline constexpr uint32_t kWideWrittenMipCount = PROBE_MAX_GROUP_LEVELS;
 
 struct FilterBindingLayout {
     VkDescriptorType type;
@@ -41,7 +44,8 @@ struct FilterBindingLayout {
 
 // Each binding's type and count. Every pipeline's layout holds them all, so their counts per type
 // are what a device must offer per stage; they stay within Vulkan's guaranteed minimums (4 storage
-// buffers, 4 storage images), which a test holds them to.
+// buffers, 4 storage images), which a test holds them to. A device that offers more storage images
+// gets kWideWrittenMipCount of them at kWrittenMips.
 inline constexpr std::array<FilterBindingLayout, kFilterBindingCount> kFilterBindings{{
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
@@ -54,18 +58,18 @@ inline constexpr std::array<FilterBindingLayout, kFilterBindingCount> kFilterBin
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
 }};
 
-// The descriptors of `type` in one set.
-constexpr uint32_t filterDescriptorCount(VkDescriptorType type) {
+// The descriptors of `type` in one set whose kWrittenMips binding holds `writtenMips` images.
+constexpr uint32_t filterDescriptorCount(VkDescriptorType type, uint32_t writtenMips = kWrittenMipCount) {
     uint32_t count = 0;
-    for (const FilterBindingLayout& b : kFilterBindings)
-        if (b.type == type) count += b.count;
+    for (uint32_t b = 0; b < kFilterBindingCount; ++b)
+        if (kFilterBindings[b].type == type) count += b == kWrittenMips ? writtenMips : kFilterBindings[b].count;
     return count;
 }
 
 // Sets of the Filter's layout from one pool: a recording's, rewritten at each recording.
 class DescriptorPool {
 public:
-    DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets);
+    DescriptorPool(VkDevice device, VkDescriptorSetLayout layout, uint32_t maxSets, uint32_t writtenMips);
     ~DescriptorPool();
     DescriptorPool(const DescriptorPool&) = delete;
     DescriptorPool& operator=(const DescriptorPool&) = delete;
@@ -83,7 +87,8 @@ private:
 
 class FilterDescriptors {
 public:
-    explicit FilterDescriptors(VkDevice device);
+    // writtenMips: the images of the kWrittenMips binding, kWrittenMipCount or kWideWrittenMipCount.
+    FilterDescriptors(VkDevice device, uint32_t writtenMips);
     ~FilterDescriptors();
     FilterDescriptors(const FilterDescriptors&) = delete;
     FilterDescriptors& operator=(const FilterDescriptors&) = delete;
@@ -96,7 +101,8 @@ public:
     void writeTexelBuffer(VkDescriptorSet set, FilterBinding binding, VkBufferView view) const;
     void writeSampled(VkDescriptorSet set, FilterBinding binding, VkImageView view, VkSampler sampler, VkImageLayout layout) const;
     // kWrittenMips, in VK_IMAGE_LAYOUT_GENERAL: `mips` from element 0, and the last of them in the
-    // elements after, so that a shader that declares one image of its own type finds it in each.
+    // elements after, so that a shader that declares fewer images, or one of its own type, finds it
+    // in each.
     void writeMips(VkDescriptorSet set, std::span<const VkImageView> mips) const;
     void bind(VkCommandBuffer commandBuffer, VkDescriptorSet set) const;
 
@@ -105,6 +111,7 @@ private:
     void writeImages(VkDescriptorSet set, FilterBinding binding, std::span<const VkDescriptorImageInfo> infos) const;
 
     VkDevice device_;
+    uint32_t writtenMips_;
     VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
     VkPipelineLayout pipelineLayout_ = VK_NULL_HANDLE;
 };

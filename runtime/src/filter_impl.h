@@ -94,8 +94,8 @@ struct Filter::Impl {
     // Pass 2 at output level m alone: a copy, or the method's dispatch (FIS's at a table's level handed
     // to it).
     void recordLevel(VkCommandBuffer commandBuffer, int m);
-    // Pass 2's dispatches over `levels` (computed, ascending): each of plan.levelGroups that they hold
-    // whole, and each of their other levels alone.
+    // Pass 2's dispatches over `levels` (computed, ascending): per group of plan.levelGroups, each run
+    // of consecutive levels of it that they hold (a slice's levels cut from a group share a dispatch).
     std::vector<std::vector<int>> dispatchGroups(const std::vector<int>& levels) const;
     // Pass 2 at the levels of one of dispatchGroups(), in one dispatch where there are several.
     void recordLevelGroup(VkCommandBuffer commandBuffer, const std::vector<int>& group);

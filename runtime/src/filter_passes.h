@@ -36,6 +36,10 @@ struct PassContext {
     // The SPIR-V of a pass-2 shader for the output format: `variants` holds the RGBA32F, RGBA16F and
     // B10G11R11 builds, in that order (the conversion pass's input is RGBA32F).
     std::span<const uint32_t> outputVariant(std::array<std::span<const uint32_t>, 3> variants) const;
+    // The same for a level-group shader (level_group.glsl) and the plan's group width: `narrow` holds
+    // the builds of groups of kWrittenMipCount levels, `wide` of kWideWrittenMipCount.
+    std::span<const uint32_t> groupVariant(std::array<std::span<const uint32_t>, 3> narrow,
+                                           std::array<std::span<const uint32_t>, 3> wide) const;
 };
 
 // Where a pass records: the command buffer, the descriptor sets it binds, and the log of the
@@ -162,8 +166,8 @@ private:
 // A level group's workgroup ends in its grid (shaders/level_group.glsl): level k's groupsOf(level)
 // workgroups after level k - 1's; the unused slots repeat the last end.
 template <typename GroupsOf>
-std::array<uint32_t, kWrittenMipCount> levelGroupEnds(std::span<const int> levels, GroupsOf groupsOf) {
-    std::array<uint32_t, kWrittenMipCount> ends{};
+std::array<uint32_t, kWideWrittenMipCount> levelGroupEnds(std::span<const int> levels, GroupsOf groupsOf) {
+    std::array<uint32_t, kWideWrittenMipCount> ends{};
     uint32_t end = 0;
     for (std::size_t k = 0; k < ends.size(); ++k) {
         if (k < levels.size()) end += groupsOf(levels[k]);

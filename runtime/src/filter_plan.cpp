@@ -153,6 +153,7 @@ DeviceCapabilities capabilitiesOf(const Device& device) {
     c.computeSubgroupVote = d.computeSubgroupVote;
     c.imageCubeArray = d.imageCubeArray;
     c.maxImageArrayLayers = d.limits.maxImageArrayLayers;
+    c.maxPerStageDescriptorStorageImages = d.limits.maxPerStageDescriptorStorageImages;
     c.maxStorageBufferRange = d.limits.maxStorageBufferRange;
     c.minStorageBufferOffsetAlignment = d.limits.minStorageBufferOffsetAlignment;
     c.maxTexelBufferElements = d.limits.maxTexelBufferElements;
@@ -202,9 +203,10 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
         for (int m : plan.computedLevels)
             if (!plan.isCopy(m) && s.method.table->levels[m].fisSamples > 0) plan.fisLevels |= 1u << m;
     const auto joins = [&](int m) { return kind != MethodKind::reference && !plan.isCopy(m); };
+    if (d.maxPerStageDescriptorStorageImages >= kWideWrittenMipCount) plan.writtenMipCount = kWideWrittenMipCount;
     for (int m : plan.computedLevels) {
         std::vector<int>* last = plan.levelGroups.empty() ? nullptr : &plan.levelGroups.back();
-        if (last && joins(m) && joins(last->back()) && last->back() == m - 1 && last->size() < kWrittenMipCount &&
+        if (last && joins(m) && joins(last->back()) && last->back() == m - 1 && last->size() < plan.writtenMipCount &&
             plan.isHandedOff(m) == plan.isHandedOff(last->back()))
             last->push_back(m);
         else plan.levelGroups.push_back({m});

@@ -11,6 +11,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "filter_descriptors.h"
 #include "probe/runtime.h"
 
 namespace probe::gpu {
@@ -24,6 +25,7 @@ struct DeviceCapabilities {
     bool computeSubgroupVote = true;
     bool imageCubeArray = true;
     uint32_t maxImageArrayLayers = 256;
+    uint32_t maxPerStageDescriptorStorageImages = 4;
     VkDeviceSize maxStorageBufferRange = 0;
     VkDeviceSize minStorageBufferOffsetAlignment = 1;
     uint32_t maxTexelBufferElements = 0;
@@ -82,9 +84,11 @@ struct FilterPlan {
     int pyramidTailLevel = 0;                               // pass 1's last dispatch builds levels pyramidTailLevel..pyramidDepth (0: none)
     bool pyramidFromSource = false;  // hardware sampling: pass 1's first dispatch builds levels 0 and 1, both from the source
     std::vector<int> computedLevels; // the output levels computed, ascending
+    // The storage images a dispatch writes (filter_descriptors.h): kWideWrittenMipCount where the
+    // device offers as many per stage, else the kWrittenMipCount every device offers.
+    uint32_t writtenMipCount = kWrittenMipCount;
     // Pass 2's dispatches over computedLevels: consecutive levels of one pass (the table's, or FIS's)
-    // share one, at most kWrittenMipCount of them (the storage images a dispatch writes); a copy and
-    // a reference level each have their own.
+    // share one, at most writtenMipCount of them; a copy and a reference level each have their own.
     std::vector<std::vector<int>> levelGroups;
     uint32_t copyLevels = 0;             // bit m: output level m has alpha = 0, a copy of the source
     uint32_t fisLevels = 0;              // table: bit m, computed level m is handed to FIS (TableLevel::fisSamples)

@@ -17,6 +17,18 @@
 #include <fis_paraboloid_b10g11r11.spv.h>
 #include <fis_paraboloid_rgba16f.spv.h>
 #include <fis_paraboloid_rgba32f.spv.h>
+#include <fis_wide_exact_b10g11r11.spv.h>
+#include <fis_wide_exact_rgba16f.spv.h>
+#include <fis_wide_exact_rgba32f.spv.h>
+#include <fis_wide_hardware_b10g11r11.spv.h>
+#include <fis_wide_hardware_batch_b10g11r11.spv.h>
+#include <fis_wide_hardware_batch_rgba16f.spv.h>
+#include <fis_wide_hardware_batch_rgba32f.spv.h>
+#include <fis_wide_hardware_rgba16f.spv.h>
+#include <fis_wide_hardware_rgba32f.spv.h>
+#include <fis_wide_paraboloid_b10g11r11.spv.h>
+#include <fis_wide_paraboloid_rgba16f.spv.h>
+#include <fis_wide_paraboloid_rgba32f.spv.h>
 
 #include "filter_passes.h"
 #include "probe/fis.h"
@@ -29,8 +41,8 @@ struct FisConstants {
     int32_t faceSize;
     int32_t pyramidLevels;
     int32_t firstLevel;
-    std::array<uint32_t, kWrittenMipCount> groupEnd;
-    std::array<uint32_t, kWrittenMipCount + 1> firstSample;
+    std::array<uint32_t, kWideWrittenMipCount> groupEnd; // shaders/fis.comp's PROBE_MAX_GROUP_LEVELS
+    std::array<uint32_t, kWideWrittenMipCount + 1> firstSample;
 };
 
 } // namespace
@@ -38,12 +50,18 @@ struct FisConstants {
 FisPass::FisPass(const PassContext& context, std::vector<uint32_t> sampleOffsets)
     : context_(context), sampleOffsets_(std::move(sampleOffsets)) {
     const std::span<const uint32_t> spirv =
-        context.plan.paraboloid ? context.outputVariant({kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv})
+        context.plan.paraboloid
+            ? context.groupVariant({kFisParaboloidRgba32fSpv, kFisParaboloidRgba16fSpv, kFisParaboloidB10g11r11Spv},
+                                   {kFisWideParaboloidRgba32fSpv, kFisWideParaboloidRgba16fSpv, kFisWideParaboloidB10g11r11Spv})
         : context.plan.sampling == Sampling::hardware
             ? context.batchVariant(
-                  context.outputVariant({kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv}),
-                  context.outputVariant({kFisHardwareBatchRgba32fSpv, kFisHardwareBatchRgba16fSpv, kFisHardwareBatchB10g11r11Spv}))
-            : context.outputVariant({kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv});
+                  context.groupVariant({kFisHardwareRgba32fSpv, kFisHardwareRgba16fSpv, kFisHardwareB10g11r11Spv},
+                                       {kFisWideHardwareRgba32fSpv, kFisWideHardwareRgba16fSpv, kFisWideHardwareB10g11r11Spv}),
+                  context.groupVariant(
+                      {kFisHardwareBatchRgba32fSpv, kFisHardwareBatchRgba16fSpv, kFisHardwareBatchB10g11r11Spv},
+                      {kFisWideHardwareBatchRgba32fSpv, kFisWideHardwareBatchRgba16fSpv, kFisWideHardwareBatchB10g11r11Spv}))
+            : context.groupVariant({kFisExactRgba32fSpv, kFisExactRgba16fSpv, kFisExactB10g11r11Spv},
+                                   {kFisWideExactRgba32fSpv, kFisWideExactRgba16fSpv, kFisWideExactB10g11r11Spv});
     pipeline_ = context.pipeline(spirv);
 }
 

@@ -40,7 +40,7 @@ struct Recording {
     // window (FilterPlan::paraboloidWindows); per pyramid level 0..pyramidDepth with hardware sampling.
     std::vector<VkDescriptorSet> pyramidSets;
     std::vector<VkDescriptorSet> levelSets;   // per output level
-    std::vector<VkDescriptorSet> groupSets;   // per output level: the set of the level group it starts (its levels' mips)
+    std::vector<VkDescriptorSet> groupSets;   // per output level: the mips of its level group's levels from it on
     std::vector<VkDescriptorSet> convertSets; // per output level
 
     std::unique_ptr<GpuTimer> passTimer;  // a segment per pass

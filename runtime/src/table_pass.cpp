@@ -13,6 +13,15 @@
 #include <table_filter_hardware_batch_rgba32f.spv.h>
 #include <table_filter_hardware_rgba16f.spv.h>
 #include <table_filter_hardware_rgba32f.spv.h>
+#include <table_filter_wide_exact_b10g11r11.spv.h>
+#include <table_filter_wide_exact_rgba16f.spv.h>
+#include <table_filter_wide_exact_rgba32f.spv.h>
+#include <table_filter_wide_hardware_b10g11r11.spv.h>
+#include <table_filter_wide_hardware_batch_b10g11r11.spv.h>
+#include <table_filter_wide_hardware_batch_rgba16f.spv.h>
+#include <table_filter_wide_hardware_batch_rgba32f.spv.h>
+#include <table_filter_wide_hardware_rgba16f.spv.h>
+#include <table_filter_wide_hardware_rgba32f.spv.h>
 
 #include "filter_passes.h"
 #include "probe/tap_table.h"
@@ -26,7 +35,7 @@ struct TableConstants {
     int32_t pyramidLevels;
     int32_t firstLevel;
     uint32_t usageFirst;
-    std::array<uint32_t, kWrittenMipCount> groupEnd;
+    std::array<uint32_t, kWideWrittenMipCount> groupEnd; // shaders/table_filter.comp's PROBE_MAX_GROUP_LEVELS
 };
 
 } // namespace
@@ -35,10 +44,15 @@ TablePass::TablePass(const PassContext& context) : context_(context), usageFirst
     const std::span<const uint32_t> spirv =
         context.plan.sampling == Sampling::hardware
             ? context.batchVariant(
-                  context.outputVariant({kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv}),
-                  context.outputVariant(
-                      {kTableFilterHardwareBatchRgba32fSpv, kTableFilterHardwareBatchRgba16fSpv, kTableFilterHardwareBatchB10g11r11Spv}))
-            : context.outputVariant({kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv});
+                  context.groupVariant(
+                      {kTableFilterHardwareRgba32fSpv, kTableFilterHardwareRgba16fSpv, kTableFilterHardwareB10g11r11Spv},
+                      {kTableFilterWideHardwareRgba32fSpv, kTableFilterWideHardwareRgba16fSpv, kTableFilterWideHardwareB10g11r11Spv}),
+                  context.groupVariant(
+                      {kTableFilterHardwareBatchRgba32fSpv, kTableFilterHardwareBatchRgba16fSpv, kTableFilterHardwareBatchB10g11r11Spv},
+                      {kTableFilterWideHardwareBatchRgba32fSpv, kTableFilterWideHardwareBatchRgba16fSpv,
+                       kTableFilterWideHardwareBatchB10g11r11Spv}))
+            : context.groupVariant({kTableFilterExactRgba32fSpv, kTableFilterExactRgba16fSpv, kTableFilterExactB10g11r11Spv},
+                                   {kTableFilterWideExactRgba32fSpv, kTableFilterWideExactRgba16fSpv, kTableFilterWideExactB10g11r11Spv});
     // The shader's kCoefficientCount, kFixedTapGroups (0: the table's own) and kTaps.
     const TapTable& table = *context.settings.method.table;
     const std::array<int32_t, 3> specialization{coefficientCount(table.form), 0, table.taps};

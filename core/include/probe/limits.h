@@ -5,12 +5,15 @@
 #include <cstdint>
 #include <string>
 
+#include "probe/shared_constants.h"
+
 namespace probe {
 
 // Output face size S_0: a 2048^2 cube of float RGB is 288 MiB per level.
 inline constexpr int kMaxFaceSize = 2048;
 // Output levels: log2(kMaxFaceSize) + 1, down to 1x1.
 inline constexpr int kMaxLevels = 12;
+static_assert(kMaxLevels == PROBE_MAX_GROUP_LEVELS, "the GPU runtime's level groups hold every level");
 // probefit's base face size: a fit keeps the pyramid's operators and per-thread workspaces of every
 // level (about 2.3 GiB at 1024^2, docs/optimizer.md).
 inline constexpr int kMaxFitFaceSize = 1024;

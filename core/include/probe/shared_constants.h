@@ -26,6 +26,11 @@
 // (shaders/pyramid_tail.comp), keeping two of them in shared memory.
 #define PROBE_PYRAMID_TAIL_SIZE 8
 
+// The most output levels one dispatch of the runtime's pass 2 writes (a level group): every level of
+// the largest face size, 2048^2 (probe::kMaxFaceSize), from level 0. The push constants hold this
+// many per group; a device whose storage images per stage are fewer gets groups of 4 (images.glsl).
+#define PROBE_MAX_GROUP_LEVELS 12
+
 // The workgroup size (local_size_x) of the runtime's per-texel shaders, which invocationIndex()
 // (shaders/buffers.glsl) and the runtime's group counts share. A constant, since a shader's
 // gl_WorkGroupSize before its own local_size declaration reads as 1.

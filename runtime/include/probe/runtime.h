@@ -181,7 +181,7 @@ struct Dispatch {
                          // and its first mips 0 and 1 where the tail starts below mip 1);
                          // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
-    int levels = 1;      // pass 2: the output levels it writes, from `level` (up to 4 in one dispatch);
+    int levels = 1;      // pass 2: the output levels it writes, from `level` (up to 12 in one dispatch, 4 on some devices);
                          // pass 1: 2 where it writes mips 0 and 1
 };
 
