@@ -14,6 +14,7 @@
 #include "images.glsl"
 #include "probe/shared_constants.h"
 #include "footprint.glsl"
+#include "source_footprint.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
@@ -29,29 +30,8 @@ layout(push_constant) uniform Params {
 // The fine level at face coordinates (u, v) of `face`.
 vec3 fine(int face, float u, float v) { return pyramidRead(faceUvToCubePoint(face, u, v), 0.0); }
 
-// Source texel (i, j) of `face`, i and j in [-1, size]: the adjacent face's texel across an edge, and
-// at a cube corner, where the footprint's fourth texel does not exist, the average of the other three
-// (what pyramid.comp and pyramid_corners.comp put in the exact path's border).
-vec3 sourceAt(int face, int i, int j, int size) {
-    bool outI = i < 0 || i >= size, outJ = j < 0 || j >= size;
-    int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
-    if (outI && outJ) {
-        ivec3 a = texelAcrossEdge(face, i, cj, size), b = texelAcrossEdge(face, ci, j, size);
-        return (sourceTexel(texelCubePoint(face, ci, cj, size)) + sourceTexel(texelCubePoint(a.x, a.y, a.z, size)) +
-                sourceTexel(texelCubePoint(b.x, b.y, b.z, size))) *
-               (1.0 / 3.0);
-    }
-    ivec3 t = outI || outJ ? texelAcrossEdge(face, i, j, size) : ivec3(face, i, j);
-    return sourceTexel(texelCubePoint(t.x, t.y, t.z, size));
-}
-
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
-    if (kFromSource != 0) {
-        vec2 f;
-        ivec2 t = footprintFirst(fineSize, x, y, f);
-        return bilinearBlend(f, sourceAt(face, t.x, t.y, fineSize), sourceAt(face, t.x + 1, t.y, fineSize),
-                             sourceAt(face, t.x, t.y + 1, fineSize), sourceAt(face, t.x + 1, t.y + 1, fineSize));
-    }
+    if (kFromSource != 0) return sourceBilinear(face, x, y, fineSize);
     vec2 uv = texelToFaceUv(x, y, fineSize);
     return fine(face, uv.x, uv.y);
 }

@@ -103,13 +103,14 @@ TEST(FilterPlan, SamplingByDeviceAndMethod) {
     cpu.cpu = true;
     const FilterPlan onGpu = planFilter(fisSettings(64), gpu());
     EXPECT_EQ(onGpu.sampling, Sampling::hardware);
-    EXPECT_EQ(onGpu.pyramidFormat, VK_FORMAT_R16G16B16A16_SFLOAT);         // the format engines filter in
-    EXPECT_EQ(onGpu.pyramidTailLevel, 3);                                  // the 8^2 level of a 64^2 pyramid
-    EXPECT_TRUE(onGpu.pyramidFromSource);                                  // mips 0 and 1 in one dispatch
-    EXPECT_FALSE(planFilter(fisSettings(16), gpu()).pyramidFromSource);    // the tail starts at mip 1 (8^2)
-    EXPECT_EQ(onGpu.pyramidTexels, 1u);                                    // the pyramid is an image
-    EXPECT_EQ(planFilter(fisSettings(64), cpu).sampling, Sampling::exact); // a CPU device reads exactly
-    EXPECT_GT(planFilter(fisSettings(64), cpu).pyramidTexels, 1u);         // into a bordered buffer
+    EXPECT_EQ(onGpu.pyramidFormat, VK_FORMAT_R16G16B16A16_SFLOAT);          // the format engines filter in
+    EXPECT_EQ(onGpu.pyramidTailLevel, 3);                                   // the 8^2 level of a 64^2 pyramid
+    EXPECT_EQ(onGpu.pyramidFromSourceMips, 3);                              // mips 0 to 2 in one dispatch
+    EXPECT_EQ(planFilter(fisSettings(32), gpu()).pyramidFromSourceMips, 2); // the tail starts at mip 2 (8^2)
+    EXPECT_EQ(planFilter(fisSettings(16), gpu()).pyramidFromSourceMips, 1); // the tail starts at mip 1
+    EXPECT_EQ(onGpu.pyramidTexels, 1u);                                     // the pyramid is an image
+    EXPECT_EQ(planFilter(fisSettings(64), cpu).sampling, Sampling::exact);  // a CPU device reads exactly
+    EXPECT_GT(planFilter(fisSettings(64), cpu).pyramidTexels, 1u);          // into a bordered buffer
 
     // Without RGBA16F filtering, the RGBA32F pyramid.
     DeviceCapabilities noHalf = gpu();

@@ -176,25 +176,26 @@ TEST_F(GpuTest, SlicesKeepTheirUpdatesSet) {
 
 // A batch (FilterSettings::batchSize): the probes as the cubes of cube-map arrays, one recording.
 // Each probe's levels equal, bit for bit, those of a Filter of one probe, for the table (16^2, with
-// its copied level 0) and FIS (32^2, where hardware sampling's first pyramid dispatch writes mips 0
-// and 1), in both sampling modes and with a converted B10G11R11 output; the batch takes the
+// its copied level 0) and FIS (32^2 and 64^2, where hardware sampling's first pyramid dispatch writes
+// mips 0 and 1, and mips 0 to 2), in both sampling modes and with a converted B10G11R11 output; the batch takes the
 // dispatches and barriers one probe takes, whatever its size. A run of another number of probes, and
 // a batch of the reference or of FIS on a paraboloid map, are refused.
 TEST_F(GpuTest, BatchEqualsProbesOneByOneInTheDispatchesOfOne) {
     const gpu::Device& device = testDevice();
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
-    for (const MethodKind kind : {MethodKind::table, MethodKind::fis})
+    for (const int size : {16, 32, 64})
         for (const gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware})
             for (const VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32}) {
+                const MethodKind kind = size == 16 ? MethodKind::table : MethodKind::fis;
                 gpu::FilterSettings settings = fisSettings(sampling, 2);
                 settings.method.kind = kind;
                 settings.method.table = &table;
-                settings.faceSize = kind == MethodKind::table ? 16 : 32;
+                settings.faceSize = size;
                 const std::vector<CubeImage> sources{randomProbe(settings.faceSize, 80), randomProbe(settings.faceSize, 81),
                                                      randomProbe(settings.faceSize, 82)};
                 settings.outputFormat = format;
                 const std::string name =
-                    fmt::format("{}, {}, {}", methodKindName(kind), gpu::samplingName(sampling), gpu::formatName(format));
+                    fmt::format("{} {}^2, {}, {}", methodKindName(kind), size, gpu::samplingName(sampling), gpu::formatName(format));
                 gpu::Filter alone(device, settings);
                 settings.batchSize = int(sources.size());
                 gpu::Filter batch(device, settings);

@@ -152,25 +152,35 @@ TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
     }
 }
 
-// Hardware sampling writes mips 0 and 1 in one dispatch, mip 1 from the source with the exact path's
-// bilinear arithmetic over its texels (not the sampler's): with an RGBA32F pyramid both equal the
-// model to float rounding, the tolerance of exact sampling.
-TEST_F(GpuTest, PyramidMipOneFromTheSourceEqualsCpuModel) {
-    const int size = 64;
-    const CubeImage source = probetest::randomProbe(size, 14);
-    for (const PyramidSettings& pyramid : kAllPyramids) {
-        gpu::Filter filter(probetest::testDevice(),
-                           settingsFor(MethodKind::fis, size, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware));
-        filter.run(source);
-        const CubeLevels gpuLevels = filter.downloadPyramid();
-        const CubeLevels model = buildPyramid(source, pyramid);
-        expectLevelsEqual(CubeLevels(gpuLevels.begin(), gpuLevels.begin() + 2), CubeLevels(model.begin(), model.begin() + 2), 1e-5,
-                          "mips 0 and 1 " + describe(pyramid));
-        // Pass 1: mips 0 and 1, mip 2, then the tail from mip 3 (8x8).
-        std::vector<std::pair<int, int>> pass1;
-        for (const gpu::Dispatch& d : filter.dispatches())
-            if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
-        EXPECT_EQ(pass1, (std::vector<std::pair<int, int>>{{0, 2}, {2, 1}, {3, 1}})) << describe(pyramid);
+// Hardware sampling's first pyramid dispatch writes mips 0 to 2 where the tail starts below mip 2
+// (pyramid_source_tile.comp: mip 1 from the source, mip 2 from mip 1 kept in shared memory, a tile a
+// workgroup), else mips 0 and 1, each with the exact path's bilinear arithmetic (not the sampler's):
+// with an RGBA32F pyramid they equal the model to float rounding, the tolerance of exact sampling, at
+// the face edges and corners too.
+TEST_F(GpuTest, PyramidMipsFromTheSourceEqualCpuModel) {
+    using Pass1 = std::vector<std::pair<int, int>>; // (first mip, mips) of each dispatch
+    struct Case {
+        int size, fromSource;
+        Pass1 dispatches;
+    };
+    // The tail starts at the 8x8 mip: 32^2 mips 0 and 1, then the tail; 64^2 mips 0 to 2, then the
+    // tail; 128^2 mips 0 to 2, mip 3, then the tail.
+    for (const Case& c : {Case{32, 2, {{0, 2}, {2, 1}}}, Case{64, 3, {{0, 3}, {3, 1}}}, Case{128, 3, {{0, 3}, {3, 1}, {4, 1}}}}) {
+        const CubeImage source = probetest::randomProbe(c.size, 14);
+        for (const PyramidSettings& pyramid : kAllPyramids) {
+            const std::string what = fmt::format("{}^2 {}", c.size, describe(pyramid));
+            gpu::Filter filter(probetest::testDevice(), settingsFor(MethodKind::fis, c.size, defaultLevelCount(c.size),
+                                                                    RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware));
+            filter.run(source);
+            const CubeLevels gpuLevels = filter.downloadPyramid();
+            const CubeLevels model = buildPyramid(source, pyramid);
+            expectLevelsEqual(CubeLevels(gpuLevels.begin(), gpuLevels.begin() + c.fromSource),
+                              CubeLevels(model.begin(), model.begin() + c.fromSource), 1e-5, "mips from the source, " + what);
+            Pass1 pass1;
+            for (const gpu::Dispatch& d : filter.dispatches())
+                if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
+            EXPECT_EQ(pass1, c.dispatches) << what;
+        }
     }
 }
 

@@ -237,8 +237,10 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     }
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
-        // Level 1 with level 0 where the tail does not start at it: one dispatch and barrier fewer.
-        plan.pyramidFromSource = plan.pyramidDepth >= 1 && plan.pyramidTailLevel != 1;
+        // Levels 1 and 2 with level 0 where the tail does not start at them: a dispatch and a barrier
+        // fewer for each.
+        const int last = plan.pyramidTailLevel > 0 ? plan.pyramidTailLevel - 1 : plan.pyramidDepth;
+        plan.pyramidFromSourceMips = 1 + std::min(last, 2);
     }
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.

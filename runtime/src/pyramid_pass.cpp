@@ -5,9 +5,10 @@
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
 //   texel, with no corners;
 // - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image down to face
-//   size PROBE_PYRAMID_TAIL_SIZE (mips 0 and 1 in one dispatch, both from the source, where the tail
-//   starts below mip 1), then (shaders/pyramid_tail.comp) the mips from there down in one workgroup,
-//   which saves the GPU a dispatch and a barrier per small mip;
+//   size PROBE_PYRAMID_TAIL_SIZE, the first dispatch writing mips 0 to 2 from the source where the tail
+//   starts below mip 2 (shaders/pyramid_source_tile.comp), mips 0 and 1 where it starts at mip 2, then
+//   (shaders/pyramid_tail.comp) the mips from there down in one workgroup, which saves the GPU a
+//   dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source, in windows where a level exceeds the storage-buffer range.
 #include <algorithm>
@@ -22,6 +23,10 @@
 #include <pyramid_image_batch_rgba32f.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
+#include <pyramid_source_tile_batch_rgba16f.spv.h>
+#include <pyramid_source_tile_batch_rgba32f.spv.h>
+#include <pyramid_source_tile_rgba16f.spv.h>
+#include <pyramid_source_tile_rgba32f.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
 #include <pyramid_tail_batch_rgba32f.spv.h>
 #include <pyramid_tail_exact.spv.h>
@@ -85,8 +90,12 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
                                                      : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
         levels_ = context.pipeline(spirv, specialization);
-        if (plan.pyramidFromSource) // the shader's kFromSource
+        if (plan.pyramidFromSourceMips == 2) // the shader's kFromSource
             fromSource_ = context.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
+        if (plan.pyramidFromSourceMips == 3)
+            fromSource_ = context.pipeline(half ? context.batchVariant(kPyramidSourceTileRgba16fSpv, kPyramidSourceTileBatchRgba16fSpv)
+                                                : context.batchVariant(kPyramidSourceTileRgba32fSpv, kPyramidSourceTileBatchRgba32fSpv),
+                                           specialization);
         if (plan.pyramidTailLevel > 0)
             tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
                                           : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
@@ -104,7 +113,7 @@ uint32_t PyramidPass::dispatchCount() const {
     uint32_t count = 0;
     if (plan.sampling == Sampling::hardware) {
         const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
-        count = uint32_t((tail_ ? plan.pyramidTailLevel - 1 : depth) + 1) + (tail_ ? 1 : 0) - (fromSource_ ? 1 : 0);
+        count = uint32_t((tail_ ? plan.pyramidTailLevel - 1 : depth) + 1) + (tail_ ? 1 : 0) - uint32_t(plan.pyramidFromSourceMips - 1);
     } else {
         // Each window a dispatch, and one for its corners; the tail's one in all.
         count = uint32_t(plan.pyramidWindows.size()) * (corners_ ? 2 : 1) - (tail_ ? 1 : 0);
@@ -157,8 +166,8 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
     }
 }
 
-// Hardware sampling: each mip of the pyramid image (mips 0 and 1 in one dispatch where the plan says
-// so), the tail's in one dispatch; a layer of workgroups per cube of a batch.
+// Hardware sampling: each mip of the pyramid image (mips 0 to 1 or 2 in one dispatch where the plan
+// says so), the tail's in one dispatch; a layer of workgroups per cube of a batch.
 void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& recording) const {
     const FilterSettings& s = context_.settings;
     const FilterPlan& plan = context_.plan;
@@ -169,9 +178,12 @@ void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& reco
     if (fromSource_) {
         recorder.bind(recording.pyramidSets[0]);
         const PyramidConstants constants{s.faceSize, 0};
-        const std::size_t texels = texelCount(s.faceSize) + texelCount(s.faceSize >> 1);
-        recorder.dispatch(*fromSource_, "pyramid", 0, constants, groupsFor(texels), cubes, 2);
-        level = 2;
+        // Mips 0 and 1: an invocation per texel of both; mips 0 to 2: a workgroup per 8x8 tile of mip 2.
+        const std::size_t tiles = std::size_t(s.faceSize / 32) * std::size_t(s.faceSize / 32) * kFaceCount;
+        const uint32_t groups =
+            plan.pyramidFromSourceMips == 3 ? uint32_t(tiles) : groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1));
+        recorder.dispatch(*fromSource_, "pyramid", 0, constants, groups, cubes, plan.pyramidFromSourceMips);
+        level = plan.pyramidFromSourceMips;
     }
     for (; level <= lastSingle; ++level) {
         if (level > 0) recorder.barrier();
