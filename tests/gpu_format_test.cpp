@@ -131,24 +131,31 @@ TEST_F(GpuTest, ProbeBrighterThanAHalfPyramidKeepsItsLight) {
     }
 }
 
-// A pyramid format asked for is used as it is: RGBA16F within half rounding of RGBA32F; a format the
-// device cannot filter and store, one that is no pyramid format, or one asked of exact sampling (a
-// float32 buffer) is refused by name.
+// A pyramid format asked for is used as it is: RGBA16F within half rounding of RGBA32F (at 16^2, and
+// at 64^2, where the first dispatch builds mips 0 to 2 from the source); a format the device cannot
+// filter and store, one that is no pyramid format, or one asked of exact sampling (a float32 buffer)
+// is refused by name.
 TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
     const gpu::Device& shared = probetest::testDevice();
-    const CubeImage probe = sunSkyProbe(kSize);
     gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
-    s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
-    const CubeLevels full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
-    for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
-        s.pyramidFormat = format;
-        gpu::Filter filter(shared, s);
-        EXPECT_EQ(filter.pyramidFormat(), format);
-        const CubeLevels out = filter.run(probe);
-        const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? kHalfPyramidTolerance : 0.0;
-        for (std::size_t m = 0; m < out.size(); ++m)
-            EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), tolerance) << gpu::formatName(format) << " level " << m;
+    for (const int size : {kSize, 64}) {
+        const CubeImage probe = sunSkyProbe(size);
+        s.faceSize = size;
+        s.levelCount = defaultLevelCount(size);
+        s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+        const CubeLevels full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
+        for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
+            s.pyramidFormat = format;
+            gpu::Filter filter(shared, s);
+            EXPECT_EQ(filter.pyramidFormat(), format);
+            const CubeLevels out = filter.run(probe);
+            const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? kHalfPyramidTolerance : 0.0;
+            for (std::size_t m = 0; m < out.size(); ++m)
+                EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), tolerance)
+                    << size << "^2, " << gpu::formatName(format) << " level " << m;
+        }
     }
+    s = fisSettings(gpu::Sampling::hardware);
 
     const auto refusal = [](const gpu::Device& device, const gpu::FilterSettings& settings) -> std::string {
         try {
