@@ -153,19 +153,22 @@ TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
 }
 
 // Hardware sampling's first pyramid dispatch writes mips 0 to 2 where the tail starts below mip 2
-// (pyramid_source_tile.comp: mip 1 from the source, mip 2 from mip 1 kept in shared memory, a tile a
+// (pyramid_tile.comp: mip 1 from the source, mip 2 from mip 1 kept in shared memory, a tile a
 // workgroup), else mips 0 and 1, each with the exact path's bilinear arithmetic (not the sampler's):
 // with an RGBA32F pyramid they equal the model to float rounding, the tolerance of exact sampling, at
-// the face edges and corners too.
-TEST_F(GpuTest, PyramidMipsFromTheSourceEqualCpuModel) {
+// the face edges and corners too. Further up, two mips a dispatch where two lie above the tail: the
+// first through the sampler, as alone, the second from it kept in shared memory, which the model gives
+// from the first to float rounding.
+TEST_F(GpuTest, PyramidMipsInRunsEqualCpuModel) {
     using Pass1 = std::vector<std::pair<int, int>>; // (first mip, mips) of each dispatch
     struct Case {
         int size, fromSource;
         Pass1 dispatches;
     };
     // The tail starts at the 8x8 mip: 32^2 mips 0 and 1, then the tail; 64^2 mips 0 to 2, then the
-    // tail; 128^2 mips 0 to 2, mip 3, then the tail.
-    for (const Case& c : {Case{32, 2, {{0, 2}, {2, 1}}}, Case{64, 3, {{0, 3}, {3, 1}}}, Case{128, 3, {{0, 3}, {3, 1}, {4, 1}}}}) {
+    // tail; 128^2 mips 0 to 2, mip 3, then the tail; 256^2 mips 0 to 2, mips 3 and 4, then the tail.
+    for (const Case& c : {Case{32, 2, {{0, 2}, {2, 1}}}, Case{64, 3, {{0, 3}, {3, 1}}}, Case{128, 3, {{0, 3}, {3, 1}, {4, 1}}},
+                          Case{256, 3, {{0, 3}, {3, 2}, {5, 1}}}}) {
         const CubeImage source = probetest::randomProbe(c.size, 14);
         for (const PyramidSettings& pyramid : kAllPyramids) {
             const std::string what = fmt::format("{}^2 {}", c.size, describe(pyramid));
@@ -180,6 +183,15 @@ TEST_F(GpuTest, PyramidMipsFromTheSourceEqualCpuModel) {
             for (const gpu::Dispatch& d : filter.dispatches())
                 if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
             EXPECT_EQ(pass1, c.dispatches) << what;
+            // A pair's first mip from the one above through the sampler (its tolerance), its second from it.
+            for (const auto& [first, mips] : pass1) {
+                if (first == 0 || mips != 2) continue;
+                const std::size_t k = std::size_t(first);
+                expectLevelsEqual({gpuLevels[k]}, {buildPyramid(gpuLevels[k - 1], pyramid)[1]}, probetest::kSamplingCases[1].tolerance,
+                                  fmt::format("mip {} from mip {}, {}", k, k - 1, what));
+                expectLevelsEqual({gpuLevels[k + 1]}, {buildPyramid(gpuLevels[k], pyramid)[1]}, 1e-5,
+                                  fmt::format("mip {} from mip {}, {}", k + 1, k, what));
+            }
         }
     }
 }

@@ -310,11 +310,12 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             common(set);
             if (k > 0)
                 descriptors->writeSampled(set, kPyramidCube, r.pyramidMipCubes[k - 1].handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
-            // The tail writes its mips (down to the depth), the first dispatch mips 0 to 1 or 2 where it
-            // builds them from the source; any other dispatch its one mip.
+            // The tail writes its mips (down to the depth), a dispatch of several mips (plan.pyramidMipRuns)
+            // each of them; any other dispatch its one mip.
             std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
-            if (k == 0)
-                for (int e = 1; e < plan.pyramidFromSourceMips; ++e) mips.push_back(r.pyramidMipArrays[e].handle());
+            for (const auto& [first, count] : plan.pyramidMipRuns)
+                if (first == k)
+                    for (int e = k + 1; e < k + count; ++e) mips.push_back(r.pyramidMipArrays[e].handle());
             if (plan.pyramidTailLevel > 0 && k == plan.pyramidTailLevel)
                 for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
                     mips.push_back(r.pyramidMipArrays[e].handle());

@@ -237,10 +237,12 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     }
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
-        // Levels 1 and 2 with level 0 where the tail does not start at them: a dispatch and a barrier
-        // fewer for each.
+        // Mips in twos and threes where they are above the tail: a dispatch and a barrier fewer for
+        // each mip that joins another's.
         const int last = plan.pyramidTailLevel > 0 ? plan.pyramidTailLevel - 1 : plan.pyramidDepth;
-        plan.pyramidFromSourceMips = 1 + std::min(last, 2);
+        plan.pyramidMipRuns = {{0, 1 + std::min(last, 2)}};
+        for (int k = plan.pyramidMipRuns[0].second; k <= last; k += plan.pyramidMipRuns.back().second)
+            plan.pyramidMipRuns.emplace_back(k, k < last ? 2 : 1);
     }
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.

@@ -4,9 +4,9 @@
 //   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
 //   texel, with no corners;
-// - hardware sampling (shaders/pyramid_image.comp): each mip of the pyramid cube image down to face
-//   size PROBE_PYRAMID_TAIL_SIZE, the first dispatch writing mips 0 to 2 from the source where the tail
-//   starts below mip 2 (shaders/pyramid_source_tile.comp), mips 0 and 1 where it starts at mip 2, then
+// - hardware sampling: the mips of the pyramid cube image down to face size PROBE_PYRAMID_TAIL_SIZE,
+//   two a dispatch (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the
+//   tail, else one (shaders/pyramid_image.comp; from the source, mips 0 and 1), then
 //   (shaders/pyramid_tail.comp) the mips from there down in one workgroup, which saves the GPU a
 //   dispatch and a barrier per small mip;
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
@@ -23,15 +23,15 @@
 #include <pyramid_image_batch_rgba32f.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
-#include <pyramid_source_tile_batch_rgba16f.spv.h>
-#include <pyramid_source_tile_batch_rgba32f.spv.h>
-#include <pyramid_source_tile_rgba16f.spv.h>
-#include <pyramid_source_tile_rgba32f.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
 #include <pyramid_tail_batch_rgba32f.spv.h>
 #include <pyramid_tail_exact.spv.h>
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
+#include <pyramid_tile_batch_rgba16f.spv.h>
+#include <pyramid_tile_batch_rgba32f.spv.h>
+#include <pyramid_tile_rgba16f.spv.h>
+#include <pyramid_tile_rgba32f.spv.h>
 
 #include "device.h"
 #include "filter_passes.h"
@@ -90,12 +90,15 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
                                                      : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
         levels_ = context.pipeline(spirv, specialization);
-        if (plan.pyramidFromSourceMips == 2) // the shader's kFromSource
-            fromSource_ = context.pipeline(spirv, std::array<int32_t, 3>{specialization[0], specialization[1], 1});
-        if (plan.pyramidFromSourceMips == 3)
-            fromSource_ = context.pipeline(half ? context.batchVariant(kPyramidSourceTileRgba16fSpv, kPyramidSourceTileBatchRgba16fSpv)
-                                                : context.batchVariant(kPyramidSourceTileRgba32fSpv, kPyramidSourceTileBatchRgba32fSpv),
-                                           specialization);
+        // The shaders' kFromSource: the first dispatch's mips 0 to 1 or 2.
+        const std::array<int32_t, 3> fromSource{specialization[0], specialization[1], 1};
+        const std::span<const uint32_t> tile = half ? context.batchVariant(kPyramidTileRgba16fSpv, kPyramidTileBatchRgba16fSpv)
+                                                    : context.batchVariant(kPyramidTileRgba32fSpv, kPyramidTileBatchRgba32fSpv);
+        const int firstMips = plan.pyramidMipRuns.front().second;
+        if (firstMips == 2) fromSource_ = context.pipeline(spirv, fromSource);
+        if (firstMips == 3) fromSource_ = context.pipeline(tile, fromSource);
+        if (std::any_of(plan.pyramidMipRuns.begin() + 1, plan.pyramidMipRuns.end(), [](const auto& run) { return run.second == 2; }))
+            pairs_ = context.pipeline(tile, specialization);
         if (plan.pyramidTailLevel > 0)
             tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
                                           : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
@@ -112,8 +115,7 @@ uint32_t PyramidPass::dispatchCount() const {
     const FilterPlan& plan = context_.plan;
     uint32_t count = 0;
     if (plan.sampling == Sampling::hardware) {
-        const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
-        count = uint32_t((tail_ ? plan.pyramidTailLevel - 1 : depth) + 1) + (tail_ ? 1 : 0) - uint32_t(plan.pyramidFromSourceMips - 1);
+        count = uint32_t(plan.pyramidMipRuns.size()) + (tail_ ? 1 : 0);
     } else {
         // Each window a dispatch, and one for its corners; the tail's one in all.
         count = uint32_t(plan.pyramidWindows.size()) * (corners_ ? 2 : 1) - (tail_ ? 1 : 0);
@@ -166,30 +168,30 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
     }
 }
 
-// Hardware sampling: each mip of the pyramid image (mips 0 to 1 or 2 in one dispatch where the plan
-// says so), the tail's in one dispatch; a layer of workgroups per cube of a batch.
+// Hardware sampling: the mips of the pyramid image in the plan's runs (FilterPlan::pyramidMipRuns:
+// one, two or, from the source, three mips a dispatch), the tail's in one dispatch; a layer of
+// workgroups per cube of a batch.
 void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& recording) const {
     const FilterSettings& s = context_.settings;
     const FilterPlan& plan = context_.plan;
     const auto cubes = uint32_t(s.batchSize);
     const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
-    const int lastSingle = tail_ ? plan.pyramidTailLevel - 1 : depth;
-    int level = 0;
-    if (fromSource_) {
-        recorder.bind(recording.pyramidSets[0]);
-        const PyramidConstants constants{s.faceSize, 0};
-        // Mips 0 and 1: an invocation per texel of both; mips 0 to 2: a workgroup per 8x8 tile of mip 2.
-        const std::size_t tiles = std::size_t(s.faceSize / 32) * std::size_t(s.faceSize / 32) * kFaceCount;
-        const uint32_t groups =
-            plan.pyramidFromSourceMips == 3 ? uint32_t(tiles) : groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1));
-        recorder.dispatch(*fromSource_, "pyramid", 0, constants, groups, cubes, plan.pyramidFromSourceMips);
-        level = plan.pyramidFromSourceMips;
-    }
-    for (; level <= lastSingle; ++level) {
-        if (level > 0) recorder.barrier();
-        recorder.bind(recording.pyramidSets[level]);
-        const PyramidConstants constants{s.faceSize, level};
-        recorder.dispatch(*levels_, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)), cubes);
+    // A workgroup per 8x8 tile of mip k (pyramid_tile.comp).
+    const auto tilesOf = [&](int k) { return uint32_t(texelCount(s.faceSize >> k) / 64); };
+    for (const auto& [first, count] : plan.pyramidMipRuns) {
+        if (first > 0) recorder.barrier();
+        recorder.bind(recording.pyramidSets[first]);
+        if (count == 1) {
+            recorder.dispatch(*levels_, "pyramid", first, PyramidConstants{s.faceSize, first}, groupsFor(texelCount(s.faceSize >> first)),
+                              cubes);
+        } else if (first == 0 && count == 2) { // an invocation per texel of both
+            recorder.dispatch(*fromSource_, "pyramid", 0, PyramidConstants{s.faceSize, 0},
+                              groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes, 2);
+        } else if (first == 0) { // mip 1 from the source, and mip 2 in tiles
+            recorder.dispatch(*fromSource_, "pyramid", 0, PyramidConstants{s.faceSize, 1}, tilesOf(2), cubes, 3);
+        } else {
+            recorder.dispatch(*pairs_, "pyramid", first, PyramidConstants{s.faceSize, first}, tilesOf(first + 1), cubes, 2);
+        }
     }
     if (tail_) {
         recorder.barrier();

@@ -180,11 +180,11 @@ struct Dispatch {
     int level = 0;       // the pyramid or output level it writes (pyramid level 0: the source; the
                          // reference builds it alone, to read it texel by texel; hardware sampling's
                          // last pyramid dispatch writes this mip, 8x8 or smaller, and all below it,
-                         // and its first mips 0 to 1 or 2 where the tail starts below them);
+                         // and its others their first mip);
                          // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
     int levels = 1;      // pass 2: the output levels it writes, from `level` (up to 12 in one dispatch, 4 on some devices);
-                         // pass 1: 2 or 3 where it writes mips 0 to 1 or 2
+                         // pass 1: the mips it writes (hardware sampling: up to 3)
 };
 
 // The caller's source cube for Filter::record, described as the engine made it (record() checks
