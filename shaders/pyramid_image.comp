@@ -6,7 +6,8 @@
 // box: pyramid_box.glsl, the 2x2 children on the same face, each read at its centre.
 // With kFromSource the dispatch writes mips 0 and 1 at once, both from the source (which the sampler
 // cannot filter linearly on every device: its bilinear reads are footprint.glsl's arithmetic over its
-// texels), saving a dispatch and a barrier.
+// texels), saving a dispatch and a barrier. With PROBE_PYRAMID_FINISH the last run's dispatch also
+// builds the mips below it (pyramid_finish.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -23,14 +24,23 @@ layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the sol
 layout(constant_id = 2) const int kFromSource = 0;        // 1: mips 0 and 1 from the source, in one dispatch
 
 layout(push_constant) uniform Params {
-    int faceSize; // S_0
-    int level;    // the mip written: 0 (the source) to log2(S_0)
+    int faceSize;  // S_0
+    int level;     // the mip written: 0 (the source) to log2(S_0)
+    int tailLevel; // PROBE_PYRAMID_FINISH: the first mip built below the run (0: none), to lastLevel
+    int lastLevel;
 } params;
+
+#ifdef PROBE_PYRAMID_FINISH
+#include "pyramid_finish.glsl"
+#endif
 
 // The fine level at face coordinates (u, v) of `face`.
 vec3 fine(int face, float u, float v) { return pyramidRead(faceUvToCubePoint(face, u, v), 0.0); }
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
+#ifdef PROBE_PYRAMID_FINISH
+    if (finishing) return tailSampleFine(face, x, y, fineSize);
+#endif
     if (kFromSource != 0) return sourceBilinear(face, x, y, fineSize);
     vec2 uv = texelToFaceUv(x, y, fineSize);
     return fine(face, uv.x, uv.y);
@@ -38,16 +48,17 @@ vec3 probeSampleFine(int face, float x, float y, int fineSize) {
 #include "pyramid_bspline.glsl"
 // A child texel, read at its centre, where the bilinear weights are 1, 0, 0, 0.
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
+#ifdef PROBE_PYRAMID_FINISH
+    if (finishing) return tailFineTexel(face, i, j, fineSize);
+#endif
     if (kFromSource != 0) return sourceTexel(texelCubePoint(face, i, j, fineSize));
     return fine(face, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize));
 }
 #include "pyramid_box.glsl"
 
-void main() {
+// The texel of invocation `index` (mip 1's follow mip 0's with kFromSource), if it has one.
+void buildTexel(uint index) {
     int level = params.level, size = params.faceSize >> level;
-    uint index = invocationIndex();
-    batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
-    // With kFromSource, mip 1's texels follow mip 0's.
     if (kFromSource != 0 && index >= 6u * uint(size * size)) {
         index -= 6u * uint(size * size);
         level = 1;
@@ -59,7 +70,13 @@ void main() {
     if (level == 0) value = sourceTexel(texelCubePoint(t.z, t.x, t.y, size));
     else if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
     else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
-    vec4 stored = vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0);
-    if (level == params.level) imageStore(pyramidMips[0], batchLayer(t), stored);
-    else imageStore(pyramidMips[1], batchLayer(t), stored);
+    storePyramidMip(level - params.level, t, value);
+}
+
+void main() {
+    batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
+    buildTexel(invocationIndex());
+#ifdef PROBE_PYRAMID_FINISH
+    finishPyramid(params.faceSize, params.level, params.tailLevel, params.lastLevel);
+#endif
 }

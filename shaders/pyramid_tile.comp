@@ -7,7 +7,8 @@
 // With kFromSource, the first dispatch: mips 0, 1 and 2, mip 1 from the source (L = 1). Mip L is
 // pyramid_image.comp's bit for bit; mip L + 1 is read with exact bilinear weights from mip L kept in
 // float, where pyramid_image.comp reads it through the sampler from the pyramid's format. A dispatch
-// and a barrier fewer for each pair.
+// and a barrier fewer for each pair. With PROBE_PYRAMID_FINISH the last run's dispatch also builds
+// the mips below it (pyramid_finish.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -24,13 +25,22 @@ layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the sol
 layout(constant_id = 2) const int kFromSource = 0;        // 1: mips 0 to 2, from the source
 
 layout(push_constant) uniform Params {
-    int faceSize; // S_0
-    int level;    // L: mip L and mip L + 1 (of 16x16 or more) are built, from mip L - 1 bound as pyramidCube, or from the source
+    int faceSize;  // S_0
+    int level;     // L: mip L and mip L + 1 (of 16x16 or more) are built, from mip L - 1 bound as pyramidCube, or from the source
+    int tailLevel; // PROBE_PYRAMID_FINISH: the first mip built below the run (0: none), to lastLevel
+    int lastLevel;
 } params;
 
 const int kTile = 8;               // mip L + 1 texels per side of a tile
 const int kRegion = 2 * kTile + 2; // mip L texels per side of what its B-spline reads
+#ifdef PROBE_PYRAMID_FINISH
+#include "pyramid_finish.glsl"
+// The region lives in the tail's shared texels, which the last workgroup takes over after it: both
+// within the 16 KiB of shared memory that every device offers.
+#define region tailTexels
+#else
 shared vec3 region[kRegion * kRegion];
+#endif
 
 // Mip L texel (i, j) of the region around the tile, which starts at (regionI, regionJ) of mip L.
 int regionI, regionJ;
@@ -38,6 +48,9 @@ bool fromRegion = false; // mip L + 1's reads: from the region; else mip L's, fr
 vec3 regionTexel(int i, int j) { return region[(j - regionJ) * kRegion + (i - regionI)]; }
 
 vec3 probeSampleFine(int face, float x, float y, int fineSize) {
+#ifdef PROBE_PYRAMID_FINISH
+    if (finishing) return tailSampleFine(face, x, y, fineSize);
+#endif
     if (fromRegion) {
         vec2 f;
         ivec2 t = footprintFirst(fineSize, x, y, f);
@@ -50,6 +63,9 @@ vec3 probeSampleFine(int face, float x, float y, int fineSize) {
 }
 #include "pyramid_bspline.glsl"
 vec3 probeFineTexel(int face, int i, int j, int fineSize) {
+#ifdef PROBE_PYRAMID_FINISH
+    if (finishing) return tailFineTexel(face, i, j, fineSize);
+#endif
     if (fromRegion) return regionTexel(i, j);
     if (kFromSource != 0) return sourceTexel(texelCubePoint(face, i, j, fineSize));
     return pyramidRead(faceUvToCubePoint(face, texelCentreUv(i, fineSize), texelCentreUv(j, fineSize)), 0.0); // the texel
@@ -63,16 +79,11 @@ vec3 pyramidTexelFrom(int face, int i, int j, int level) {
     return pyramidBox(face, i, j, fineSize, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
 }
 
-// Mip params.level + k (k from -1: the source's mip 0) into pyramidMips, which start at mip 0 with
-// kFromSource, else at mip params.level.
-void storeMip(int k, ivec3 texel, vec3 value) {
-    texel = batchLayer(texel);
-    vec4 v = vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0);
-    int element = kFromSource != 0 ? k + 1 : k;
-    if (element == 0) imageStore(pyramidMips[0], texel, v);
-    else if (element == 1) imageStore(pyramidMips[1], texel, v);
-    else imageStore(pyramidMips[2], texel, v);
-}
+// The mip in pyramidMips element 0: mip 0 with kFromSource, else mip params.level.
+int runFirst() { return kFromSource != 0 ? 0 : params.level; }
+
+// Mip params.level + k (k from -1: the source's mip 0) into pyramidMips.
+void storeMip(int k, ivec3 texel, vec3 value) { storePyramidMip(params.level + k - runFirst(), texel, value); }
 
 void main() {
     uint lane = gl_LocalInvocationIndex, lanes = gl_WorkGroupSize.x;
@@ -117,4 +128,7 @@ void main() {
         int i = tileI + int(index) % kTile, j = tileJ + int(index) / kTile;
         storeMip(1, ivec3(i, j, face), pyramidTexelFrom(face, i, j, level + 1));
     }
+#ifdef PROBE_PYRAMID_FINISH
+    finishPyramid(params.faceSize, runFirst(), params.tailLevel, params.lastLevel);
+#endif
 }

@@ -174,6 +174,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     r.pyramidBuffer = Buffer(d, plan.pyramidTexels * kTexelBytes, Buffer::Kind::texels);
     r.accumulator = Buffer(d, plan.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     r.pyramidView = BufferView(vk, r.pyramidBuffer);
+    r.pyramidCounters = Buffer(d, sizeof(uint32_t) * std::size_t(s.batchSize), Buffer::Kind::storage);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         const int mips = plan.pyramidDepth + 1;
         r.pyramidImage =
@@ -220,6 +221,11 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
 }
 
 void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
+    // The counters start at 0, once per set: each dispatch that counts in them sets them back.
+    if (plan.pyramidTailInLastRun && !current->pyramidCountersZeroed) {
+        vkCmdFillBuffer(commandBuffer, current->pyramidCounters.handle(), 0, VK_WHOLE_SIZE, 0);
+        current->pyramidCountersZeroed = true;
+    }
     VkMemoryBarrier memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     memory.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
     memory.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
@@ -286,6 +292,7 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
         descriptors->writeTexelBuffer(set, kGeometry, geometryView.handle());
         descriptors->writeTexelBuffer(set, kTableTexels, tableView.handle());
         descriptors->writeBuffer(set, kTableBuffer, table.handle());
+        descriptors->writeBuffer(set, kPyramidCounters, r.pyramidCounters.handle());
         descriptors->writeTexelBuffer(set, kPyramidTexels, r.pyramidView.handle());
         descriptors->writeSampled(set, kSourceCube, source, nearest->handle(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
         // Nearest: a device need not filter the placeholder's RGBA32F linearly.
@@ -314,9 +321,12 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             // each of them; any other dispatch its one mip.
             std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
             for (const auto& [first, count] : plan.pyramidMipRuns)
-                if (first == k)
-                    for (int e = k + 1; e < k + count; ++e) mips.push_back(r.pyramidMipArrays[e].handle());
-            if (plan.pyramidTailLevel > 0 && k == plan.pyramidTailLevel)
+                if (first == k) {
+                    // The last run's dispatch, where it builds the tail: every mip to the depth.
+                    const bool last = plan.pyramidTailInLastRun && first == plan.pyramidMipRuns.back().first;
+                    for (int e = k + 1; e < (last ? plan.pyramidDepth + 1 : k + count); ++e) mips.push_back(r.pyramidMipArrays[e].handle());
+                }
+            if (plan.pyramidTailLevel > 0 && !plan.pyramidTailInLastRun && k == plan.pyramidTailLevel)
                 for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
                     mips.push_back(r.pyramidMipArrays[e].handle());
             descriptors->writeMips(set, mips);

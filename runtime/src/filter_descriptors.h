@@ -1,5 +1,5 @@
-// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 8 and shaders/images.glsl's
-// 5-7 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and pools
+// The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 8, shaders/images.glsl's 5-7
+// and shaders/pyramid_finish.glsl's 9 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and pools
 // of sets (one per recording in flight), each set written with the resources of the dispatches that
 // bind it.
 #pragma once
@@ -17,16 +17,17 @@
 namespace probe::gpu {
 
 enum FilterBinding : uint32_t {
-    kPyramidBuffer = 0, // storage buffer: a window of the bordered pyramid (exact sampling; the reference's source)
-    kAccumulator = 1,   // storage buffer: the reference's running sums
-    kGeometry = 2,      // uniform texel buffer: texel directions and solid angles per level
-    kTableTexels = 3,   // uniform texel buffer: the tap table or FIS samples
-    kPyramidTexels = 4, // uniform texel buffer: the bordered pyramid, read
-    kSourceCube = 5,    // combined image sampler: the source cube, nearest
-    kPyramidCube = 6,   // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
-    kWrittenMips = 7,   // storage images (kWrittenMipCount, or kWideWrittenMipCount): the mips a dispatch writes, from element 0
-    kTableBuffer = 8,   // storage buffer: the tap table or FIS samples again (hardware sampling)
-    kFilterBindingCount = 9,
+    kPyramidBuffer = 0,   // storage buffer: a window of the bordered pyramid (exact sampling; the reference's source)
+    kAccumulator = 1,     // storage buffer: the reference's running sums
+    kGeometry = 2,        // uniform texel buffer: texel directions and solid angles per level
+    kTableTexels = 3,     // uniform texel buffer: the tap table or FIS samples
+    kPyramidTexels = 4,   // uniform texel buffer: the bordered pyramid, read
+    kSourceCube = 5,      // combined image sampler: the source cube, nearest
+    kPyramidCube = 6,     // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
+    kWrittenMips = 7,     // storage images (kWrittenMipCount, or kWideWrittenMipCount): the mips a dispatch writes, from element 0
+    kTableBuffer = 8,     // storage buffer: the tap table or FIS samples again (hardware sampling)
+    kPyramidCounters = 9, // storage buffer: pass 1's workgroup count per cube (shaders/pyramid_finish.glsl)
+    kFilterBindingCount = 10,
 };
 
 // The mips of face size PROBE_PYRAMID_TAIL_SIZE down to 1, which pass 1's last dispatch writes
@@ -55,6 +56,7 @@ inline constexpr std::array<FilterBindingLayout, kFilterBindingCount> kFilterBin
     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kWrittenMipCount},
+    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1},
 }};
 

@@ -230,11 +230,14 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
                                      "sampling needs (use hardware sampling)",
                                      d.name));
     plan.convertOutput = checkOutputFormat(d, s.outputFormat);
+    plan.pyramidTailInLastRun = plan.buildsPyramid && plan.sampling == Sampling::hardware && plan.writtenMipCount == kWideWrittenMipCount;
     if (plan.buildsPyramid && !plan.paraboloid) {
-        // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
-        plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount);
+        // The level of face size PROBE_PYRAMID_TAIL_SIZE (twice that where the last run builds the
+        // tail), or level 1 where the source is no larger.
+        plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount - (plan.pyramidTailInLastRun ? 1 : 0));
         if (plan.pyramidTailLevel > plan.pyramidDepth) plan.pyramidTailLevel = 0;
     }
+    if (plan.pyramidTailLevel == 0) plan.pyramidTailInLastRun = false;
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
         // Mips in twos and threes where they are above the tail: a dispatch and a barrier fewer for

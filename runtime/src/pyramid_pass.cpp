@@ -4,11 +4,13 @@
 //   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
 //   texel, with no corners;
-// - hardware sampling: the mips of the pyramid cube image down to face size PROBE_PYRAMID_TAIL_SIZE,
-//   two a dispatch (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the
-//   tail, else one (shaders/pyramid_image.comp; from the source, mips 0 and 1), then
-//   (shaders/pyramid_tail.comp) the mips from there down in one workgroup, which saves the GPU a
-//   dispatch and a barrier per small mip;
+// - hardware sampling: the mips of the pyramid cube image down to the tail, two a dispatch
+//   (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the tail, else one
+//   (shaders/pyramid_image.comp; from the source, mips 0 and 1), then the tail's mips in one
+//   workgroup, which saves the GPU a dispatch and a barrier per small mip: where the device offers
+//   enough storage images, the last workgroup of the last run's dispatch builds them from face size
+//   2 * PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_finish.glsl), else a dispatch of their own
+//   from PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_tail.comp);
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source, in windows where a level exceeds the storage-buffer range.
 #include <algorithm>
@@ -21,6 +23,10 @@
 #include <pyramid_corners.spv.h>
 #include <pyramid_image_batch_rgba16f.spv.h>
 #include <pyramid_image_batch_rgba32f.spv.h>
+#include <pyramid_image_finish_batch_rgba16f.spv.h>
+#include <pyramid_image_finish_batch_rgba32f.spv.h>
+#include <pyramid_image_finish_rgba16f.spv.h>
+#include <pyramid_image_finish_rgba32f.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
@@ -30,6 +36,10 @@
 #include <pyramid_tail_rgba32f.spv.h>
 #include <pyramid_tile_batch_rgba16f.spv.h>
 #include <pyramid_tile_batch_rgba32f.spv.h>
+#include <pyramid_tile_finish_batch_rgba16f.spv.h>
+#include <pyramid_tile_finish_batch_rgba32f.spv.h>
+#include <pyramid_tile_finish_rgba16f.spv.h>
+#include <pyramid_tile_finish_rgba32f.spv.h>
 #include <pyramid_tile_rgba16f.spv.h>
 #include <pyramid_tile_rgba32f.spv.h>
 
@@ -45,6 +55,8 @@ namespace {
 struct PyramidConstants {
     int32_t faceSize;
     int32_t level;
+    int32_t tailLevel = 0; // the last run, where it builds the tail: its first mip, and the last
+    int32_t lastLevel = 0;
 };
 
 struct PyramidWindowConstants {
@@ -99,6 +111,17 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         if (firstMips == 3) fromSource_ = context.pipeline(tile, fromSource);
         if (std::any_of(plan.pyramidMipRuns.begin() + 1, plan.pyramidMipRuns.end(), [](const auto& run) { return run.second == 2; }))
             pairs_ = context.pipeline(tile, specialization);
+        if (plan.pyramidTailInLastRun) {
+            const auto [first, count] = plan.pyramidMipRuns.back();
+            const std::span<const uint32_t> lastSpirv =
+                count == 3 || (first > 0 && count == 2)
+                    ? (half ? context.batchVariant(kPyramidTileFinishRgba16fSpv, kPyramidTileFinishBatchRgba16fSpv)
+                            : context.batchVariant(kPyramidTileFinishRgba32fSpv, kPyramidTileFinishBatchRgba32fSpv))
+                    : (half ? context.batchVariant(kPyramidImageFinishRgba16fSpv, kPyramidImageFinishBatchRgba16fSpv)
+                            : context.batchVariant(kPyramidImageFinishRgba32fSpv, kPyramidImageFinishBatchRgba32fSpv));
+            lastRun_ = context.pipeline(lastSpirv, first == 0 && count > 1 ? std::span<const int32_t>(fromSource) : specialization);
+            return;
+        }
         if (plan.pyramidTailLevel > 0)
             tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
                                           : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
@@ -169,8 +192,8 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
 }
 
 // Hardware sampling: the mips of the pyramid image in the plan's runs (FilterPlan::pyramidMipRuns:
-// one, two or, from the source, three mips a dispatch), the tail's in one dispatch; a layer of
-// workgroups per cube of a batch.
+// one, two or, from the source, three mips a dispatch), the tail's in one workgroup, of the last run's
+// dispatch or of its own; a layer of workgroups per cube of a batch.
 void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& recording) const {
     const FilterSettings& s = context_.settings;
     const FilterPlan& plan = context_.plan;
@@ -181,16 +204,24 @@ void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& reco
     for (const auto& [first, count] : plan.pyramidMipRuns) {
         if (first > 0) recorder.barrier();
         recorder.bind(recording.pyramidSets[first]);
+        const bool last = lastRun_ && first == plan.pyramidMipRuns.back().first;
+        const ComputePipeline& pipeline = last ? *lastRun_ : count == 1 ? *levels_ : first == 0 ? *fromSource_ : *pairs_;
+        PyramidConstants constants{s.faceSize, first};
+        if (last) {
+            constants.tailLevel = plan.pyramidTailLevel;
+            constants.lastLevel = depth;
+        }
+        const int mips = last ? depth - first + 1 : count;
         if (count == 1) {
-            recorder.dispatch(*levels_, "pyramid", first, PyramidConstants{s.faceSize, first}, groupsFor(texelCount(s.faceSize >> first)),
-                              cubes);
+            recorder.dispatch(pipeline, "pyramid", first, constants, groupsFor(texelCount(s.faceSize >> first)), cubes, mips);
         } else if (first == 0 && count == 2) { // an invocation per texel of both
-            recorder.dispatch(*fromSource_, "pyramid", 0, PyramidConstants{s.faceSize, 0},
-                              groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes, 2);
+            recorder.dispatch(pipeline, "pyramid", 0, constants, groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes,
+                              mips);
         } else if (first == 0) { // mip 1 from the source, and mip 2 in tiles
-            recorder.dispatch(*fromSource_, "pyramid", 0, PyramidConstants{s.faceSize, 1}, tilesOf(2), cubes, 3);
+            constants.level = 1;
+            recorder.dispatch(pipeline, "pyramid", 0, constants, tilesOf(2), cubes, mips);
         } else {
-            recorder.dispatch(*pairs_, "pyramid", first, PyramidConstants{s.faceSize, first}, tilesOf(first + 1), cubes, 2);
+            recorder.dispatch(pipeline, "pyramid", first, constants, tilesOf(first + 1), cubes, mips);
         }
     }
     if (tail_) {

@@ -23,6 +23,10 @@ namespace probe::gpu {
 struct Recording {
     Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
     Buffer accumulator;   // the reference's running sums (one vec4 when unused)
+    // Pass 1's workgroup count per cube, where the last run builds the tail (FilterPlan::pyramidTailInLastRun):
+    // zeroed by the set's first recording, set back to 0 by each dispatch that counts in it.
+    Buffer pyramidCounters;
+    bool pyramidCountersZeroed = false;
     BufferView pyramidView;
     CubeImageResource pyramidImage;          // hardware sampling: mips 0..pyramidDepth
     ImageView pyramidAll;                    // cube (a cube-map array for a batch), every mip: pass 2 reads
