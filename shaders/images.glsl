@@ -32,8 +32,8 @@ vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, d
 #endif
 // The mips a dispatch writes, faces as layers (batchLayer), from element 0: pass 1's pyramid mips
 // (hardware sampling), the largest first: a run's one to three, the tail's (pyramid_tail.comp) from
-// face size PROBE_PYRAMID_TAIL_SIZE (8) down to 1, or a run's and every one below it where the run's
-// dispatch finishes the pyramid (pyramid_finish.glsl); or pass 2's output mip, or with
+// face size PROBE_PYRAMID_TAIL_SIZE (8) down to 1, or a run's and then the tail's where the run's
+// dispatch builds the tail (pyramid_finish.glsl); or pass 2's output mip, or with
 // PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl): PROBE_LEVEL_GROUP_WIDTH of
 // them, 4 or, in the variant for devices that offer as many storage images per stage,
 // PROBE_MAX_GROUP_LEVELS. One binding for all keeps every other pipeline within the four storage
@@ -45,9 +45,9 @@ vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, d
 #error "storeOutput writes groups of 4 or of PROBE_MAX_GROUP_LEVELS levels"
 #endif
 #if defined(PROBE_PYRAMID_FORMAT) && defined(PROBE_PYRAMID_FINISH)
-// Pass 1's dispatches that also build the mips below them (pyramid_finish.glsl): every mip from the
-// run's first down to the depth, PROBE_MAX_GROUP_LEVELS at most, coherent, since the last workgroup
-// reads what the others wrote in the same dispatch.
+// Pass 1's last run, which also builds the tail (pyramid_finish.glsl): the run's mips and the tail's,
+// seven at most, in a binding of PROBE_MAX_GROUP_LEVELS; coherent, since the last workgroup reads
+// what the others wrote in the same dispatch.
 #define PROBE_PYRAMID_MIPS PROBE_MAX_GROUP_LEVELS
 layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) coherent uniform image2DArray pyramidMips[PROBE_PYRAMID_MIPS];
 #elif defined(PROBE_PYRAMID_FORMAT)

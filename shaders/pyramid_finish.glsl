@@ -1,14 +1,14 @@
-// Pass 1 with hardware sampling in fewer dispatches, in the manner of AMD's single-pass downsampler
-// (SPD): the dispatch of the last run of mips (FilterPlan::pyramidMipRuns) also builds every mip below
-// it, down to the depth. Each workgroup, once its texels are stored, counts itself in its cube's
-// counter; the last of a cube's workgroups to do so, when every other one's texels are stored (the
-// images are coherent), builds the rest: a mip of face size 2 * PROBE_PYRAMID_TAIL_SIZE texel by
-// texel from the image to the image, then the tail in shared memory (pyramid_tail.glsl), its first
-// mip read from the image. Reads of the image take the bordered buffer's rule: across a face edge the
-// adjacent face's texel, at a cube corner the average of the other three. The last workgroup sets
-// the counter back to 0 for the next recording. The tail's dispatch and barrier are saved, and the
-// mip above the tail's. Needs PROBE_PYRAMID_FINISH (images.glsl: every mip of the run and below it,
-// readable); the includer defines kBoxKind and kInverseSolidAngle.
+// Pass 1 with hardware sampling, its tail in the last run's dispatch, in the manner of AMD's
+// single-pass downsampler (SPD): the dispatch of the last run of mips (FilterPlan::pyramidMipRuns)
+// also builds the tail, the mips from face size PROBE_PYRAMID_TAIL_SIZE down. Each workgroup, once its
+// texels are stored, counts itself in its cube's counter; the last of a cube's workgroups to do so,
+// when every other one's texels are stored (the images are coherent), builds the tail in shared
+// memory (pyramid_tail.glsl) with the workgroup's lanes (256 where the device allows, as the tail's
+// own dispatch has), its first mip from the run's last through the image, read with the bordered
+// buffer's rule: across a face edge the adjacent face's texel, at a cube corner the average of the
+// other three. It sets the counter back to 0 for the next recording. The tail's dispatch and its
+// barrier are saved. Needs PROBE_PYRAMID_FINISH (images.glsl: the run's mips and the tail's, readable);
+// the includer defines kBoxKind and kInverseSolidAngle.
 #ifndef PROBE_PYRAMID_FINISH_GLSL
 #define PROBE_PYRAMID_FINISH_GLSL
 
@@ -24,7 +24,7 @@
 // A counter per cube of the batch, 0 between dispatches.
 layout(std430, set = 0, binding = 9) coherent buffer PyramidCounters { uint pyramidCounters[]; };
 
-bool finishing = false; // the last workgroup, building the mips below the run: reads go through here
+bool finishing = false; // the last workgroup, building the tail: reads go through the tail's functions
 int finishAbove = 0;    // the pyramidMips element of the mip the tail's first mip reads
 
 // Texel (i, j) of `face` of the mip at element finishAbove (face size `size`), i and j in [-1, size].
@@ -51,35 +51,18 @@ vec3 tailAboveTexel(int face, int i, int j, int fineSize) { return finishEdgeTex
 shared uint finishCount;
 
 // Called by every invocation at the end of main(), after the workgroup's stores, with the run's first
-// mip (pyramidMips element 0) and the mips to build below it (firstLevel 0: none). The last workgroup
-// of the cube builds them.
+// mip (pyramidMips element 0) and the tail's mips (firstLevel 0: none), which follow the run's.
 void finishPyramid(int faceSize, int runFirst, int firstLevel, int lastLevel) {
     if (firstLevel <= 0) return;
-    uint lane = gl_LocalInvocationIndex, lanes = gl_WorkGroupSize.x;
     memoryBarrierImage();
     barrier();
-    if (lane == 0u) finishCount = atomicAdd(pyramidCounters[batchCube], 1u);
+    if (gl_LocalInvocationIndex == 0u) finishCount = atomicAdd(pyramidCounters[batchCube], 1u);
     barrier();
     if (finishCount + 1u != gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
     finishing = true;
-    int level = firstLevel;
-    finishAbove = level - 1 - runFirst;
-    // Above the tail: from the image, to the image.
-    for (; level <= lastLevel && (faceSize >> level) > PROBE_PYRAMID_TAIL_SIZE; ++level) {
-        int size = faceSize >> level;
-        for (uint index = lane; index < 6u * uint(size * size); index += lanes) {
-            ivec3 t = texelCoordinates(index, size); // (i, j, face)
-            vec3 value;
-            if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
-            else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(faceSize, level - 1), kInverseSolidAngle != 0);
-            storePyramidMip(level - runFirst, t, value);
-        }
-        memoryBarrierImage();
-        barrier();
-        finishAbove = level - runFirst;
-    }
-    if (level <= lastLevel) buildTail(faceSize, level, lastLevel, level - runFirst, 0u);
-    if (lane == 0u) pyramidCounters[batchCube] = 0u;
+    finishAbove = firstLevel - 1 - runFirst;
+    buildTail(faceSize, firstLevel, lastLevel, firstLevel - runFirst, 0u);
+    if (gl_LocalInvocationIndex == 0u) pyramidCounters[batchCube] = 0u;
 }
 
 #endif

@@ -7,7 +7,7 @@
 // With kFromSource the dispatch writes mips 0 and 1 at once, both from the source (which the sampler
 // cannot filter linearly on every device: its bilinear reads are footprint.glsl's arithmetic over its
 // texels), saving a dispatch and a barrier. With PROBE_PYRAMID_FINISH the last run's dispatch also
-// builds the mips below it (pyramid_finish.glsl).
+// builds the tail (pyramid_finish.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -17,7 +17,13 @@
 #include "footprint.glsl"
 #include "source_footprint.glsl"
 
+#ifdef PROBE_PYRAMID_FINISH
+// The last workgroup builds the tail: 256 lanes, or the device's limit where that is lower (Vulkan
+// guarantees 128), as the tail's own dispatch (pyramid_tail.comp).
+layout(local_size_x_id = 3, local_size_x = 256) in;
+#else
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
+#endif
 
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
@@ -26,7 +32,7 @@ layout(constant_id = 2) const int kFromSource = 0;        // 1: mips 0 and 1 fro
 layout(push_constant) uniform Params {
     int faceSize;  // S_0
     int level;     // the mip written: 0 (the source) to log2(S_0)
-    int tailLevel; // PROBE_PYRAMID_FINISH: the first mip built below the run (0: none), to lastLevel
+    int tailLevel; // PROBE_PYRAMID_FINISH: the tail's first mip (0: none), to lastLevel
     int lastLevel;
 } params;
 

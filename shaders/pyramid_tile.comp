@@ -8,7 +8,7 @@
 // pyramid_image.comp's bit for bit; mip L + 1 is read with exact bilinear weights from mip L kept in
 // float, where pyramid_image.comp reads it through the sampler from the pyramid's format. A dispatch
 // and a barrier fewer for each pair. With PROBE_PYRAMID_FINISH the last run's dispatch also builds
-// the mips below it (pyramid_finish.glsl).
+// the tail (pyramid_finish.glsl).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
@@ -18,7 +18,13 @@
 #include "footprint.glsl"
 #include "source_footprint.glsl"
 
+#ifdef PROBE_PYRAMID_FINISH
+// The last workgroup builds the tail: 256 lanes, or the device's limit where that is lower (Vulkan
+// guarantees 128), as the tail's own dispatch (pyramid_tail.comp).
+layout(local_size_x_id = 3, local_size_x = 256) in;
+#else
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
+#endif
 
 layout(constant_id = 0) const int kBoxKind = 0;           // 0: bspline, 1: box
 layout(constant_id = 1) const int kInverseSolidAngle = 0; // 0: weigh by the solid angle, 1: by its inverse
@@ -27,7 +33,7 @@ layout(constant_id = 2) const int kFromSource = 0;        // 1: mips 0 to 2, fro
 layout(push_constant) uniform Params {
     int faceSize;  // S_0
     int level;     // L: mip L and mip L + 1 (of 16x16 or more) are built, from mip L - 1 bound as pyramidCube, or from the source
-    int tailLevel; // PROBE_PYRAMID_FINISH: the first mip built below the run (0: none), to lastLevel
+    int tailLevel; // PROBE_PYRAMID_FINISH: the tail's first mip (0: none), to lastLevel
     int lastLevel;
 } params;
 

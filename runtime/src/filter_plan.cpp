@@ -232,9 +232,8 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     plan.convertOutput = checkOutputFormat(d, s.outputFormat);
     plan.pyramidTailInLastRun = plan.buildsPyramid && plan.sampling == Sampling::hardware && plan.writtenMipCount == kWideWrittenMipCount;
     if (plan.buildsPyramid && !plan.paraboloid) {
-        // The level of face size PROBE_PYRAMID_TAIL_SIZE (twice that where the last run builds the
-        // tail), or level 1 where the source is no larger.
-        plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount - (plan.pyramidTailInLastRun ? 1 : 0));
+        // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
+        plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount);
         if (plan.pyramidTailLevel > plan.pyramidDepth) plan.pyramidTailLevel = 0;
     }
     if (plan.pyramidTailLevel == 0) plan.pyramidTailInLastRun = false;

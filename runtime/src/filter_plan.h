@@ -89,8 +89,7 @@ struct FilterPlan {
     // (pyramid_image.comp).
     std::vector<std::pair<int, int>> pyramidMipRuns;
     // Hardware sampling where a dispatch can write writtenMipCount = kWideWrittenMipCount mips: the last
-    // run's dispatch builds the tail (shaders/pyramid_finish.glsl), which then starts at face size
-    // 2 * PROBE_PYRAMID_TAIL_SIZE; else the tail (from PROBE_PYRAMID_TAIL_SIZE) has a dispatch of its own.
+    // run's dispatch builds the tail (shaders/pyramid_finish.glsl); else the tail has a dispatch of its own.
     bool pyramidTailInLastRun = false;
     std::vector<int> computedLevels; // the output levels computed, ascending
     // The storage images a dispatch writes (filter_descriptors.h): kWideWrittenMipCount where the

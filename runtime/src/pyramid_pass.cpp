@@ -7,10 +7,10 @@
 // - hardware sampling: the mips of the pyramid cube image down to the tail, two a dispatch
 //   (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the tail, else one
 //   (shaders/pyramid_image.comp; from the source, mips 0 and 1), then the tail's mips in one
-//   workgroup, which saves the GPU a dispatch and a barrier per small mip: where the device offers
-//   enough storage images, the last workgroup of the last run's dispatch builds them from face size
-//   2 * PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_finish.glsl), else a dispatch of their own
-//   from PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_tail.comp);
+//   workgroup from face size PROBE_PYRAMID_TAIL_SIZE down, which saves the GPU a dispatch and a
+//   barrier per small mip: where the device offers enough storage images, the last workgroup of the
+//   last run's dispatch (shaders/pyramid_finish.glsl), else a dispatch of their own
+//   (shaders/pyramid_tail.comp);
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source, in windows where a level exceeds the storage-buffer range.
 #include <algorithm>
@@ -119,7 +119,10 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
                             : context.batchVariant(kPyramidTileFinishRgba32fSpv, kPyramidTileFinishBatchRgba32fSpv))
                     : (half ? context.batchVariant(kPyramidImageFinishRgba16fSpv, kPyramidImageFinishBatchRgba16fSpv)
                             : context.batchVariant(kPyramidImageFinishRgba32fSpv, kPyramidImageFinishBatchRgba32fSpv));
-            lastRun_ = context.pipeline(lastSpirv, first == 0 && count > 1 ? std::span<const int32_t>(fromSource) : specialization);
+            // Its kFromSource, and its lanes: the tail's.
+            const std::array<int32_t, 4> lastSpecialization{specialization[0], specialization[1], first == 0 && count > 1 ? 1 : 0,
+                                                            tailLanes(context.device)};
+            lastRun_ = context.pipeline(lastSpirv, lastSpecialization);
             return;
         }
         if (plan.pyramidTailLevel > 0)
@@ -212,10 +215,15 @@ void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& reco
             constants.lastLevel = depth;
         }
         const int mips = last ? depth - first + 1 : count;
+        // An invocation per texel: of workgroups of the tail's lanes in the last run.
+        const auto perTexel = [&](std::size_t texels) {
+            const std::size_t lanes = last ? std::size_t(tailLanes(context_.device)) : kWorkgroupSize;
+            return uint32_t((texels + lanes - 1) / lanes);
+        };
         if (count == 1) {
-            recorder.dispatch(pipeline, "pyramid", first, constants, groupsFor(texelCount(s.faceSize >> first)), cubes, mips);
+            recorder.dispatch(pipeline, "pyramid", first, constants, perTexel(texelCount(s.faceSize >> first)), cubes, mips);
         } else if (first == 0 && count == 2) { // an invocation per texel of both
-            recorder.dispatch(pipeline, "pyramid", 0, constants, groupsFor(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes,
+            recorder.dispatch(pipeline, "pyramid", 0, constants, perTexel(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes,
                               mips);
         } else if (first == 0) { // mip 1 from the source, and mip 2 in tiles
             constants.level = 1;
