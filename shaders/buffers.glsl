@@ -15,7 +15,12 @@
 // Written here through a window of the buffer that starts at one of its texels (the whole buffer
 // can exceed the storage-buffer range a device guarantees: storePyramid), read through
 // pyramidTexel.
+// pyramid.comp (PROBE_PYRAMID_READBACK) reads back what its dispatch's other workgroups wrote.
+#ifdef PROBE_PYRAMID_READBACK
+layout(std430, set = 0, binding = 0) coherent buffer PyramidBuffer { vec4 pyramid[]; };
+#else
 layout(std430, set = 0, binding = 0) writeonly buffer PyramidBuffer { vec4 pyramid[]; };
+#endif
 // Results in a buffer: the reference's running sums per output texel (level m of face size
 // S_0 >> m), the SH projection's partial sums, the sphere renderer's pixels.
 layout(std430, set = 0, binding = 1) buffer OutputBuffer { vec4 outputTexels[]; };

@@ -5,10 +5,14 @@
 // box: pyramid_box.glsl, the 2x2 children on the same face.
 // A border texel is the adjacent face's texel (probe::texelNeighbour), computed here again rather
 // than copied, so one dispatch with no barrier writes a level's faces and edges (or those of the
-// faces in the window of the buffer bound: buffers.glsl); a border corner, which has no
-// counterpart, is left to pyramid_corners.comp.
+// faces in the window of the buffer bound: buffers.glsl). A border corner, which has no counterpart,
+// holds the average of the three texels that meet there (the face's own corner texel and the two
+// border texels beside it), what footprint.glsl needs: the last workgroup of the dispatch to finish
+// writes the corners, once every other has stored its texels (counted in pyramidCounters[0], which it
+// sets back to 0, as pyramid_finish.glsl does): no dispatch and barrier of their own.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#define PROBE_PYRAMID_READBACK
 #include "probe/shared_constants.h"
 #include "images.glsl"
 #include "footprint.glsl"
@@ -41,22 +45,47 @@ vec3 levelTexel(ivec3 t, int size) {
     return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.faceSize, params.level - 1), kInverseSolidAngle != 0);
 }
 
-void main() {
-    int size = params.faceSize >> params.level;
-    int row = size + 2;
-    // Every texel of each face and its border.
-    int perFace = row * row;
-    uint index = invocationIndex();
+// The dispatch's workgroups that have stored their texels (one counter: a window's faces may span cubes).
+layout(std430, set = 0, binding = 9) coherent buffer PyramidCounters { uint pyramidCounters[]; };
+shared uint finishCount;
+
+// Every texel of each face of the window and its border; a border corner gets the face's own corner
+// texel, which the corners then replace.
+void storeTexel(uint index, int size) {
+    int row = size + 2, perFace = row * row;
     if (index >= uint(params.faceCount * perFace)) return;
     int layer = params.firstFace + int(index) / perFace, face = layer % 6, k = int(index) % perFace;
     batchCube = layer / 6;
     int i = k % row - 1, j = k / row - 1;
     bool insideI = i >= 0 && i < size, insideJ = j >= 0 && j < size;
-
-    // One texel shown here; a border corner gets the face's own corner texel, which
-    // pyramid_corners.comp then replaces.
     int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
     bool edge = insideI != insideJ;
     vec3 value = levelTexel(edge ? texelAcrossEdge(face, i, j, size) : ivec3(face, ci, cj), size);
     storePyramid(pyramidLevelFirst(params.faceSize, params.level) + pyramidTexelIndex(face, i, j, size), params.window, value);
+}
+
+vec3 storedTexel(uint first, int face, int i, int j, int size) {
+    return pyramid[first + pyramidTexelIndex(face, i, j, size) - params.window].rgb;
+}
+
+void main() {
+    int size = params.faceSize >> params.level;
+    storeTexel(invocationIndex(), size);
+    memoryBarrierBuffer();
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) finishCount = atomicAdd(pyramidCounters[0], 1u);
+    barrier();
+    if (finishCount + 1u != gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
+    for (uint index = gl_LocalInvocationIndex; index < uint(4 * params.faceCount); index += gl_WorkGroupSize.x) {
+        int layer = params.firstFace + int(index) / 4, face = layer % 6, corner = int(index) % 4;
+        batchCube = layer / 6;
+        int i = (corner & 1) != 0 ? size : -1, j = (corner & 2) != 0 ? size : -1;
+        int ci = clamp(i, 0, size - 1), cj = clamp(j, 0, size - 1);
+        uint first = pyramidLevelFirst(params.faceSize, params.level);
+        vec3 value =
+            (storedTexel(first, face, ci, cj, size) + storedTexel(first, face, i, cj, size) + storedTexel(first, face, ci, j, size)) *
+            (1.0 / 3.0);
+        storePyramid(first + pyramidTexelIndex(face, i, j, size), params.window, value);
+    }
+    if (gl_LocalInvocationIndex == 0u) pyramidCounters[0] = 0u;
 }

@@ -245,7 +245,7 @@ TEST_F(GpuTest, BatchPyramidWrittenInWindowsEqualsProbesOneByOne) {
     const std::vector<CubeLevels> levels = batch.run(sources);
     const auto level0 = std::count_if(batch.dispatches().begin(), batch.dispatches().end(),
                                       [](const gpu::Dispatch& d) { return d.pass == "pyramid" && d.level == 0; });
-    EXPECT_EQ(level0, 2 * 5) << "18 faces in windows of 4, each with its corners";
+    EXPECT_EQ(level0, 5) << "18 faces in windows of 4, each writing its corners";
     for (std::size_t p = 0; p < sources.size(); ++p) {
         const CubeLevels expected = alone.run(sources[p]);
         for (int m = 0; m < settings.levelCount; ++m) EXPECT_EQ(levels[p][m].rgb, expected[m].rgb) << "probe " << p << ", level " << m;

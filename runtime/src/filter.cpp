@@ -222,7 +222,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
 
 void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
     // The counters start at 0, once per set: each dispatch that counts in them sets them back.
-    if (plan.pyramidTailInLastRun && !current->pyramidCountersZeroed) {
+    if (!current->pyramidCountersZeroed) {
         vkCmdFillBuffer(commandBuffer, current->pyramidCounters.handle(), 0, VK_WHOLE_SIZE, 0);
         current->pyramidCountersZeroed = true;
     }

@@ -26,7 +26,7 @@ enum FilterBinding : uint32_t {
     kPyramidCube = 6,     // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
     kWrittenMips = 7,     // storage images (kWrittenMipCount, or kWideWrittenMipCount): the mips a dispatch writes, from element 0
     kTableBuffer = 8,     // storage buffer: the tap table or FIS samples again (hardware sampling)
-    kPyramidCounters = 9, // storage buffer: pass 1's workgroup count per cube (shaders/pyramid_finish.glsl)
+    kPyramidCounters = 9, // storage buffer: pass 1's workgroups counted per dispatch (pyramid.comp, pyramid_finish.glsl)
     kFilterBindingCount = 10,
 };
 

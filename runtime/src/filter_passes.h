@@ -87,7 +87,6 @@ private:
     std::unique_ptr<ComputePipeline> pairs_;         // hardware sampling: two mips from the mip above
     std::unique_ptr<ComputePipeline> lastRun_;       // hardware sampling: the last run and the tail (plan.pyramidTailInLastRun)
     std::unique_ptr<ComputePipeline> tail_;          // the levels from plan.pyramidTailLevel down, in one workgroup
-    std::unique_ptr<ComputePipeline> corners_;       // exact sampling: the border corners of each level
     std::unique_ptr<ComputePipeline> paraboloidMap_; // fis on a paraboloid map: its levels, after the source's level
 };
 

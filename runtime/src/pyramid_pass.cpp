@@ -1,6 +1,6 @@
 // Pass 1, per pyramid level down to the depth, the source first (level 0):
-// - exact sampling (shaders/pyramid.comp, then shaders/pyramid_corners.comp): each level of the
-//   bordered buffer, faces and edges, then its border corners, down to face size
+// - exact sampling (shaders/pyramid.comp): each level of the bordered buffer, faces, edges and (by
+//   the dispatch's last workgroup) border corners, down to face size
 //   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
 //   texel, with no corners;
@@ -20,7 +20,6 @@
 #include <paraboloid_map.spv.h>
 #include <pyramid.spv.h>
 #include <pyramid_batch.spv.h>
-#include <pyramid_corners.spv.h>
 #include <pyramid_image_batch_rgba16f.spv.h>
 #include <pyramid_image_batch_rgba32f.spv.h>
 #include <pyramid_image_finish_batch_rgba16f.spv.h>
@@ -132,7 +131,6 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         return;
     }
     levels_ = context.pipeline(context.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);
-    if (plan.buildsPyramid) corners_ = context.pipeline(kPyramidCornersSpv);
     if (plan.pyramidTailLevel > 0) tail_ = context.pipeline(kPyramidTailExactSpv, tailSpecialization);
     if (plan.paraboloid) paraboloidMap_ = context.pipeline(kParaboloidMapSpv);
 }
@@ -143,8 +141,8 @@ uint32_t PyramidPass::dispatchCount() const {
     if (plan.sampling == Sampling::hardware) {
         count = uint32_t(plan.pyramidMipRuns.size()) + (tail_ ? 1 : 0);
     } else {
-        // Each window a dispatch, and one for its corners; the tail's one in all.
-        count = uint32_t(plan.pyramidWindows.size()) * (corners_ ? 2 : 1) - (tail_ ? 1 : 0);
+        // Each window a dispatch; the tail's one in all.
+        count = uint32_t(plan.pyramidWindows.size());
     }
     if (paraboloidMap_) count += uint32_t(plan.paraboloidWindows.size());
     return count;
@@ -161,9 +159,8 @@ double PyramidPass::texelTaps() const {
 }
 
 // Exact sampling: each level's windows (FilterPlan::pyramidWindows), every texel of their faces with
-// the border, then their faces' border corners; the tail's levels in one dispatch, a workgroup per
-// cube. A level split into windows (a device whose storage-buffer range is smaller than the level)
-// costs a dispatch and a barrier more per window.
+// the border and its corners; the tail's levels in one dispatch, a workgroup per cube. A level split into windows (a device whose
+// storage-buffer range is smaller than the level) costs a dispatch and a barrier more per window.
 void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recording& recording) const {
     const FilterSettings& s = context_.settings;
     const std::vector<PyramidWindow>& windows = context_.plan.pyramidWindows;
@@ -178,18 +175,13 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
             continue;
         }
         const std::size_t perFace = pyramidLevelTexels(s.faceSize >> level) / kFaceCount;
-        for (const bool corners : {false, true}) {
-            if (corners && !corners_) break;
-            if (corners) recorder.barrier();
-            for (std::size_t w = first; w < end; ++w) {
-                // The windows of a level write apart, but each binds the whole buffer for reading.
-                if (w > first) recorder.barrier();
-                const PyramidWindow& window = windows[w];
-                recorder.bind(recording.pyramidSets[w]);
-                const PyramidWindowConstants constants{s.faceSize, level, window.firstFace, window.faceCount, uint32_t(window.first)};
-                const std::size_t texels = corners ? 4 * std::size_t(window.faceCount) : perFace * window.faceCount;
-                recorder.dispatch(corners ? *corners_ : *levels_, "pyramid", level, constants, groupsFor(texels));
-            }
+        for (std::size_t w = first; w < end; ++w) {
+            // The windows of a level write apart, but each binds the whole buffer for reading.
+            if (w > first) recorder.barrier();
+            const PyramidWindow& window = windows[w];
+            recorder.bind(recording.pyramidSets[w]);
+            const PyramidWindowConstants constants{s.faceSize, level, window.firstFace, window.faceCount, uint32_t(window.first)};
+            recorder.dispatch(*levels_, "pyramid", level, constants, groupsFor(perFace * window.faceCount));
         }
     }
 }
