@@ -81,7 +81,7 @@ uint pyramidTexelIndex(int face, int i, int j, int size) {
 // The linear invocation index of a dispatch of (x, y) workgroups: dispatches with more than 65535
 // workgroups are split over y (probe runtime's ComputePipeline::dispatch).
 uint invocationIndex() {
-    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(PROBE_WORKGROUP_SIZE) + gl_GlobalInvocationID.x;
 }
 
 #endif

@@ -81,7 +81,8 @@ void buildTexel(uint index) {
 
 void main() {
     batchCube = int(gl_WorkGroupID.z); // a layer of workgroups per cube of a batch
-    buildTexel(invocationIndex());
+    // invocationIndex() with this shader's lanes.
+    buildTexel(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x);
 #ifdef PROBE_PYRAMID_FINISH
     finishPyramid(params.faceSize, params.level, params.tailLevel, params.lastLevel);
 #endif
