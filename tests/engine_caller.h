@@ -166,8 +166,8 @@ public:
                 VkFormat sourceFormat = VK_FORMAT_R32G32B32A32_SFLOAT, VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT)
         : c_(c), size_(sources.front().size), levels_(levels), cubes_(int(sources.size())), sourceFormat_(sourceFormat),
           outputFormat_(outputFormat) {
-        in_ = cubeTexture(c, sourceFormat, size_, 1, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, cubes_);
-        out_ = cubeTexture(c, outputFormat, size_, levels, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, cubes_);
+        in_ = cubeTexture(c, sourceFormat, size_, 1, kSourceUsage, cubes_);
+        out_ = cubeTexture(c, outputFormat, size_, levels, kOutputUsage, cubes_);
         VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         viewInfo.image = in_.image;
         viewInfo.viewType = viewType();
@@ -196,14 +196,22 @@ public:
     EngineProbe(const EngineProbe&) = delete;
     EngineProbe& operator=(const EngineProbe&) = delete;
 
-    probe::gpu::SourceCube source() const { return {view_, sourceFormat_, viewType(), uint32_t(size_), uint32_t(6 * cubes_)}; }
+    // The usage a batch of separate cubes needs too: its copies read the sources and write the outputs.
+    static constexpr VkImageUsageFlags kSourceUsage =
+        VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    static constexpr VkImageUsageFlags kOutputUsage =
+        VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+
+    probe::gpu::SourceCube source() const {
+        return {view_, sourceFormat_, viewType(), uint32_t(size_), uint32_t(6 * cubes_), in_.image, kSourceUsage};
+    }
     probe::gpu::OutputCube output() const {
-        return {out_.image,        outputFormat_,        uint32_t(size_),
-                uint32_t(levels_), uint32_t(6 * cubes_), VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT};
+        return {out_.image, outputFormat_, uint32_t(size_), uint32_t(levels_), uint32_t(6 * cubes_), kOutputUsage};
     }
 
-    // The source from staging, readable by compute; the output in GENERAL for the filter's writes.
-    void upload(VkCommandBuffer cmd) const {
+    // The source from staging, readable by compute; the output in `outputLayout` for the filter's
+    // writes (GENERAL, or TRANSFER_DST_OPTIMAL for its copies into a batch of separate cubes).
+    void upload(VkCommandBuffer cmd, VkImageLayout outputLayout = VK_IMAGE_LAYOUT_GENERAL) const {
         transition(cmd, in_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
         VkBufferImageCopy whole{};
         whole.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, uint32_t(6 * cubes_)};
@@ -211,13 +219,13 @@ public:
         vkCmdCopyBufferToImage(cmd, staging_.buffer, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &whole);
         transition(cmd, in_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                    VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT);
-        transition(cmd, out_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0, VK_ACCESS_SHADER_WRITE_BIT);
+        transition(cmd, out_.image, VK_IMAGE_LAYOUT_UNDEFINED, outputLayout, 0, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
     }
     // The output's levels into staging, for the host (after the upload's texels were consumed); the
     // output back in GENERAL for the next recording.
-    void readBack(VkCommandBuffer cmd) const {
-        transition(cmd, out_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT,
-                   VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    void readBack(VkCommandBuffer cmd, VkImageLayout outputLayout = VK_IMAGE_LAYOUT_GENERAL) const {
+        transition(cmd, out_.image, outputLayout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
         vkCmdCopyImageToBuffer(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging_.buffer, uint32_t(regions_.size()),
                                regions_.data());
         transition(cmd, out_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL, VK_ACCESS_TRANSFER_READ_BIT,

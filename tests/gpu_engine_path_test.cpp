@@ -158,6 +158,76 @@ TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
     }
 }
 
+// A batch of the engine's separately allocated cubes: three RGBA16F source cubes and three output
+// cubes, copied into the Filter's arrays and out of them around the passes of one probe: each probe's
+// levels those of a Filter of one probe, in both sampling modes, in the dispatches of one probe and
+// three barriers more (the copies'); what the copies cannot take is refused by field.
+TEST_F(GpuTest, RecordABatchOfSeparateCubes) {
+    const gpu::Device& owner = probetest::testDevice();
+    const Caller c = callerOf(owner);
+    gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
+    for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
+        gpu::FilterSettings settings = engineSettings(sampling);
+        std::vector<CubeImage> sources;
+        for (int p = 0; p < 3; ++p) sources.push_back(halfRounded(probetest::randomProbe(settings.faceSize, 30 + p)));
+        gpu::Filter alone(owner, settings);
+        settings.batchSize = int(sources.size());
+        gpu::Filter batch(wrapped, settings);
+        std::vector<std::unique_ptr<EngineProbe>> probes;
+        std::vector<gpu::SourceCube> in;
+        std::vector<gpu::OutputCube> out;
+        for (const CubeImage& source : sources) {
+            probes.push_back(
+                std::make_unique<EngineProbe>(c, source, settings.levelCount, VK_FORMAT_R16G16B16A16_SFLOAT, settings.outputFormat));
+            in.push_back(probes.back()->source());
+            out.push_back(probes.back()->output());
+        }
+        EngineCommands commands(c);
+        for (const auto& probe : probes) probe->upload(commands.cmd, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        const gpu::Completion done = batch.record(commands.cmd, in, out, gpu::Timestamps::none);
+        for (const auto& probe : probes) probe->readBack(commands.cmd, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        commands.submit(done);
+        for (std::size_t p = 0; p < sources.size(); ++p) {
+            const CubeLevels expected = alone.run(sources[p]);
+            for (int m = 0; m < settings.levelCount; ++m)
+                EXPECT_EQ(probes[p]->levels()[m].rgb, expected[m].rgb)
+                    << gpu::samplingName(sampling) << " sampling, probe " << p << ", level " << m;
+        }
+        EXPECT_EQ(batch.dispatches().size(), alone.dispatches().size()) << gpu::samplingName(sampling);
+        EXPECT_EQ(batch.barriers(), alone.barriers() + 3) << gpu::samplingName(sampling);
+
+        const auto refused = [&](std::vector<gpu::SourceCube> s, std::vector<gpu::OutputCube> o, const std::string& field) {
+            try {
+                (void)batch.record(commands.cmd, s, o);
+                ADD_FAILURE() << field << " accepted";
+            } catch (const ProbeError& e) {
+                EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+            }
+        };
+        refused({in[0], in[1]}, out, "sources holds 2 cubes");
+        refused(in, {out[0]}, "outputs holds 1 cubes");
+        std::vector<gpu::SourceCube> s = in;
+        s[1].image = VK_NULL_HANDLE;
+        refused(s, out, "sources[1].image");
+        s = in;
+        s[0].usage = VK_IMAGE_USAGE_SAMPLED_BIT;
+        refused(s, out, "sources[0].usage");
+        s = in;
+        s[2].format = VK_FORMAT_R32G32B32A32_SFLOAT;
+        refused(s, out, "sources[2].format");
+        s = in;
+        s[0].arrayLayers = 12;
+        refused(s, out, "sources[0].arrayLayers");
+        std::vector<gpu::OutputCube> o = out;
+        o[2].usage = VK_IMAGE_USAGE_STORAGE_BIT;
+        refused(in, o, "outputs[2].usage");
+        o = out;
+        o[1].mipLevels = 2;
+        refused(in, o, "outputs[1].mipLevels");
+        commands.submit({});
+    }
+}
+
 // Finite input gives finite output on the engine path too, where the source never reaches the host:
 // the caller's RGBA32F source holding FLT_MAX, -FLT_MAX, 0 and -0 side by side gives finite levels
 // for every method and sampling mode, into RGBA32F and RGBA16F outputs. The source saturates at

@@ -12,6 +12,7 @@
 #include "probe/fis.h"
 #include "probe/paraboloid.h"
 #include "probe/table_filter.h"
+#include "separate_cubes.h"
 #include "vulkan_check.h"
 
 namespace probe::gpu {
@@ -566,6 +567,21 @@ Completion Filter::record(VkCommandBuffer commandBuffer, const SourceCube& sourc
     checkRecordArguments(f, commandBuffer, source, output);
     startRecording(f, source, output);
     f.recordPasses(commandBuffer, timestamps);
+    return finishRecording(f);
+}
+
+Completion Filter::record(VkCommandBuffer commandBuffer, const std::vector<SourceCube>& sources, const std::vector<OutputCube>& outputs,
+                          Timestamps timestamps) {
+    Impl& f = *impl_;
+    checkSeparateCubes(f, commandBuffer, sources, outputs);
+    f.device.impl().releaseRetired();
+    f.acquire();
+    makeSeparateCubeImages(f, sources.front().format);
+    f.bindImages(f.current->copySourceView.handle(), f.current->runOutput.handle());
+    copySourcesIn(f, commandBuffer, sources);
+    f.recordPasses(commandBuffer, timestamps);
+    copyOutputsOut(f, commandBuffer, outputs);
+    f.barriers += 3; // the copies': two before the passes, one after
     return finishRecording(f);
 }
 

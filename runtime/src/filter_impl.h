@@ -81,6 +81,10 @@ struct Filter::Impl {
 
     // Makes the current set's output views and every descriptor set for this source and output.
     void bindImages(VkImageView source, VkImage output);
+    // The set's own output cube (a cube-map array for a batch), which run() reads back and a batch of
+    // separate cubes copies out, made at its first use; the layout the passes write it in.
+    void makeOwnOutput(Recording& r) const;
+    VkImageLayout ownOutputLayout() const;
     // The view type of the cubes the passes sample: a cube-map array for a batch.
     VkImageViewType cubeViewType() const;
     // What a pass records into, for this recording's command buffer.

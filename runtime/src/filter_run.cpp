@@ -40,8 +40,7 @@ void makeRunImages(const Filter::Impl& f, Recording& r) {
                                     VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, s.batchSize);
     r.runSourceView =
         ImageView(d.device(), r.runSource.handle(), VK_FORMAT_R32G32B32A32_SFLOAT, f.cubeViewType(), 0, 1, r.runSource.layers());
-    const VkImageUsageFlags written = f.plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
-    r.runOutput = CubeImageResource(d, s.faceSize, s.levelCount, s.outputFormat, written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize);
+    f.makeOwnOutput(r);
 }
 
 // The probes of a run, uploaded into the set's source cubes, each beyond the range the filter keeps
@@ -138,16 +137,13 @@ std::vector<int> startRun(Filter::Impl& f, std::span<const CubeImage> sources) {
 
 // The run's output cube as an engine's would be laid out: made writable by the passes before them,
 // and readable by the read-back after them.
-VkImageLayout runOutputLayout(const Filter::Impl& f) {
-    return f.plan.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
-}
 void runOutputBeforePasses(const Filter::Impl& f, const Recording& r, VkCommandBuffer commandBuffer) {
-    imageBarrier(commandBuffer, r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), VK_IMAGE_LAYOUT_UNDEFINED, runOutputLayout(f),
+    imageBarrier(commandBuffer, r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), VK_IMAGE_LAYOUT_UNDEFINED, f.ownOutputLayout(),
                  VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 void runOutputAfterPasses(const Filter::Impl& f, const Recording& r, VkCommandBuffer commandBuffer) {
-    imageBarrier(commandBuffer, r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), runOutputLayout(f),
+    imageBarrier(commandBuffer, r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), f.ownOutputLayout(),
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
 }
@@ -163,6 +159,17 @@ std::vector<CubeLevels> finishRun(Filter::Impl& f, const Recording& r, const std
 }
 
 } // namespace
+
+void Filter::Impl::makeOwnOutput(Recording& r) const {
+    if (r.runOutput.handle()) return;
+    const VkImageUsageFlags written = plan.convertOutput ? VK_IMAGE_USAGE_TRANSFER_DST_BIT : VK_IMAGE_USAGE_STORAGE_BIT;
+    r.runOutput = CubeImageResource(device, settings.faceSize, settings.levelCount, settings.outputFormat,
+                                    written | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, settings.batchSize);
+}
+
+VkImageLayout Filter::Impl::ownOutputLayout() const {
+    return plan.convertOutput ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+}
 
 CubeLevels Filter::run(const CubeImage& source, int repeat, Timestamps timestamps) {
     std::vector<CubeLevels> levels = impl_->runBatch(std::span(&source, 1), repeat, timestamps);

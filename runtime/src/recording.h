@@ -56,6 +56,12 @@ struct Recording {
 
     uint64_t completion = 0; // the semaphore value that ends its last recording; 0: none pending
 
+    // A batch of separate cubes (record() with one cube a probe): the sources copied into a cube-map
+    // array of their format, made at the set's first such recording (again if the format changes); the
+    // outputs copied from runOutput.
+    CubeImageResource copySource;
+    ImageView copySourceView;
+
     // The tools' own source and output cubes (run()), a cube-map array for a batch, made at the set's
     // first run().
     CubeImageResource runSource, runOutput;

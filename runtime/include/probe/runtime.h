@@ -198,6 +198,10 @@ struct SourceCube {
     VkImageViewType viewType = VK_IMAGE_VIEW_TYPE_MAX_ENUM; // the view's type: VK_IMAGE_VIEW_TYPE_CUBE (or _CUBE_ARRAY)
     uint32_t faceSize = 0;                                  // the view's first mip: S_0
     uint32_t arrayLayers = 6;                               // the view's layers: 6 (6 P)
+    // A batch of separately allocated cubes (record() with one SourceCube a probe) copies each source
+    // from its image, mip 0 and layers 0-5, which the view shows: usage TRANSFER_SRC.
+    VkImage image = VK_NULL_HANDLE;
+    VkImageUsageFlags usage = 0; // as created
 };
 
 // The caller's output cube for Filter::record, described as the engine made it: a 2D image with 6
@@ -294,6 +298,21 @@ public:
     // device lacks.
     [[nodiscard]] Completion record(VkCommandBuffer commandBuffer, const SourceCube& source, const OutputCube& output,
                                     Timestamps timestamps = Timestamps::passes);
+
+    // Engines that keep each probe in a cube of its own: a batch of FilterSettings::batchSize probes,
+    // sources[p] to outputs[p], each a cube of 6 layers (SourceCube::image and usage set), in the
+    // dispatches of one probe. Each source is copied into the Filter's own cube-map array (of the
+    // sources' one format) and each output copied from its own; the copies cost a copy command a
+    // cube each way and three barriers. What the caller owes, beside record()'s:
+    // - sources: usage TRANSFER_SRC as well; record() moves mip 0 of each to
+    //   VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL for its copy and back to SHADER_READ_ONLY_OPTIMAL.
+    // - outputs: usage TRANSFER_DST (the passes write the Filter's array, the copies the outputs), the
+    //   mips written in VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, their earlier use ended by a barrier to
+    //   VK_PIPELINE_STAGE_TRANSFER_BIT / VK_ACCESS_TRANSFER_WRITE_BIT; after: written at
+    //   VK_PIPELINE_STAGE_TRANSFER_BIT with VK_ACCESS_TRANSFER_WRITE_BIT.
+    // Whole updates only (no slices). Throws ProbeError naming the field of the cube that does not match.
+    [[nodiscard]] Completion record(VkCommandBuffer commandBuffer, const std::vector<SourceCube>& sources,
+                                    const std::vector<OutputCube>& outputs, Timestamps timestamps = Timestamps::passes);
 
     // Time slicing: the update cut into at most `count` slices (pass 1 alone first, then the levels
     // in order, grouped so that their texel-taps come out about even; one slice: the whole update,
