@@ -56,6 +56,13 @@ gpu::FilterSettings engineSettings(gpu::Sampling sampling) {
     return settings;
 }
 
+// `count` probes of a batch as an engine's RGBA16F texels hold them.
+std::vector<CubeImage> halfProbes(int size, int count, unsigned seed) {
+    std::vector<CubeImage> probes;
+    for (int p = 0; p < count; ++p) probes.push_back(halfRounded(probetest::randomProbe(size, seed + unsigned(p))));
+    return probes;
+}
+
 void recordAndCompare(const Caller& c, const gpu::Device& owner, const gpu::Device& wrapped, gpu::Sampling sampling) {
     const gpu::FilterSettings settings = engineSettings(sampling);
     const CubeImage source = halfRounded(probetest::randomProbe(settings.faceSize, 7));
@@ -110,8 +117,7 @@ TEST_F(GpuTest, RecordABatchIntoTheEnginesCubeMapArrays) {
     gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
         gpu::FilterSettings settings = engineSettings(sampling);
-        std::vector<CubeImage> sources;
-        for (int p = 0; p < 3; ++p) sources.push_back(halfRounded(probetest::randomProbe(settings.faceSize, 20 + p)));
+        const std::vector<CubeImage> sources = halfProbes(settings.faceSize, 3, 20);
         gpu::Filter alone(owner, settings);
         settings.batchSize = int(sources.size());
         gpu::Filter batch(wrapped, settings);
@@ -168,8 +174,7 @@ TEST_F(GpuTest, RecordABatchOfSeparateCubes) {
     gpu::Device wrapped(owner.instance(), c.physical, c.device, c.queueFamily, c.queue);
     for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
         gpu::FilterSettings settings = engineSettings(sampling);
-        std::vector<CubeImage> sources;
-        for (int p = 0; p < 3; ++p) sources.push_back(halfRounded(probetest::randomProbe(settings.faceSize, 30 + p)));
+        const std::vector<CubeImage> sources = halfProbes(settings.faceSize, 3, 30);
         gpu::Filter alone(owner, settings);
         settings.batchSize = int(sources.size());
         gpu::Filter batch(wrapped, settings);

@@ -144,8 +144,8 @@ void saturateTexels(CubeLevels& levels, VkFormat format) {
             level.rgb[i] = std::clamp(level.rgb[i], -largest[int(i % 3)], largest[int(i % 3)]);
 }
 
-void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMip, uint32_t mipCount, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags srcStage, VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+VkImageMemoryBarrier imageMemoryBarrier(VkImage image, uint32_t firstMip, uint32_t mipCount, uint32_t layers, VkImageLayout from,
+                                        VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess) {
     VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
     barrier.srcAccessMask = srcAccess;
     barrier.dstAccessMask = dstAccess;
@@ -153,7 +153,14 @@ void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMi
     barrier.newLayout = to;
     barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, VK_REMAINING_ARRAY_LAYERS};
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, firstMip, mipCount, 0, layers};
+    return barrier;
+}
+
+void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMip, uint32_t mipCount, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags srcStage, VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+    const VkImageMemoryBarrier barrier =
+        imageMemoryBarrier(image, firstMip, mipCount, VK_REMAINING_ARRAY_LAYERS, from, to, srcAccess, dstAccess);
     vkCmdPipelineBarrier(commandBuffer, srcStage, dstStage, 0, 0, nullptr, 0, nullptr, 1, &barrier);
 }
 

@@ -84,6 +84,11 @@ void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::ve
 // as the shaders' PROBE_OUTPUT_MAX), where scaling up texels read back from it may have passed that.
 void saturateTexels(CubeLevels& levels, VkFormat format);
 
+// The barrier of mips [firstMip, firstMip + mipCount) of layers [0, layers) of `image`, with a
+// layout change; imageBarrier records one on every layer.
+VkImageMemoryBarrier imageMemoryBarrier(VkImage image, uint32_t firstMip, uint32_t mipCount, uint32_t layers, VkImageLayout from,
+                                        VkImageLayout to, VkAccessFlags srcAccess, VkAccessFlags dstAccess);
+
 // A barrier on mips [firstMip, firstMip + mipCount) of every layer of `image`, with a layout change.
 void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, uint32_t firstMip, uint32_t mipCount, VkImageLayout from, VkImageLayout to,
                   VkPipelineStageFlags srcStage, VkAccessFlags srcAccess, VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);

@@ -3,24 +3,12 @@
 #include <fmt/format.h>
 
 #include "device.h"
+#include "image.h"
 #include "probe/error.h"
 
 namespace probe::gpu {
 
 namespace {
-
-VkImageMemoryBarrier layoutBarrier(VkImage image, uint32_t mips, uint32_t layers, VkImageLayout from, VkImageLayout to,
-                                   VkAccessFlags srcAccess, VkAccessFlags dstAccess) {
-    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    b.srcAccessMask = srcAccess;
-    b.dstAccessMask = dstAccess;
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, mips, 0, layers};
-    return b;
-}
 
 void pipelineBarrier(VkCommandBuffer commandBuffer, const std::vector<VkImageMemoryBarrier>& images) {
     const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
@@ -91,11 +79,12 @@ void copySourcesIn(Filter::Impl& f, VkCommandBuffer commandBuffer, const std::ve
     const Recording& r = *f.current;
     // The sources from the engine's layout to the copy's; the array from whatever an earlier recording
     // left (its reads ended at the compute stage).
-    std::vector<VkImageMemoryBarrier> before{layoutBarrier(r.copySource.handle(), 1, r.copySource.layers(), VK_IMAGE_LAYOUT_UNDEFINED,
-                                                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT)};
+    std::vector<VkImageMemoryBarrier> before{imageMemoryBarrier(r.copySource.handle(), 0, 1, r.copySource.layers(),
+                                                                VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0,
+                                                                VK_ACCESS_TRANSFER_WRITE_BIT)};
     for (const SourceCube& s : sources)
-        before.push_back(layoutBarrier(s.image, 1, kFaceCount, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-                                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0, VK_ACCESS_TRANSFER_READ_BIT));
+        before.push_back(imageMemoryBarrier(s.image, 0, 1, kFaceCount, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, 0, VK_ACCESS_TRANSFER_READ_BIT));
     pipelineBarrier(commandBuffer, before);
     for (std::size_t p = 0; p < sources.size(); ++p) {
         VkImageCopy cube{};
@@ -108,13 +97,14 @@ void copySourcesIn(Filter::Impl& f, VkCommandBuffer commandBuffer, const std::ve
     // The array for the passes' reads, the sources back in the engine's layout, the set's output
     // writable by the passes.
     std::vector<VkImageMemoryBarrier> after{
-        layoutBarrier(r.copySource.handle(), 1, r.copySource.layers(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT),
-        layoutBarrier(r.runOutput.handle(), uint32_t(f.settings.levelCount), r.runOutput.layers(), VK_IMAGE_LAYOUT_UNDEFINED,
-                      f.ownOutputLayout(), 0, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT)};
+        imageMemoryBarrier(r.copySource.handle(), 0, 1, r.copySource.layers(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT),
+        imageMemoryBarrier(r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), r.runOutput.layers(), VK_IMAGE_LAYOUT_UNDEFINED,
+                           f.ownOutputLayout(), 0, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT)};
     for (const SourceCube& s : sources)
-        after.push_back(layoutBarrier(s.image, 1, kFaceCount, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT));
+        after.push_back(imageMemoryBarrier(s.image, 0, 1, kFaceCount, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
+                                           VK_ACCESS_SHADER_READ_BIT));
     pipelineBarrier(commandBuffer, after);
 }
 
@@ -122,9 +112,10 @@ void copyOutputsOut(Filter::Impl& f, VkCommandBuffer commandBuffer, const std::v
     const Recording& r = *f.current;
     // The set's output from the passes' writes to the copies' reads (the outputs' earlier use ended at
     // the transfer stage: record()'s contract).
-    pipelineBarrier(commandBuffer, {layoutBarrier(r.runOutput.handle(), uint32_t(f.settings.levelCount), r.runOutput.layers(),
-                                                  f.ownOutputLayout(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                                                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT)});
+    pipelineBarrier(commandBuffer,
+                    {imageMemoryBarrier(r.runOutput.handle(), 0, uint32_t(f.settings.levelCount), r.runOutput.layers(), f.ownOutputLayout(),
+                                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                                        VK_ACCESS_TRANSFER_READ_BIT)});
     for (std::size_t p = 0; p < outputs.size(); ++p) {
         std::vector<VkImageCopy> levels;
         for (int m : f.plan.computedLevels) {
