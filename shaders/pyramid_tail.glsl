@@ -2,10 +2,10 @@
 // PROBE_PYRAMID_TAIL_SIZE or less) to lastLevel, where a dispatch per mip would pay a barrier each
 // for a few hundred texels or fewer. The first mip reads the one above through the includer's
 // functions; each later one reads the mip before from shared memory, which keeps it with a one-texel
-// border per face as the exact path's buffer does (pyramid.comp, pyramid_corners.comp) and reads it
+// border per face as the exact path's buffer does (pyramid.comp) and reads it
 // with that path's arithmetic (footprint.glsl). Hardware sampling stores each mip's faces to the
 // pyramid image; exact sampling (PROBE_EXACT_TAIL) each mip's bordered texels, border and corners
-// included, to the buffer, the same values pyramid.comp and pyramid_corners.comp write. Shared by
+// included, to the buffer, the same values pyramid.comp writes. Shared by
 // pyramid_tail.comp (the tail's own dispatch) and pyramid_finish.glsl (the last workgroup of a run's
 // dispatch). The includer defines kBoxKind and kInverseSolidAngle and, before it includes this:
 //   vec3 tailAboveBilinear(int face, float x, float y, int fineSize)  a seamless bilinear read of
@@ -84,7 +84,7 @@ void buildTail(int faceSize, int firstLevel, int lastLevel, int firstElement, ui
         }
         memoryBarrierShared();
         barrier();
-        // The border's corners: the average of the three texels that meet there, as pyramid_corners.comp.
+        // The border's corners: the average of the three texels that meet there, as pyramid.comp.
         if (lane < 24u) {
             int face = int(lane) / 4, corner = int(lane) % 4;
             int i = (corner & 1) != 0 ? size : -1, j = (corner & 2) != 0 ? size : -1;

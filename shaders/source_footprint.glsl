@@ -1,7 +1,7 @@
 // Bilinear reads of the source cube with the shader's own arithmetic, for pass 1's mips built from
 // the source (pyramid_image.comp, pyramid_tile.comp): the sampler cannot filter every source
 // format linearly on every device, and the arithmetic is footprint.glsl's over the bordered buffer,
-// with the border's texels taken from the source as pyramid.comp and pyramid_corners.comp store them.
+// with the border's texels taken from the source as pyramid.comp stores them.
 #ifndef PROBE_SOURCE_FOOTPRINT_GLSL
 #define PROBE_SOURCE_FOOTPRINT_GLSL
 
