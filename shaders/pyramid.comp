@@ -8,14 +8,15 @@
 // faces in the window of the buffer bound: buffers.glsl). A border corner, which has no counterpart,
 // holds the average of the three texels that meet there (the face's own corner texel and the two
 // border texels beside it), what footprint.glsl needs: the last workgroup of the dispatch to finish
-// writes the corners, once every other has stored its texels (counted in pyramidCounters[0], which it
-// sets back to 0, as pyramid_finish.glsl does): no dispatch and barrier of their own.
+// writes the corners, once every other has stored its texels (workgroup_count.glsl; one counter, since a
+// window's faces may span cubes): no dispatch and barrier of their own.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #define PROBE_PYRAMID_READBACK
 #include "probe/shared_constants.h"
 #include "images.glsl"
 #include "footprint.glsl"
+#include "workgroup_count.glsl"
 
 layout(local_size_x = PROBE_WORKGROUP_SIZE) in;
 
@@ -45,10 +46,6 @@ vec3 levelTexel(ivec3 t, int size) {
     return pyramidBox(t.x, t.y, t.z, 2 * size, levelOffset(params.faceSize, params.level - 1), kInverseSolidAngle != 0);
 }
 
-// The dispatch's workgroups that have stored their texels (one counter: a window's faces may span cubes).
-layout(std430, set = 0, binding = 9) coherent buffer PyramidCounters { uint pyramidCounters[]; };
-shared uint finishCount;
-
 // Every texel of each face of the window and its border; a border corner gets the face's own corner
 // texel, which the corners then replace.
 void storeTexel(uint index, int size) {
@@ -72,10 +69,7 @@ void main() {
     int size = params.faceSize >> params.level;
     storeTexel(invocationIndex(), size);
     memoryBarrierBuffer();
-    barrier();
-    if (gl_LocalInvocationIndex == 0u) finishCount = atomicAdd(pyramidCounters[0], 1u);
-    barrier();
-    if (finishCount + 1u != gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
+    if (!lastWorkgroup(0u)) return;
     for (uint index = gl_LocalInvocationIndex; index < uint(4 * params.faceCount); index += gl_WorkGroupSize.x) {
         int layer = params.firstFace + int(index) / 4, face = layer % 6, corner = int(index) % 4;
         batchCube = layer / 6;
@@ -87,5 +81,4 @@ void main() {
             (1.0 / 3.0);
         storePyramid(first + pyramidTexelIndex(face, i, j, size), params.window, value);
     }
-    if (gl_LocalInvocationIndex == 0u) pyramidCounters[0] = 0u;
 }

@@ -1,14 +1,14 @@
 // Pass 1 with hardware sampling, its tail in the last run's dispatch, in the manner of AMD's
 // single-pass downsampler (SPD): the dispatch of the last run of mips (FilterPlan::pyramidMipRuns)
-// also builds the tail, the mips from face size PROBE_PYRAMID_TAIL_SIZE down. Each workgroup, once its
-// texels are stored, counts itself in its cube's counter; the last of a cube's workgroups to do so,
-// when every other one's texels are stored (the images are coherent), builds the tail in shared
-// memory (pyramid_tail.glsl) with the workgroup's lanes (256 where the device allows, as the tail's
-// own dispatch has), its first mip from the run's last through the image, read with the bordered
-// buffer's rule: across a face edge the adjacent face's texel, at a cube corner the average of the
-// other three. It sets the counter back to 0 for the next recording. The tail's dispatch and its
-// barrier are saved. Needs PROBE_PYRAMID_FINISH (images.glsl: the run's mips and the tail's, readable);
-// the includer defines kBoxKind and kInverseSolidAngle.
+// also builds the tail, the mips from face size PROBE_PYRAMID_TAIL_SIZE down. Each workgroup, once
+// its texels are stored, counts itself in its cube's counter (workgroup_count.glsl); the last of a
+// cube's workgroups, when every other one's texels are stored (the images are coherent), builds the
+// tail in shared memory (pyramid_tail.glsl) with the workgroup's lanes (256 where the device allows,
+// as the tail's own dispatch has), its first mip from the run's last through the image, read with
+// the bordered buffer's rule: across a face edge the adjacent face's texel, at a cube corner the
+// average of the other three. The tail's dispatch and its barrier are saved. Needs
+// PROBE_PYRAMID_FINISH (images.glsl: the run's mips and the tail's, readable); the includer defines
+// kBoxKind and kInverseSolidAngle.
 #ifndef PROBE_PYRAMID_FINISH_GLSL
 #define PROBE_PYRAMID_FINISH_GLSL
 
@@ -16,13 +16,11 @@
 #include "cube.glsl"
 #include "footprint.glsl"
 #include "images.glsl"
+#include "workgroup_count.glsl"
 
 #ifndef PROBE_PYRAMID_FINISH
 #error "pyramid_finish.glsl reads the mips it builds from: PROBE_PYRAMID_FINISH"
 #endif
-
-// A counter per cube of the batch, 0 between dispatches.
-layout(std430, set = 0, binding = 9) coherent buffer PyramidCounters { uint pyramidCounters[]; };
 
 bool finishing = false; // the last workgroup, building the tail: reads go through the tail's functions
 int finishAbove = 0;    // the pyramidMips element of the mip the tail's first mip reads
@@ -48,21 +46,15 @@ vec3 tailAboveBilinear(int face, float x, float y, int fineSize) {
 vec3 tailAboveTexel(int face, int i, int j, int fineSize) { return finishEdgeTexel(face, i, j, fineSize); }
 #include "pyramid_tail.glsl"
 
-shared uint finishCount;
-
 // Called by every invocation at the end of main(), after the workgroup's stores, with the run's first
 // mip (pyramidMips element 0) and the tail's mips (firstLevel 0: none), which follow the run's.
 void finishPyramid(int faceSize, int runFirst, int firstLevel, int lastLevel) {
     if (firstLevel <= 0) return;
     memoryBarrierImage();
-    barrier();
-    if (gl_LocalInvocationIndex == 0u) finishCount = atomicAdd(pyramidCounters[batchCube], 1u);
-    barrier();
-    if (finishCount + 1u != gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
+    if (!lastWorkgroup(uint(batchCube))) return; // a counter per cube of the batch
     finishing = true;
     finishAbove = firstLevel - 1 - runFirst;
     buildTail(faceSize, firstLevel, lastLevel, firstLevel - runFirst, 0u);
-    if (gl_LocalInvocationIndex == 0u) pyramidCounters[batchCube] = 0u;
 }
 
 #endif

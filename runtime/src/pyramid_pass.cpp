@@ -3,7 +3,7 @@
 //   the dispatch's last workgroup) border corners, down to face size
 //   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
-//   texel, with no corners;
+//   texel (its corners unread);
 // - hardware sampling: the mips of the pyramid cube image down to the tail, two a dispatch
 //   (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the tail, else one
 //   (shaders/pyramid_image.comp; from the source, mips 0 and 1), then the tail's mips in one
@@ -100,16 +100,18 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         const bool half = plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
         const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
                                                      : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
-        levels_ = context.pipeline(spirv, specialization);
         // The shaders' kFromSource: the first dispatch's mips 0 to 1 or 2.
         const std::array<int32_t, 3> fromSource{specialization[0], specialization[1], 1};
         const std::span<const uint32_t> tile = half ? context.batchVariant(kPyramidTileRgba16fSpv, kPyramidTileBatchRgba16fSpv)
                                                     : context.batchVariant(kPyramidTileRgba32fSpv, kPyramidTileBatchRgba32fSpv);
-        const int firstMips = plan.pyramidMipRuns.front().second;
-        if (firstMips == 2) fromSource_ = context.pipeline(spirv, fromSource);
-        if (firstMips == 3) fromSource_ = context.pipeline(tile, fromSource);
-        if (std::any_of(plan.pyramidMipRuns.begin() + 1, plan.pyramidMipRuns.end(), [](const auto& run) { return run.second == 2; }))
-            pairs_ = context.pipeline(tile, specialization);
+        // The pipelines of the runs, but a last run that builds the tail, which has its own.
+        const std::size_t runs = plan.pyramidMipRuns.size() - (plan.pyramidTailInLastRun ? 1 : 0);
+        for (std::size_t n = 0; n < runs; ++n) {
+            const auto [first, count] = plan.pyramidMipRuns[n];
+            if (first == 0 && count > 1) fromSource_ = context.pipeline(count == 3 ? tile : spirv, fromSource);
+            else if (count == 2 && !pairs_) pairs_ = context.pipeline(tile, specialization);
+            else if (count == 1 && !levels_) levels_ = context.pipeline(spirv, specialization);
+        }
         if (plan.pyramidTailInLastRun) {
             const auto [first, count] = plan.pyramidMipRuns.back();
             const std::span<const uint32_t> lastSpirv =
