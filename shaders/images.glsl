@@ -30,10 +30,9 @@ layout(set = 0, binding = 6) uniform samplerCube pyramidCube;
 vec4 sourceRead(vec3 direction) { return textureLod(sourceCube, direction, 0.0); }
 vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, direction, level).rgb; }
 #endif
-// The mips a dispatch writes, faces as layers (batchLayer), from element 0: pass 1's pyramid mips
-// (hardware sampling), the largest first: a run's one to three, the tail's (pyramid_tail.comp) from
-// face size PROBE_PYRAMID_TAIL_SIZE (8) down to 1, or a run's and then the tail's where the run's
-// dispatch builds the tail (pyramid_finish.glsl); or pass 2's output mip, or with
+// The mips a dispatch writes, faces as layers (batchLayer), from element 0: pass 1's pyramid mip
+// (hardware sampling), or in its last dispatch (pyramid_tail.comp) the mips of face size
+// PROBE_PYRAMID_TAIL_SIZE (8) down to 1, the largest first; or pass 2's output mip, or with
 // PROBE_LEVEL_GROUP the output mips of its level group (level_group.glsl): PROBE_LEVEL_GROUP_WIDTH of
 // them, 4 or, in the variant for devices that offer as many storage images per stage,
 // PROBE_MAX_GROUP_LEVELS. One binding for all keeps every other pipeline within the four storage
@@ -44,15 +43,8 @@ vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, d
 #if PROBE_LEVEL_GROUP_WIDTH != 4 && PROBE_LEVEL_GROUP_WIDTH != PROBE_MAX_GROUP_LEVELS
 #error "storeOutput writes groups of 4 or of PROBE_MAX_GROUP_LEVELS levels"
 #endif
-#if defined(PROBE_PYRAMID_FORMAT) && defined(PROBE_PYRAMID_FINISH)
-// Pass 1's last run, which also builds the tail (pyramid_finish.glsl): the run's mips and the tail's,
-// seven at most, in a binding of PROBE_MAX_GROUP_LEVELS; coherent, since the last workgroup reads
-// what the others wrote in the same dispatch.
-#define PROBE_PYRAMID_MIPS PROBE_MAX_GROUP_LEVELS
-layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) coherent uniform image2DArray pyramidMips[PROBE_PYRAMID_MIPS];
-#elif defined(PROBE_PYRAMID_FORMAT)
-#define PROBE_PYRAMID_MIPS 4
-layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[PROBE_PYRAMID_MIPS];
+#if defined(PROBE_PYRAMID_FORMAT)
+layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[4];
 #elif defined(PROBE_LEVEL_GROUP)
 layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMips[PROBE_LEVEL_GROUP_WIDTH];
 #else
@@ -83,40 +75,7 @@ void storePyramidMip(int element, ivec3 texel, vec3 value) {
     case 0: imageStore(pyramidMips[0], texel, v); break;
     case 1: imageStore(pyramidMips[1], texel, v); break;
     case 2: imageStore(pyramidMips[2], texel, v); break;
-#if PROBE_PYRAMID_MIPS == 4
     default: imageStore(pyramidMips[3], texel, v); break;
-#else
-    case 3: imageStore(pyramidMips[3], texel, v); break;
-    case 4: imageStore(pyramidMips[4], texel, v); break;
-    case 5: imageStore(pyramidMips[5], texel, v); break;
-    case 6: imageStore(pyramidMips[6], texel, v); break;
-    case 7: imageStore(pyramidMips[7], texel, v); break;
-    case 8: imageStore(pyramidMips[8], texel, v); break;
-    case 9: imageStore(pyramidMips[9], texel, v); break;
-    case 10: imageStore(pyramidMips[10], texel, v); break;
-    default: imageStore(pyramidMips[11], texel, v); break;
-#endif
-    }
-}
-#endif
-
-#if defined(PROBE_PYRAMID_FORMAT) && defined(PROBE_PYRAMID_FINISH)
-// Texel (i, j, face) of the invocation's cube in pyramid mip `element`, as stored.
-vec3 loadPyramidMip(int element, ivec3 texel) {
-    texel = batchLayer(texel);
-    switch (element) {
-    case 0: return imageLoad(pyramidMips[0], texel).rgb;
-    case 1: return imageLoad(pyramidMips[1], texel).rgb;
-    case 2: return imageLoad(pyramidMips[2], texel).rgb;
-    case 3: return imageLoad(pyramidMips[3], texel).rgb;
-    case 4: return imageLoad(pyramidMips[4], texel).rgb;
-    case 5: return imageLoad(pyramidMips[5], texel).rgb;
-    case 6: return imageLoad(pyramidMips[6], texel).rgb;
-    case 7: return imageLoad(pyramidMips[7], texel).rgb;
-    case 8: return imageLoad(pyramidMips[8], texel).rgb;
-    case 9: return imageLoad(pyramidMips[9], texel).rgb;
-    case 10: return imageLoad(pyramidMips[10], texel).rgb;
-    default: return imageLoad(pyramidMips[11], texel).rgb;
     }
 }
 #endif

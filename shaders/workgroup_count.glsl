@@ -1,5 +1,5 @@
 // Pass 1's dispatches whose last workgroup finishes what the others wrote (pyramid.comp's border
-// corners, pyramid_finish.glsl's tail): the workgroups count themselves in a counter of binding 9
+// corners): the workgroups count themselves in a counter of binding 9
 // (probe runtime's kPyramidCounters, 0 between dispatches), in the manner of AMD's single-pass
 // downsampler.
 #ifndef PROBE_WORKGROUP_COUNT_GLSL

@@ -105,34 +105,16 @@ TEST(FilterPlan, SamplingByDeviceAndMethod) {
     EXPECT_EQ(onGpu.sampling, Sampling::hardware);
     EXPECT_EQ(onGpu.pyramidFormat, VK_FORMAT_R16G16B16A16_SFLOAT); // the format engines filter in
     EXPECT_EQ(onGpu.pyramidTailLevel, 3);                          // the 8^2 level of a 64^2 pyramid
-    // Pass 1's mips before the tail, as (first, count) per dispatch: from the source mips 0 to 2, or 0
-    // and 1, or 0; then twos, and a one where one is left.
-    using Runs = std::vector<std::pair<int, int>>;
-    EXPECT_EQ(onGpu.pyramidMipRuns, (Runs{{0, 3}}));                              // the tail starts at mip 3 (8^2)
-    EXPECT_EQ(planFilter(fisSettings(32), gpu()).pyramidMipRuns, (Runs{{0, 2}})); // at mip 2
-    EXPECT_EQ(planFilter(fisSettings(16), gpu()).pyramidMipRuns, (Runs{{0, 1}})); // at mip 1
-    EXPECT_EQ(planFilter(fisSettings(128), gpu()).pyramidMipRuns, (Runs{{0, 3}, {3, 1}}));
-    EXPECT_EQ(planFilter(fisSettings(256), gpu()).pyramidMipRuns, (Runs{{0, 3}, {3, 2}}));
-    EXPECT_EQ(planFilter(fisSettings(2048), gpu()).pyramidMipRuns, (Runs{{0, 3}, {3, 2}, {5, 2}, {7, 1}}));
+    // Pass 1's tail starts at the 8^2 mip at every size; a depth above it leaves none.
+    EXPECT_EQ(planFilter(fisSettings(32), gpu()).pyramidTailLevel, 2);
+    EXPECT_EQ(planFilter(fisSettings(16), gpu()).pyramidTailLevel, 1);
+    EXPECT_EQ(planFilter(fisSettings(2048), gpu()).pyramidTailLevel, 8);
     FilterSettings shallow = fisSettings(2048);
-    shallow.pyramidDepth = 5; // no tail: the runs end at the depth
-    EXPECT_EQ(planFilter(shallow, gpu()).pyramidMipRuns, (Runs{{0, 3}, {3, 2}, {5, 1}}));
-    EXPECT_FALSE(onGpu.pyramidTailInLastRun); // four storage images: the tail has a dispatch of its own
-    // Twelve storage images: the same runs, the last run's dispatch building the tail.
-    DeviceCapabilities wide = gpu();
-    wide.maxPerStageDescriptorStorageImages = kWideWrittenMipCount;
-    const FilterPlan wide64 = planFilter(fisSettings(64), wide);
-    EXPECT_TRUE(wide64.pyramidTailInLastRun);
-    EXPECT_EQ(wide64.pyramidTailLevel, 3);
-    EXPECT_EQ(wide64.pyramidMipRuns, (Runs{{0, 3}}));
-    EXPECT_EQ(planFilter(fisSettings(2048), wide).pyramidMipRuns, (Runs{{0, 3}, {3, 2}, {5, 2}, {7, 1}}));
-    EXPECT_FALSE(planFilter(shallow, wide).pyramidTailInLastRun); // no tail above the depth
-    DeviceCapabilities wideCpu = cpu;
-    wideCpu.maxPerStageDescriptorStorageImages = kWideWrittenMipCount;
-    EXPECT_FALSE(planFilter(fisSettings(64), wideCpu).pyramidTailInLastRun); // exact sampling: the tail's own dispatch
-    EXPECT_EQ(onGpu.pyramidTexels, 1u);                                      // the pyramid is an image
-    EXPECT_EQ(planFilter(fisSettings(64), cpu).sampling, Sampling::exact);   // a CPU device reads exactly
-    EXPECT_GT(planFilter(fisSettings(64), cpu).pyramidTexels, 1u);           // into a bordered buffer
+    shallow.pyramidDepth = 5;
+    EXPECT_EQ(planFilter(shallow, gpu()).pyramidTailLevel, 0);
+    EXPECT_EQ(onGpu.pyramidTexels, 1u);                                    // the pyramid is an image
+    EXPECT_EQ(planFilter(fisSettings(64), cpu).sampling, Sampling::exact); // a CPU device reads exactly
+    EXPECT_GT(planFilter(fisSettings(64), cpu).pyramidTexels, 1u);         // into a bordered buffer
 
     // Without RGBA16F filtering, the RGBA32F pyramid.
     DeviceCapabilities noHalf = gpu();

@@ -2,6 +2,7 @@
 // random probes and random tables, every level and face, in both sampling modes (exact: to float
 // rounding; hardware: within the sampler's precision, gpu_test_support.h); constants stay
 // constant; FIS-1024 is close to the reference on a smooth sky.
+#include <bit>
 #include <limits>
 #include <random>
 
@@ -133,90 +134,35 @@ TEST_F(GpuTest, PyramidWrittenInWindowsEqualsCpuModel) {
     }
 }
 
-// Hardware sampling builds the mips from face size PROBE_PYRAMID_TAIL_SIZE down in one workgroup
-// that reads each from the one before in shared memory with the exact path's arithmetic, not the
-// sampler's: from its first mip (which the sampler's reads made) the model gives its others to
-// float rounding, the tolerance of exact sampling, on every device.
-TEST_F(GpuTest, PyramidTailEqualsCpuModelFromItsFirstMip) {
-    const int size = 64, tailLevel = 3; // 8x8
-    const CubeImage source = probetest::randomProbe(size, 12);
-    for (const PyramidSettings& pyramid : kAllPyramids) {
-        gpu::Filter filter(probetest::testDevice(),
-                           settingsFor(MethodKind::fis, size, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware));
-        filter.run(source);
-        const CubeLevels gpuLevels = filter.downloadPyramid();
-        ASSERT_EQ(gpuLevels.size(), 7u);
-        ASSERT_EQ(gpuLevels[tailLevel].size, PROBE_PYRAMID_TAIL_SIZE);
-        const CubeLevels model = buildPyramid(gpuLevels[tailLevel], pyramid);
-        expectLevelsEqual(CubeLevels(gpuLevels.begin() + tailLevel, gpuLevels.end()), model, 1e-5, "pyramid tail " + describe(pyramid));
-    }
-}
-
-// Hardware sampling's first pyramid dispatch writes mips 0 to 2 where the tail starts below mip 2
-// (pyramid_tile.comp: mip 1 from the source, mip 2 from mip 1 kept in shared memory, a tile a
-// workgroup), else mips 0 and 1, each with the exact path's bilinear arithmetic (not the sampler's):
-// with an RGBA32F pyramid they equal the model to float rounding, the tolerance of exact sampling, at
-// the face edges and corners too. Further up, two mips a dispatch where two lie above the tail: the
-// first through the sampler, as alone, the second from it kept in shared memory, which the model gives
-// from the first to float rounding. Where the device offers twelve storage images a stage (lavapipe
-// does), the last run's dispatch also builds the tail (pyramid_finish.glsl), each mip from the one
-// before with exact arithmetic, to float rounding, also in a second run in the same set (whose
-// workgroup counters the first set back to 0); with four, the tail has a dispatch of its own.
-TEST_F(GpuTest, PyramidMipsInRunsEqualCpuModel) {
+// Hardware sampling builds each mip above the tail in a dispatch of its own: mip 0 is the source's
+// texels, each later one from the mip above through the sampler (its tolerance of the model from that
+// mip); then the tail's mips in one dispatch from the 8x8 mip down, the first through the sampler too,
+// each later one from the one before in shared memory with the exact path's arithmetic: the model's
+// to float rounding.
+TEST_F(GpuTest, PyramidMipsADispatchEachEqualCpuModel) {
     using Pass1 = std::vector<std::pair<int, int>>; // (first mip, mips) of each dispatch
-    struct Case {
-        int size, fromSource;
-        Pass1 wide, four;
-    };
-    const gpu::Device& shared = probetest::testDevice();
-    ASSERT_GE(shared.impl().limits.maxPerStageDescriptorStorageImages, gpu::kWideWrittenMipCount);
-    const gpu::Device four(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
-    four.impl().limits.maxPerStageDescriptorStorageImages = 4;
-    // The tail starts at the 8x8 mip: 32^2 mips 0 and 1, then the tail; 64^2 mips 0 to 2, then the tail;
-    // 128^2 mips 0 to 2, mip 3, then the tail; 256^2 mips 0 to 2, mips 3 and 4, then the tail. With
-    // twelve images the last run's dispatch builds the tail too.
-    for (const Case& c :
-         {Case{32, 2, {{0, 6}}, {{0, 2}, {2, 1}}}, Case{64, 3, {{0, 7}}, {{0, 3}, {3, 1}}},
-          Case{128, 3, {{0, 3}, {3, 5}}, {{0, 3}, {3, 1}, {4, 1}}}, Case{256, 3, {{0, 3}, {3, 6}}, {{0, 3}, {3, 2}, {5, 1}}}}) {
-        const CubeImage source = probetest::randomProbe(c.size, 14);
-        for (const bool wide : {true, false})
-            for (const PyramidSettings& pyramid : kAllPyramids) {
-                const std::string what = fmt::format("{}^2 {}, {} storage images", c.size, describe(pyramid), wide ? 12 : 4);
-                gpu::FilterSettings s = settingsFor(MethodKind::fis, c.size, defaultLevelCount(c.size), RoughnessMapping::gltf, pyramid,
-                                                    gpu::Sampling::hardware);
-                s.inFlight = 1; // the second run in the first run's set, counters and all
-                gpu::Filter filter(wide ? shared : four, s);
-                filter.run(source);
-                const CubeLevels gpuLevels = filter.downloadPyramid();
-                const CubeLevels model = buildPyramid(source, pyramid);
-                expectLevelsEqual(CubeLevels(gpuLevels.begin(), gpuLevels.begin() + c.fromSource),
-                                  CubeLevels(model.begin(), model.begin() + c.fromSource), 1e-5, "mips from the source, " + what);
-                Pass1 pass1;
-                for (const gpu::Dispatch& d : filter.dispatches())
-                    if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
-                EXPECT_EQ(pass1, wide ? c.wide : c.four) << what;
-                // A pair's first mip from the one above through the sampler (its tolerance), its second from it.
-                for (const auto& [first, logged] : pass1) {
-                    const int mips = wide && first == pass1.back().first ? logged - 4 : logged; // the tail's four apart
-                    if (first == 0 || mips != 2) continue;
-                    const std::size_t k = std::size_t(first);
-                    expectLevelsEqual({gpuLevels[k]}, {buildPyramid(gpuLevels[k - 1], pyramid)[1]}, probetest::kSamplingCases[1].tolerance,
-                                      fmt::format("mip {} from mip {}, {}", k, k - 1, what));
-                    expectLevelsEqual({gpuLevels[k + 1]}, {buildPyramid(gpuLevels[k], pyramid)[1]}, 1e-5,
-                                      fmt::format("mip {} from mip {}, {}", k + 1, k, what));
-                }
-                if (!wide) continue;
-                // The tail in the last run's dispatch: from the 8x8 mip down, and again for another source in
-                // the same set.
-                const auto expectLastRun = [&](const CubeLevels& levels, const std::string& run) {
-                    for (std::size_t k = levels.size() - 4; k < levels.size(); ++k)
-                        expectLevelsEqual({levels[k]}, {buildPyramid(levels[k - 1], pyramid)[1]}, 1e-5,
-                                          fmt::format("mip {} from mip {} in the last run, {}, {}", k, k - 1, what, run));
-                };
-                expectLastRun(gpuLevels, "run 1");
-                filter.run(probetest::randomProbe(c.size, 15));
-                expectLastRun(filter.downloadPyramid(), "run 2");
-            }
+    for (const int size : {32, 128, 256}) {
+        const CubeImage source = probetest::randomProbe(size, 14);
+        const int tailLevel = std::bit_width(unsigned(size / PROBE_PYRAMID_TAIL_SIZE)) - 1;
+        Pass1 expected;
+        for (int k = 0; k < tailLevel; ++k) expected.emplace_back(k, 1);
+        expected.emplace_back(tailLevel, 4);
+        for (const PyramidSettings& pyramid : kAllPyramids) {
+            const std::string what = fmt::format("{}^2 {}", size, describe(pyramid));
+            gpu::Filter filter(probetest::testDevice(), settingsFor(MethodKind::fis, size, defaultLevelCount(size), RoughnessMapping::gltf,
+                                                                    pyramid, gpu::Sampling::hardware));
+            filter.run(source);
+            Pass1 pass1;
+            for (const gpu::Dispatch& d : filter.dispatches())
+                if (d.pass == "pyramid") pass1.emplace_back(d.level, d.levels);
+            EXPECT_EQ(pass1, expected) << what;
+            const CubeLevels gpuLevels = filter.downloadPyramid();
+            expectLevelsEqual({gpuLevels[0]}, {source}, 1e-5, "mip 0, " + what);
+            for (std::size_t k = 1; k < gpuLevels.size(); ++k)
+                expectLevelsEqual({gpuLevels[k]}, {buildPyramid(gpuLevels[k - 1], pyramid)[1]},
+                                  int(k) <= tailLevel ? probetest::kSamplingCases[1].tolerance : 1e-5,
+                                  fmt::format("mip {} from mip {}, {}", k, k - 1, what));
+        }
     }
 }
 
@@ -224,17 +170,13 @@ TEST_F(GpuTest, PyramidMipsInRunsEqualCpuModel) {
 // invocations): a device at that limit builds the same pyramid, each loop taking more strides.
 TEST_F(GpuTest, PyramidTailAtTheSmallestWorkgroupLimitEqualsTheDefault) {
     const gpu::Device& shared = probetest::testDevice();
-    if (shared.impl().limits.maxComputeWorkGroupInvocations < 256) GTEST_SKIP() << "the test device itself has fewer than 256 lanes";
-    // Devices of four storage images a stage, where the tail has a dispatch of its own.
-    const gpu::Device four(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
     const gpu::Device device(shared.instance(), shared.physicalDevice(), shared.device(), shared.queueFamily(), shared.queue());
-    four.impl().limits.maxPerStageDescriptorStorageImages = 4;
-    device.impl().limits.maxPerStageDescriptorStorageImages = 4;
+    if (shared.impl().limits.maxComputeWorkGroupInvocations < 256) GTEST_SKIP() << "the test device itself has fewer than 256 lanes";
     device.impl().limits.maxComputeWorkGroupInvocations = 128;
     const CubeImage source = probetest::randomProbe(64, 13);
     for (const PyramidSettings& pyramid : kAllPyramids) {
         const gpu::FilterSettings s = settingsFor(MethodKind::fis, 64, 6, RoughnessMapping::gltf, pyramid, gpu::Sampling::hardware);
-        gpu::Filter wide(four, s), narrow(device, s);
+        gpu::Filter wide(shared, s), narrow(device, s);
         wide.run(source);
         narrow.run(source);
         const CubeLevels expected = wide.downloadPyramid(), got = narrow.downloadPyramid();
@@ -449,9 +391,8 @@ TEST_F(GpuTest, ParaboloidMapWrittenInWindowsEqualsOneWindowALevel) {
 }
 
 // Pass 2's filtered levels in one dispatch where the device offers a storage image for each (lavapipe
-// does), in groups of four where it offers the four every device does: the same bits with exact
-// sampling (hardware sampling's pyramids differ as its tail is built), for the table and FIS, and a
-// dispatch fewer at 64^2 (GGX: level 0 copied, levels
+// does), in groups of four where it offers the four every device does: the same bits in both sampling
+// modes, for the table and FIS, and a dispatch fewer at 64^2 (GGX: level 0 copied, levels
 // 1-6 in one, not 1-4 and 5-6; Charlie, which copies none: levels 0-6 in one, not 0-3 and 4-6).
 TEST_F(GpuTest, LevelsInOneDispatchEqualGroupsOfFour) {
     const gpu::Device& shared = probetest::testDevice();
@@ -478,13 +419,7 @@ TEST_F(GpuTest, LevelsInOneDispatchEqualGroupsOfFour) {
             gpu::Filter wide(shared, s), four(narrow, s);
             const CubeLevels expected = four.run(source), levels = wide.run(source);
             const std::string what = fmt::format("{} {} {}", describe(c.sampling), methodKindName(k.method), lobeName(k.lobe));
-            // Hardware sampling's wide device also builds the pyramid's tail in the last run's dispatch,
-            // its first mip with exact bilinear reads where the other reads through the sampler.
-            const bool hardware = c.sampling == gpu::Sampling::hardware;
-            for (int m = 0; m < 7; ++m) {
-                if (hardware) EXPECT_LT(probetest::maxRelativeError(levels[m], expected[m]), c.tolerance) << what << ", level " << m;
-                else EXPECT_EQ(levels[m].rgb, expected[m].rgb) << what << ", level " << m;
-            }
+            for (int m = 0; m < 7; ++m) EXPECT_EQ(levels[m].rgb, expected[m].rgb) << what << ", level " << m;
             const auto groups = [&](const gpu::Filter& f) {
                 Groups g;
                 for (const gpu::Dispatch& d : f.dispatches())
@@ -493,7 +428,7 @@ TEST_F(GpuTest, LevelsInOneDispatchEqualGroupsOfFour) {
             };
             EXPECT_EQ(groups(wide), k.wide) << what;
             EXPECT_EQ(groups(four), k.four) << what;
-            EXPECT_EQ(wide.dispatches().size() + (hardware ? 2 : 1), four.dispatches().size()) << what;
+            EXPECT_EQ(wide.dispatches().size() + 1, four.dispatches().size()) << what;
         }
 }
 

@@ -44,10 +44,6 @@ std::vector<ShaderVariant> runtimeVariants() {
                    startsWith(shader, "pyramid_tail_")) { // kBoxKind, kInverseSolidAngle
             variants.push_back({shader + " bspline", spirv, {0, 0}});
             variants.push_back({shader + " box", spirv, {1, 0}});
-        } else if (startsWith(shader, "pyramid_tile_")) { // and kFromSource: two mips, or mips 0 to 2
-            variants.push_back({shader + " bspline", spirv, {0, 0, 0}});
-            variants.push_back({shader + " box", spirv, {1, 0, 0}});
-            variants.push_back({shader + " bspline from the source", spirv, {0, 0, 1}});
         } else {
             variants.push_back({shader, spirv, {}});
         }

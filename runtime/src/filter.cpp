@@ -175,7 +175,7 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     r.pyramidBuffer = Buffer(d, plan.pyramidTexels * kTexelBytes, Buffer::Kind::texels);
     r.accumulator = Buffer(d, plan.accumulatorTexels * kTexelBytes, Buffer::Kind::storage);
     r.pyramidView = BufferView(vk, r.pyramidBuffer);
-    r.pyramidCounters = Buffer(d, sizeof(uint32_t) * std::size_t(s.batchSize), Buffer::Kind::storage);
+    r.pyramidCounters = Buffer(d, sizeof(uint32_t), Buffer::Kind::storage);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         const int mips = plan.pyramidDepth + 1;
         r.pyramidImage =
@@ -222,8 +222,8 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
 }
 
 void Filter::Impl::firstBarrier(VkCommandBuffer commandBuffer, bool discard) {
-    // The counters start at 0, once per set: each dispatch that counts in them sets them back.
-    if (!current->pyramidCountersZeroed) {
+    // Exact sampling's counter starts at 0, once per set: each dispatch that counts in it sets it back.
+    if (plan.sampling == Sampling::exact && !current->pyramidCountersZeroed) {
         vkCmdFillBuffer(commandBuffer, current->pyramidCounters.handle(), 0, VK_WHOLE_SIZE, 0);
         current->pyramidCountersZeroed = true;
     }
@@ -318,16 +318,9 @@ void Filter::Impl::bindImages(VkImageView source, VkImage output) {
             common(set);
             if (k > 0)
                 descriptors->writeSampled(set, kPyramidCube, r.pyramidMipCubes[k - 1].handle(), linear->handle(), VK_IMAGE_LAYOUT_GENERAL);
-            // The tail writes its mips (down to the depth), a dispatch of several mips (plan.pyramidMipRuns)
-            // each of them; any other dispatch its one mip.
+            // The tail writes its mips (down to the depth); any other dispatch its one mip.
             std::vector<VkImageView> mips{r.pyramidMipArrays[k].handle()};
-            for (const auto& [first, count] : plan.pyramidMipRuns)
-                if (first == k) {
-                    // The last run's dispatch, where it builds the tail: every mip to the depth.
-                    const bool last = plan.pyramidTailInLastRun && first == plan.pyramidMipRuns.back().first;
-                    for (int e = k + 1; e < (last ? plan.pyramidDepth + 1 : k + count); ++e) mips.push_back(r.pyramidMipArrays[e].handle());
-                }
-            if (plan.pyramidTailLevel > 0 && !plan.pyramidTailInLastRun && k == plan.pyramidTailLevel)
+            if (plan.pyramidTailLevel > 0 && k == plan.pyramidTailLevel)
                 for (int e = k + 1; e <= plan.pyramidDepth && e < k + kPyramidTailMipCount; ++e)
                     mips.push_back(r.pyramidMipArrays[e].handle());
             descriptors->writeMips(set, mips);

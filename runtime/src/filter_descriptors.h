@@ -1,5 +1,5 @@
 // The Filter's descriptor sets: shaders/buffers.glsl's bindings 0-4 and 8, shaders/images.glsl's 5-7
-// and shaders/pyramid_finish.glsl's 9 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and pools
+// and shaders/workgroup_count.glsl's 9 in one set layout, one pipeline layout (with kPushConstantBytes of push constants), and pools
 // of sets (one per recording in flight), each set written with the resources of the dispatches that
 // bind it.
 #pragma once
@@ -26,7 +26,7 @@ enum FilterBinding : uint32_t {
     kPyramidCube = 6,     // combined image sampler: the pyramid cube, trilinear (the conversion pass's input)
     kWrittenMips = 7,     // storage images (kWrittenMipCount, or kWideWrittenMipCount): the mips a dispatch writes, from element 0
     kTableBuffer = 8,     // storage buffer: the tap table or FIS samples again (hardware sampling)
-    kPyramidCounters = 9, // storage buffer: pass 1's workgroups counted per dispatch (pyramid.comp, pyramid_finish.glsl)
+    kPyramidCounters = 9, // storage buffer: pass 1's workgroups counted per dispatch (pyramid.comp)
     kFilterBindingCount = 10,
 };
 

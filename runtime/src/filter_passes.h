@@ -83,9 +83,6 @@ private:
 
     PassContext context_;
     std::unique_ptr<ComputePipeline> levels_;        // a level (exact: a window of one), or hardware's mip
-    std::unique_ptr<ComputePipeline> fromSource_;    // hardware sampling: mips 0 to 1 or 2 from the source (plan.pyramidMipRuns)
-    std::unique_ptr<ComputePipeline> pairs_;         // hardware sampling: two mips from the mip above
-    std::unique_ptr<ComputePipeline> lastRun_;       // hardware sampling: the last run and the tail (plan.pyramidTailInLastRun)
     std::unique_ptr<ComputePipeline> tail_;          // the levels from plan.pyramidTailLevel down, in one workgroup
     std::unique_ptr<ComputePipeline> paraboloidMap_; // fis on a paraboloid map: its levels, after the source's level
 };

@@ -230,22 +230,12 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
                                      "sampling needs (use hardware sampling)",
                                      d.name));
     plan.convertOutput = checkOutputFormat(d, s.outputFormat);
-    plan.pyramidTailInLastRun = plan.buildsPyramid && plan.sampling == Sampling::hardware && plan.writtenMipCount == kWideWrittenMipCount;
     if (plan.buildsPyramid && !plan.paraboloid) {
         // The level of face size PROBE_PYRAMID_TAIL_SIZE, or level 1 where the source is no larger.
         plan.pyramidTailLevel = std::max(1, plan.pyramidLevels - kPyramidTailMipCount);
         if (plan.pyramidTailLevel > plan.pyramidDepth) plan.pyramidTailLevel = 0;
     }
-    if (plan.pyramidTailLevel == 0) plan.pyramidTailInLastRun = false;
-    if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
-        plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
-        // Mips in twos and threes where they are above the tail: a dispatch and a barrier fewer for
-        // each mip that joins another's.
-        const int last = plan.pyramidTailLevel > 0 ? plan.pyramidTailLevel - 1 : plan.pyramidDepth;
-        plan.pyramidMipRuns = {{0, 1 + std::min(last, 2)}};
-        for (int k = plan.pyramidMipRuns[0].second; k <= last; k += plan.pyramidMipRuns.back().second)
-            plan.pyramidMipRuns.emplace_back(k, k < last ? 2 : 1);
-    }
+    if (plan.buildsPyramid && plan.sampling == Sampling::hardware) plan.pyramidFormat = choosePyramidFormat(d, s.pyramidFormat);
 
     // The bordered pyramid: every level for exact sampling, level 0 alone for the reference.
     plan.pyramidOffsets = pyramidOffsetsFor(s.faceSize, plan.pyramidLevels);

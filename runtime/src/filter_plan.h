@@ -82,16 +82,7 @@ struct FilterPlan {
     int pyramidLevels = 0;                                  // log2(S_0) + 1: down to 1x1
     int pyramidDepth = 0;                                   // pass 1 builds levels 1..pyramidDepth
     int pyramidTailLevel = 0;                               // pass 1's tail: levels pyramidTailLevel..pyramidDepth (0: none)
-    // Hardware sampling: pass 1's dispatches before the tail's, as (first mip, mips): the first builds
-    // mips 0 to 2 from the source where mip 2 is above the tail (pyramid_tile.comp, a tile of mip 2 a
-    // workgroup), else mips 0 and 1 where mip 1 is (pyramid_image.comp), else mip 0; then two mips
-    // a dispatch while two remain above the tail (pyramid_tile.comp), one where one does
-    // (pyramid_image.comp).
-    std::vector<std::pair<int, int>> pyramidMipRuns;
-    // Hardware sampling where a dispatch can write writtenMipCount = kWideWrittenMipCount mips: the last
-    // run's dispatch builds the tail (shaders/pyramid_finish.glsl); else the tail has a dispatch of its own.
-    bool pyramidTailInLastRun = false;
-    std::vector<int> computedLevels; // the output levels computed, ascending
+    std::vector<int> computedLevels;                        // the output levels computed, ascending
     // The storage images a dispatch writes (filter_descriptors.h): kWideWrittenMipCount where the
     // device offers as many per stage, else the kWrittenMipCount every device offers.
     uint32_t writtenMipCount = kWrittenMipCount;

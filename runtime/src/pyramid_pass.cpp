@@ -4,13 +4,13 @@
 //   PROBE_PYRAMID_TAIL_SIZE, then (shaders/pyramid_tail.comp) the levels from there down, borders
 //   and corners, in one workgroup; the reference builds level 0 alone, the source it reads texel by
 //   texel (its corners unread);
-// - hardware sampling: the mips of the pyramid cube image down to the tail, two a dispatch
-//   (shaders/pyramid_tile.comp; from the source, mips 0 to 2) where two lie above the tail, else one
-//   (shaders/pyramid_image.comp; from the source, mips 0 and 1), then the tail's mips in one
-//   workgroup from face size PROBE_PYRAMID_TAIL_SIZE down, which saves the GPU a dispatch and a
-//   barrier per small mip: where the device offers enough storage images, the last workgroup of the
-//   last run's dispatch (shaders/pyramid_finish.glsl), else a dispatch of their own
-//   (shaders/pyramid_tail.comp);
+// - hardware sampling: each mip of the pyramid cube image down to the tail in a dispatch of its own
+//   (shaders/pyramid_image.comp), then the tail's mips in one workgroup from face size
+//   PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_tail.comp), which saves the GPU a dispatch and a
+//   barrier per small mip. A dispatch a mip is what a GPU runs fastest: building two mips a dispatch
+//   (the first over a ring of texels, kept in shared memory) or the tail in the last workgroup of the
+//   dispatch above it trades parallelism and cached reads for a barrier, and loses
+//   (docs/benchmarks.md, "Pass 1's dispatches");
 // then, for FIS on a dual-paraboloid map (shaders/paraboloid_map.comp), each level of the map from
 // the bordered source, in windows where a level exceeds the storage-buffer range.
 #include <algorithm>
@@ -22,10 +22,6 @@
 #include <pyramid_batch.spv.h>
 #include <pyramid_image_batch_rgba16f.spv.h>
 #include <pyramid_image_batch_rgba32f.spv.h>
-#include <pyramid_image_finish_batch_rgba16f.spv.h>
-#include <pyramid_image_finish_batch_rgba32f.spv.h>
-#include <pyramid_image_finish_rgba16f.spv.h>
-#include <pyramid_image_finish_rgba32f.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
@@ -33,14 +29,6 @@
 #include <pyramid_tail_exact.spv.h>
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
-#include <pyramid_tile_batch_rgba16f.spv.h>
-#include <pyramid_tile_batch_rgba32f.spv.h>
-#include <pyramid_tile_finish_batch_rgba16f.spv.h>
-#include <pyramid_tile_finish_batch_rgba32f.spv.h>
-#include <pyramid_tile_finish_rgba16f.spv.h>
-#include <pyramid_tile_finish_rgba32f.spv.h>
-#include <pyramid_tile_rgba16f.spv.h>
-#include <pyramid_tile_rgba32f.spv.h>
 
 #include "device.h"
 #include "filter_passes.h"
@@ -54,8 +42,6 @@ namespace {
 struct PyramidConstants {
     int32_t faceSize;
     int32_t level;
-    int32_t tailLevel = 0; // the last run, where it builds the tail: its first mip, and the last
-    int32_t lastLevel = 0;
 };
 
 struct PyramidWindowConstants {
@@ -100,32 +86,7 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
         const bool half = plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
         const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
                                                      : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
-        // The shaders' kFromSource: the first dispatch's mips 0 to 1 or 2.
-        const std::array<int32_t, 3> fromSource{specialization[0], specialization[1], 1};
-        const std::span<const uint32_t> tile = half ? context.batchVariant(kPyramidTileRgba16fSpv, kPyramidTileBatchRgba16fSpv)
-                                                    : context.batchVariant(kPyramidTileRgba32fSpv, kPyramidTileBatchRgba32fSpv);
-        // The pipelines of the runs, but a last run that builds the tail, which has its own.
-        const std::size_t runs = plan.pyramidMipRuns.size() - (plan.pyramidTailInLastRun ? 1 : 0);
-        for (std::size_t n = 0; n < runs; ++n) {
-            const auto [first, count] = plan.pyramidMipRuns[n];
-            if (first == 0 && count > 1) fromSource_ = context.pipeline(count == 3 ? tile : spirv, fromSource);
-            else if (count == 2 && !pairs_) pairs_ = context.pipeline(tile, specialization);
-            else if (count == 1 && !levels_) levels_ = context.pipeline(spirv, specialization);
-        }
-        if (plan.pyramidTailInLastRun) {
-            const auto [first, count] = plan.pyramidMipRuns.back();
-            const std::span<const uint32_t> lastSpirv =
-                count == 3 || (first > 0 && count == 2)
-                    ? (half ? context.batchVariant(kPyramidTileFinishRgba16fSpv, kPyramidTileFinishBatchRgba16fSpv)
-                            : context.batchVariant(kPyramidTileFinishRgba32fSpv, kPyramidTileFinishBatchRgba32fSpv))
-                    : (half ? context.batchVariant(kPyramidImageFinishRgba16fSpv, kPyramidImageFinishBatchRgba16fSpv)
-                            : context.batchVariant(kPyramidImageFinishRgba32fSpv, kPyramidImageFinishBatchRgba32fSpv));
-            // Its kFromSource, and its lanes: the tail's.
-            const std::array<int32_t, 4> lastSpecialization{specialization[0], specialization[1], first == 0 && count > 1 ? 1 : 0,
-                                                            tailLanes(context.device)};
-            lastRun_ = context.pipeline(lastSpirv, lastSpecialization);
-            return;
-        }
+        levels_ = context.pipeline(spirv, specialization);
         if (plan.pyramidTailLevel > 0)
             tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
                                           : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
@@ -141,7 +102,8 @@ uint32_t PyramidPass::dispatchCount() const {
     const FilterPlan& plan = context_.plan;
     uint32_t count = 0;
     if (plan.sampling == Sampling::hardware) {
-        count = uint32_t(plan.pyramidMipRuns.size()) + (tail_ ? 1 : 0);
+        // A dispatch a mip above the tail, and the tail's.
+        count = tail_ ? uint32_t(plan.pyramidTailLevel) + 1 : uint32_t(plan.buildsPyramid ? plan.pyramidDepth : 0) + 1;
     } else {
         // Each window a dispatch; the tail's one in all.
         count = uint32_t(plan.pyramidWindows.size());
@@ -173,7 +135,7 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
         if (tail_ && level == context_.plan.pyramidTailLevel) {
             recorder.bind(recording.pyramidSets[first]);
             const PyramidTailConstants constants{s.faceSize, level, context_.plan.pyramidDepth, uint32_t(windows[first].first)};
-            recorder.dispatch(*tail_, "pyramid", level, constants, 1, uint32_t(s.batchSize));
+            recorder.dispatch(*tail_, "pyramid", level, constants, 1, uint32_t(s.batchSize), context_.plan.pyramidDepth - level + 1);
             continue;
         }
         const std::size_t perFace = pyramidLevelTexels(s.faceSize >> level) / kFaceCount;
@@ -188,49 +150,25 @@ void PyramidPass::recordBorderedLevels(const PassRecorder& recorder, const Recor
     }
 }
 
-// Hardware sampling: the mips of the pyramid image in the plan's runs (FilterPlan::pyramidMipRuns:
-// one, two or, from the source, three mips a dispatch), the tail's in one workgroup, of the last run's
-// dispatch or of its own; a layer of workgroups per cube of a batch.
+// Hardware sampling: each mip of the pyramid image above the tail a dispatch, then the tail's in one
+// workgroup; a layer of workgroups per cube of a batch.
 void PyramidPass::recordMips(const PassRecorder& recorder, const Recording& recording) const {
     const FilterSettings& s = context_.settings;
     const FilterPlan& plan = context_.plan;
     const auto cubes = uint32_t(s.batchSize);
     const int depth = plan.buildsPyramid ? plan.pyramidDepth : 0;
-    // A workgroup per 8x8 tile of mip k (pyramid_tile.comp).
-    const auto tilesOf = [&](int k) { return uint32_t(texelCount(s.faceSize >> k) / 64); };
-    for (const auto& [first, count] : plan.pyramidMipRuns) {
-        if (first > 0) recorder.barrier();
-        recorder.bind(recording.pyramidSets[first]);
-        const bool last = lastRun_ && first == plan.pyramidMipRuns.back().first;
-        const ComputePipeline& pipeline = last ? *lastRun_ : count == 1 ? *levels_ : first == 0 ? *fromSource_ : *pairs_;
-        PyramidConstants constants{s.faceSize, first};
-        if (last) {
-            constants.tailLevel = plan.pyramidTailLevel;
-            constants.lastLevel = depth;
-        }
-        const int mips = last ? depth - first + 1 : count;
-        // An invocation per texel: of workgroups of the tail's lanes in the last run.
-        const auto perTexel = [&](std::size_t texels) {
-            const std::size_t lanes = last ? std::size_t(tailLanes(context_.device)) : kWorkgroupSize;
-            return uint32_t((texels + lanes - 1) / lanes);
-        };
-        if (count == 1) {
-            recorder.dispatch(pipeline, "pyramid", first, constants, perTexel(texelCount(s.faceSize >> first)), cubes, mips);
-        } else if (first == 0 && count == 2) { // an invocation per texel of both
-            recorder.dispatch(pipeline, "pyramid", 0, constants, perTexel(texelCount(s.faceSize) + texelCount(s.faceSize >> 1)), cubes,
-                              mips);
-        } else if (first == 0) { // mip 1 from the source, and mip 2 in tiles
-            constants.level = 1;
-            recorder.dispatch(pipeline, "pyramid", 0, constants, tilesOf(2), cubes, mips);
-        } else {
-            recorder.dispatch(pipeline, "pyramid", first, constants, tilesOf(first + 1), cubes, mips);
-        }
+    const int lastSingle = tail_ ? plan.pyramidTailLevel - 1 : depth;
+    for (int level = 0; level <= lastSingle; ++level) {
+        if (level > 0) recorder.barrier();
+        recorder.bind(recording.pyramidSets[level]);
+        const PyramidConstants constants{s.faceSize, level};
+        recorder.dispatch(*levels_, "pyramid", level, constants, groupsFor(texelCount(s.faceSize >> level)), cubes);
     }
     if (tail_) {
         recorder.barrier();
         recorder.bind(recording.pyramidSets[plan.pyramidTailLevel]);
         const PyramidTailConstants constants{s.faceSize, plan.pyramidTailLevel, depth, 0};
-        recorder.dispatch(*tail_, "pyramid", plan.pyramidTailLevel, constants, 1, cubes);
+        recorder.dispatch(*tail_, "pyramid", plan.pyramidTailLevel, constants, 1, cubes, depth - plan.pyramidTailLevel + 1);
     }
 }
 

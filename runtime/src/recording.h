@@ -23,9 +23,8 @@ namespace probe::gpu {
 struct Recording {
     Buffer pyramidBuffer; // exact sampling, and level 0 alone for the reference
     Buffer accumulator;   // the reference's running sums (one vec4 when unused)
-    // Pass 1's workgroups counted per dispatch (per cube where hardware sampling's last run builds the
-    // tail; exact sampling's levels in the first): zeroed by the set's first recording, set back to 0
-    // by each dispatch that counts in them.
+    // Pass 1's workgroups counted per dispatch (exact sampling's levels): zeroed by the set's first
+    // recording, set back to 0 by each dispatch that counts in it.
     Buffer pyramidCounters;
     bool pyramidCountersZeroed = false;
     BufferView pyramidView;

@@ -184,7 +184,7 @@ struct Dispatch {
                          // "sh": the summation stage (0 projects the source)
     uint32_t groups = 0; // workgroups in all (the table pass: a layer of them per face)
     int levels = 1;      // pass 2: the output levels it writes, from `level` (up to 12 in one dispatch, 4 on some devices);
-                         // pass 1: the mips it writes (hardware sampling: up to 3, and the tail's in the last run)
+                         // pass 1: the mips it writes (the tail's dispatch: from 8x8 down, 4 of them at most)
 };
 
 // The caller's source cube for Filter::record, described as the engine made it (record() checks
