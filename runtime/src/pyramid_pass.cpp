@@ -7,7 +7,7 @@
 // - hardware sampling: each mip of the pyramid cube image down to the tail in a dispatch of its own
 //   (shaders/pyramid_image.comp), then the tail's mips in one workgroup from face size
 //   PROBE_PYRAMID_TAIL_SIZE down (shaders/pyramid_tail.comp), which saves the GPU a dispatch and a
-//   barrier per small mip. A dispatch a mip is what a GPU runs fastest: building two mips a dispatch
+//   barrier per small mip. A dispatch a mip is what an H200 runs fastest: building two mips a dispatch
 //   (the first over a ring of texels, kept in shared memory) or the tail in the last workgroup of the
 //   dispatch above it trades parallelism and cached reads for a barrier, and loses
 //   (docs/benchmarks.md, "Pass 1's dispatches");
