@@ -148,17 +148,20 @@ double fitScore(const ImpulseModel& model, const double* const* blocks, const st
     return l1 + tail + c;
 }
 
-// Records level m's exact L1 (over `judge`, the stratified texels measured exactly, and with `all` over
-// every texel) and lowest weight sum in the table.
-void recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& judge, bool all) {
+// Records level m: where `exact`, its exact L1 over `texels` (the judge: the stratified texels
+// measured exactly) and with `all` over every texel; else, over the fit's own texels, only the lowest
+// weight sum, which does not depend on how the L1 is measured. Returns the mean L1 over `texels`.
+double recordLevel(TapTable& table, int m, const ImpulseModel& model, const std::vector<OutputTexel>& texels, bool exact, bool all) {
     TableLevel& level = table.levels[m];
-    const LevelEvaluation stratified = evaluatePrepared(model, levelBlocks(table, m).data(), judge);
-    level.stratified = stratified.error;
+    const LevelEvaluation stratified = evaluatePrepared(model, levelBlocks(table, m).data(), texels);
     level.minWeightSum = stratified.minWeightSum;
-    if (!all) return;
+    if (!exact) return stratified.error.mean;
+    level.stratified = stratified.error;
+    if (!all) return stratified.error.mean;
     const LevelEvaluation every = evaluateLevel(table, m, TexelSet::all);
     level.all = every.error;
     level.minWeightSum = std::min(level.minWeightSum, every.minWeightSum);
+    return stratified.error.mean;
 }
 
 // What every level's fit shares.
@@ -233,9 +236,10 @@ public:
         reportTerms("after the fit");
         // Weights only matter relative to each other: scale them so the mean weight sum is 1.
         scaleWeights(table_, m_, 1.0 / weightedMeanWeightSum(model_, blocks_.data(), texels_));
-        recordLevel(table_, m_, model_, judge_, false);
+        const bool exact = settings_.records != Records::none;
+        const double l1 = recordLevel(table_, m_, model_, exact ? judge_ : texels_, exact, false);
         if (context_.progress) {
-            FitProgress done{m_, report_.iterations, level_.stratified.mean, secondsSince(context_.start), "done"};
+            FitProgress done{m_, report_.iterations, l1, secondsSince(context_.start), "done"};
             done.levelSeconds = secondsSince(levelStart);
             done.kernelSeconds = kernelSeconds;
             done.evaluationSeconds = modelSeconds_;
@@ -243,8 +247,8 @@ public:
             done.evaluations = evaluations_;
             context_.progress(done);
         }
-        if (settings_.measureAll) {
-            recordLevel(table_, m_, model_, judge_, true);
+        if (settings_.records == Records::all) {
+            recordLevel(table_, m_, model_, judge_, true, true);
             context_.report(m_, level_.all.mean, "all texels");
         }
     }
@@ -500,8 +504,11 @@ bool copiesInitRecords(const FitSettings& settings, int m) {
         init.form != settings.form || init.stratifiedBudget != settings.stratifiedBudget)
         return false;
     const TableLevel& level = init.levels[static_cast<std::size_t>(m)];
-    return level.stratified.mean >= 0.0 && (!settings.measureAll || level.all.mean >= 0.0);
+    if (settings.records == Records::none) return true;
+    return level.stratified.mean >= 0.0 && (settings.records != Records::all || level.all.mean >= 0.0);
 }
+
+bool levelFinished(const TableLevel& level) { return level.stratified.mean >= 0.0 || level.minWeightSum != 0.0; }
 
 namespace {
 
@@ -538,7 +545,7 @@ enum class LevelWork { none, resumed, copiedRecords, copied, fitted };
 
 LevelWork levelWork(const FitSettings& settings, const TapTable& table, int m) {
     if (tableLevelAlpha(table, m) <= 0.0) return LevelWork::none;
-    if (settings.resume && settings.resume->levels[m].stratified.mean >= 0.0) return LevelWork::resumed;
+    if (settings.resume && levelFinished(settings.resume->levels[m])) return LevelWork::resumed;
     if (copiesInitRecords(settings, m)) return LevelWork::copiedRecords;
     if (!settings.fitLevels.empty() && std::ranges::find(settings.fitLevels, m) == settings.fitLevels.end()) return LevelWork::copied;
     return LevelWork::fitted;
@@ -575,9 +582,11 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         settings.checkerWeight > 0.0
             ? std::optional<MomentBasis>(std::in_place, settings.faceSize, settings.pyramid, MomentFunctions::checkers)
             : std::nullopt;
-    // The base's geometry, for the exact measure of the stratified texels where the fit measures cells.
+    // The base's geometry, for the exact measure of the stratified texels where the fit measures cells:
+    // what judges a level (its records, the kept --init) is the exact L1, whatever the fit measures.
+    const bool judged = settings.records != Records::none || !settings.inits.empty();
     const std::optional<CubeGeometry> geometry =
-        settings.measure == Measure::cells ? std::optional<CubeGeometry>(std::in_place, settings.faceSize) : std::nullopt;
+        settings.measure == Measure::cells && judged ? std::optional<CubeGeometry>(std::in_place, settings.faceSize) : std::nullopt;
 
     // Progress, the finished levels (what levelDone sees: a level is there once it is finished) and
     // the chains' threads are shared by levels fitted at once.
@@ -626,16 +635,15 @@ TapTable fitTable(const FitSettings& settings, const std::function<void(const Fi
         const std::vector<WeightedTexel> stratified = stratifiedTexels(settings.faceSize >> m, settings.stratifiedBudget);
         const std::vector<OutputTexel> texels =
             prepareTexels(stratified, settings.faceSize, m, lobe, settings.tailWeight > 0.0, settings.measure);
-        // What judges the level (its records, the kept --init): the exact L1, whatever the fit measures.
-        const std::vector<OutputTexel> measured =
-            settings.measure == Measure::cells ? measuredTexels(*geometry, m, lobe, stratified) : std::vector<OutputTexel>{};
+        const std::vector<OutputTexel> measured = geometry ? measuredTexels(*geometry, m, lobe, stratified) : std::vector<OutputTexel>{};
         const std::vector<OutputTexel>& judge = measured.empty() ? texels : measured;
         const CheckerTerm checker = checkers ? prepareCheckerTerm(texels, *checkers, settings.checkerWeight) : CheckerTerm{basis, {}, 0.0};
         const double kernelSeconds = secondsSince(kernelStart);
         if (work[m] == LevelWork::copied) {
             startFromTable(table, m, settings.inits.front());
-            recordLevel(table, m, model, judge, settings.measureAll);
-            context.report(m, table.levels[m].stratified.mean, "copied from --init");
+            const bool exact = settings.records != Records::none;
+            context.report(m, recordLevel(table, m, model, exact ? judge : texels, exact, settings.records == Records::all),
+                           "copied from --init");
         } else {
             LevelFit(context, table, m, texels, judge, checker).run(previousOf[m], kernelStart, kernelSeconds);
         }

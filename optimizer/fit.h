@@ -16,6 +16,13 @@ namespace probefit {
 // bfgs: BFGS only; lm: Levenberg-Marquardt only; lm-bfgs: lmIterations of Levenberg-Marquardt, then BFGS.
 enum class FitSolver { lmBfgs, bfgs, lm };
 
+// What a fit measures exactly after each level (the judge, evaluate.h) and records in the table.
+enum class Records {
+    none,       // nothing exact (probefit eval measures the table afterwards); the lowest weight sum alone
+    stratified, // the stratified texels
+    all,        // the stratified texels and every output texel
+};
+
 struct FitSettings {
     int faceSize = 0;
     int levelCount = 0;
@@ -57,7 +64,7 @@ struct FitSettings {
     // Hops per level after the fit (initial_layout.h's hopLayout): each refits from the best fit so
     // far, moved at random, and is kept where its objective is lower.
     int hops = 0;
-    bool measureAll = true;             // also measure every output texel after the fit (recorded in the table)
+    Records records = Records::all;
     std::vector<probe::TapTable> inits; // --init tables: same size and levels, N or N/2 taps, either form
     // The bank (--bank): tables of any size, level count or mapping with the same taps and pyramid;
     // each offers its level of the nearest roughness as a start (initial_layout.h's startFromBank).
@@ -96,8 +103,12 @@ struct FitProgress {
 };
 
 // Whether level m is copied from the first --init with its records (it is not fitted, and the init
-// measured it on the same stratified texels): such a level costs nothing.
+// measured it on the same stratified texels, or the fit records nothing exact): such a level costs nothing.
 bool copiesInitRecords(const FitSettings& settings, int m);
+
+// Whether a level of a fit's table (or of its checkpoint) is finished: it records its lowest weight
+// sum, which every fit measures, with or without its exact L1.
+bool levelFinished(const probe::TableLevel& level);
 
 // Whether only the start with the lowest objective after Levenberg-Marquardt goes on to BFGS.
 bool screensStarts(const FitSettings& settings);

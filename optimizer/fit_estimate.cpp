@@ -89,9 +89,9 @@ FitEstimate estimateFit(const FitSettings& settings) {
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = (kernel + routes) * fitTexels;
         if (fitted) seconds += perTexel * fitTexels * kEvaluationsPerIteration * levelIterationCost(settings, stratified.size());
-        if (settings.measure == Measure::cells) // the exact record of the stratified texels
+        if (settings.measure == Measure::cells && settings.records != Records::none) // the exact record of the stratified texels
             seconds += (normalization + perMeasured) * fitTexels;
-        if (settings.measureAll) // a normalization per class of symmetric texels (evaluate.h), the model per texel
+        if (settings.records == Records::all) // a normalization per class of symmetric texels (evaluate.h), the model per texel
             seconds += normalization * static_cast<double>(symmetryClassCount(settings.faceSize >> m)) +
                        perMeasured * static_cast<double>(texelCount(settings.faceSize >> m));
         estimate.levelSeconds.push_back(seconds / threads);

@@ -192,11 +192,14 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         if (stage.starts_with("checker term")) return "mean c";
         return stage.starts_with("objective") ? "f" : "L1";
     };
+    // A level's L1 when done: the exact one it records, or without records the fit's own.
+    const char* doneQuantity =
+        settings.records == probefit::Records::none && settings.measure == probefit::Measure::cells ? "L1 over cells" : "L1";
     // The checkpoint's unfinished levels hold a lobe layout (a valid filter), unmeasured.
     auto writeCheckpoint = [&](const TapTable& fitted) {
         TapTable snapshot = fitted;
         for (int m = 0; m < snapshot.levelCount; ++m)
-            if (snapshot.levels[m].stratified.mean < 0.0 && tableLevelAlpha(snapshot, m) > 0.0)
+            if (!probefit::levelFinished(snapshot.levels[m]) && tableLevelAlpha(snapshot, m) > 0.0)
                 probefit::lobeLayout(snapshot, m, tableLevelAlpha(snapshot, m));
         StagedFile file(checkpointPath);
         writeFile(file.path(), tableToJson(snapshot));
@@ -211,10 +214,10 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                 // Time left: the estimate of the levels to come, at the pace of the estimate so far.
                 estimatedDone += estimate.levelSeconds[static_cast<std::size_t>(p.level)];
                 const double left = estimatedDone > 0.0 ? (estimate.seconds - estimatedDone) * p.seconds / estimatedDone : 0.0;
-                fmt::print("level {} done: L1 {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
+                fmt::print("level {} done: {} {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
                            "evaluations, solver {:.1f} s); about {:.0f} s left\n",
-                           p.level, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations, p.solverSeconds,
-                           left);
+                           p.level, doneQuantity, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations,
+                           p.solverSeconds, left);
                 kernels += p.kernelSeconds;
                 evaluation += p.evaluationSeconds;
                 solverOwn += p.solverSeconds;
@@ -238,13 +241,19 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
 // Prints the L1 per level; with a tolerance, exits 1 where it differs from the recorded value.
 // With `cells`, also the fit's L1 over cells (lobe_cells.h) on the same texels, against the exact one.
 // A budget other than the table's measures that many stratified texels, which it has no record of.
-int runEval(const std::string& path, const std::string& texels, double tolerance, bool cells, std::optional<int> budget) {
+// With `recordOut`, the table goes there with the L1 measured as its records.
+int runEval(const std::string& path, const std::string& texels, double tolerance, bool cells, std::optional<int> budget,
+            const std::string& recordOut) {
     TapTable table = readTable(path);
     if (texels != "all" && texels != "stratified") throw ProbeError(fmt::format("--texels: '{}' is neither all nor stratified", texels));
     if (cells && texels != "stratified") throw ProbeError("--cells: measures the stratified texels alone (--texels stratified)");
     if (budget && texels != "stratified") throw ProbeError("--budget: sets the stratified texels alone (--texels stratified)");
     if (budget) checkCount("--budget", *budget, 24, kMaxTexelBudget);
     const bool recordedTexels = !budget || *budget == table.stratifiedBudget;
+    if (!recordOut.empty() && !recordedTexels)
+        throw ProbeError(
+            fmt::format("--record: the table records {} stratified texels per level, not --budget {}", table.stratifiedBudget, *budget));
+    if (!recordOut.empty()) probefit::checkWritable(recordOut);
     if (budget) table.stratifiedBudget = *budget;
     const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
     fmt::print("{}: impulse-response L1 over {} texels{}\n", path, texels,
@@ -275,6 +284,17 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
         }
         fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
                    e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);
+        std::fflush(stdout);
+        if (!recordOut.empty()) {
+            TableLevel& level = table.levels[m];
+            const bool otherRecorded = (set == TexelSet::all ? level.stratified.mean : level.all.mean) >= 0.0;
+            (set == TexelSet::all ? level.all : level.stratified) = e.error;
+            level.minWeightSum = otherRecorded ? std::min(level.minWeightSum, e.minWeightSum) : e.minWeightSum;
+        }
+    }
+    if (!recordOut.empty()) {
+        probefit::writeTableOutputs(recordOut, table);
+        fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", recordOut);
     }
     if (mismatch) printToStderr(fmt::format("probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance));
     return mismatch ? 1 : 0;
@@ -461,7 +481,13 @@ int main(int argc, char** argv) {
                   "interrupted fit leaves it; a finished one removes it)");
     int jobs = 0;
     fit->add_option("--jobs", jobs, "threads (default: every core); the table is bit for bit the same for any count");
-    fit->add_flag("!--no-full-eval", settings.measureAll, "skip measuring every output texel after the fit");
+    bool noFullEval = false, noEval = false;
+    CLI::Option* noFullEvalOption =
+        fit->add_flag("--no-full-eval", noFullEval, "measure the stratified texels exactly after the fit, not every output texel");
+    fit->add_flag("--no-eval", noEval,
+                  "measure nothing exactly after the fit: the table records no L1 (probefit eval --record measures it); "
+                  "the fit alone, whose cost hardly grows with the size")
+        ->excludes(noFullEvalOption);
     fit->add_option("--out", out, "output prefix: writes PREFIX.json, PREFIX.h, PREFIX.glsl");
 
     CLI::App* eval = app.add_subcommand("eval", "impulse-response L1 of a table per level");
@@ -476,6 +502,9 @@ int main(int argc, char** argv) {
     const CLI::Option* evalBudgetOption =
         eval->add_option("--budget", evalBudget,
                          "stratified texels per level (default: the table's, whose L1 it records); another count is measured unrecorded");
+    std::string recordOut;
+    eval->add_option("--record", recordOut,
+                     "write the table with the L1 measured as its records (those of --texels) to PREFIX.json, PREFIX.h, PREFIX.glsl");
 
     CLI::App* tail = app.add_subcommand("tail", "per level, the share of the reference's mass far from the lobe centre that a table "
                                                 "reproduces (face centre, edge, corner); exit 1 where out of the bound");
@@ -519,7 +548,8 @@ int main(int argc, char** argv) {
         if (mix->parsed()) return runMix(mixSources, mixOut);
         if (select->parsed()) return runSelect(selectSources, selectOut, selectFirst);
         if (eval->parsed())
-            return runEval(table, texels, tolerance, evalCells, evalBudgetOption->count() ? std::optional<int>(evalBudget) : std::nullopt);
+            return runEval(table, texels, tolerance, evalCells, evalBudgetOption->count() ? std::optional<int>(evalBudget) : std::nullopt,
+                           recordOut);
         if (tail->parsed()) return runTail(tailTable);
         if (exportTable->parsed()) return runExport(exportSource, handOffs, exportOut);
         for (const auto& [name, missing] : {std::pair<const char*, bool>{"--size", settings.faceSize == 0},
@@ -534,6 +564,7 @@ int main(int argc, char** argv) {
         settings.mapping = roughness.empty() ? parseOption("--mapping", mapping.empty() ? "gltf" : mapping, parseRoughnessMapping)
                                              : parseOption("--roughness", roughness, parseRoughnessList);
         settings.lobe = parseOption("--lobe", lobe, parseLobe);
+        settings.records = noEval ? probefit::Records::none : (noFullEval ? probefit::Records::stratified : probefit::Records::all);
         const std::optional<int> levelCount =
             levelsOption->count() > 0 ? std::optional(parseOption("--levels", levels, parseLevelCount)) : std::nullopt;
         const std::optional<std::string> fitLevelList = fitLevelsOption->count() > 0 ? std::optional(fitLevels) : std::nullopt;

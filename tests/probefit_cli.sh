@@ -66,6 +66,32 @@ cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/sing
 cmp -s <(grep -v fitSeconds "$work/small.json") <(grep -v fitSeconds "$work/jobs1.json") ||
     fail "the fit with --jobs 1 differs from the fit with every core"
 
+# --no-eval: the fit alone, its table without an exact L1; probefit eval --record measures it afterwards
+# and gives the table of the fit that measured its stratified texels itself (--no-full-eval).
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-eval --out "$work/alone" >"$work/alone.log" ||
+    fail "--no-eval fit: exit $?"
+[[ $(grep -c '^level [1-3] done: L1 over cells 0\.' "$work/alone.log") -eq 3 ]] || fail "--no-eval: $(grep done "$work/alone.log")"
+python3 -c 'import json, sys
+levels = [l for l in json.load(open(sys.argv[1]))["levels"] if l["alpha"] > 0]
+sys.exit(any(l["stratified"]["mean"] >= 0 or l["all"]["mean"] >= 0 or l["minWeightSum"] <= 0 for l in levels))' "$work/alone.json" ||
+    fail "--no-eval: a level records an L1, or no weight sum"
+"$PROBEFIT" eval "$work/alone.json" --texels stratified --record "$work/judged" >/dev/null || fail "eval --record: exit $?"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-full-eval --out "$work/measured" >/dev/null ||
+    fail "--no-full-eval fit: exit $?"
+cmp -s <(grep -v fitSeconds "$work/judged.json") <(grep -v fitSeconds "$work/measured.json") ||
+    fail "--no-eval, then eval --record, differs from --no-full-eval"
+# Its levels are finished without records: --resume from it fits nothing.
+cp "$work/alone.json" "$work/again.resume.json"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 10 --no-eval --resume --out "$work/again" >"$work/again.log" ||
+    fail "--no-eval --resume: exit $?"
+[[ $(grep -c '^level [1-3] resumed' "$work/again.log") -eq 3 ]] ||
+    fail "--no-eval --resume refitted: $(grep -E 'resumed|done' "$work/again.log")"
+cmp -s <(grep -v fitSeconds "$work/alone.json") <(grep -v fitSeconds "$work/again.json") || fail "--no-eval --resume changed the table"
+"$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --no-eval --no-full-eval --out "$work/both" 2>"$work/stderr" >/dev/null
+[[ $? -eq 2 ]] && grep -q -- '--no-eval' "$work/stderr" || fail "--no-eval with --no-full-eval: $(cat "$work/stderr")"
+"$PROBEFIT" eval "$work/alone.json" --texels stratified --budget 100 --record "$work/budget" 2>"$work/stderr" >/dev/null
+[[ $? -eq 2 && ! -e $work/budget.json ]] && grep -q -- '--record' "$work/stderr" || fail "eval --record --budget: $(cat "$work/stderr")"
+
 # An interrupted fit writes no table and leaves its checkpoint; --resume takes the finished levels from
 # it and ends at the table of an uninterrupted fit.
 "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/cut" >"$work/cut.log" 2>&1 &

@@ -236,7 +236,7 @@ TEST(SeamTerm, TheFitReducesIt) {
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 20;
-    settings.measureAll = false;
+    settings.records = Records::stratified;
     std::vector<double> seam[2];
     for (double weight : {0.0, 2.0}) {
         settings.seamWeight = weight;
@@ -312,7 +312,7 @@ TEST(CheckerTerm, TheFitReducesIt) {
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 20;
-    settings.measureAll = false;
+    settings.records = Records::stratified;
     double mean[2] = {};
     for (double weight : {0.0, 8.0}) {
         settings.checkerWeight = weight;
@@ -527,7 +527,7 @@ TEST(SeamSelect, KeepsPerLevelTheLowestL1OrTheFirstWithinTheBound) {
     settings.faceSize = 16;
     settings.taps = 8;
     settings.maxIterations = 10;
-    settings.measureAll = false;
+    settings.records = Records::stratified;
     std::vector<SeamCandidate> candidates;
     candidates.push_back({"committed", readTable(std::filesystem::path(PROBE_TABLES_DIR) / "gltf16_quad8.json")});
     settings.levelCount = candidates[0].table.levelCount;
@@ -618,7 +618,7 @@ TEST(SeamSelect, RefusesCandidatesOfAnotherShape) {
     settings.levelCount = 3;
     settings.taps = 4;
     settings.maxIterations = 1;
-    settings.measureAll = false;
+    settings.records = Records::stratified;
     const TapTable four = fitTable(settings, {});
     settings.taps = 8;
     const TapTable eight = fitTable(settings, {});
