@@ -41,6 +41,10 @@ FitEstimate estimateFit(const FitSettings& settings) {
         settings.checkerWeight > 0.0
             ? std::optional<MomentBasis>(std::in_place, settings.faceSize, settings.pyramid, MomentFunctions::checkers)
             : std::nullopt;
+    // The base's geometry, where the fit or its records measure exactly.
+    const std::optional<CubeGeometry> geometry = settings.measure == Measure::exact || settings.records != Records::none
+                                                     ? std::optional<CubeGeometry>(std::in_place, settings.faceSize)
+                                                     : std::nullopt;
     for (int m = 0; m < settings.levelCount; ++m) {
         const double alpha = tableLevelAlpha(table, m);
         if (alpha <= 0.0 || copiesInitRecords(settings, m)) {
@@ -52,12 +56,11 @@ FitEstimate estimateFit(const FitSettings& settings) {
         std::vector<WeightedTexel> timed;
         const std::size_t step = std::max<std::size_t>(1, stratified.size() / kTimedTexels);
         for (std::size_t n = 0; n < stratified.size(); n += step) timed.push_back(stratified[n]);
-        const CubeGeometry geometry(settings.faceSize);
         const auto kernelStart = Clock::now();
         std::vector<OutputTexel> texels;
         for (const WeightedTexel& t : timed)
             texels.push_back(settings.measure == Measure::cells ? makeCellTexel(t, settings.faceSize, m, tableLevelLobe(table, m))
-                                                                : makeOutputTexel(t, geometry, m, tableLevelLobe(table, m)));
+                                                                : makeOutputTexel(t, *geometry, m, tableLevelLobe(table, m)));
         // The reference's checker moments are computed once per texel, like its kernel.
         std::vector<std::array<double, kMomentCount>> checkerReference;
         if (checkers) checkerReference = prepareCheckerTerm(texels, *checkers, settings.checkerWeight).reference;
@@ -73,18 +76,21 @@ FitEstimate estimateFit(const FitSettings& settings) {
             for (std::size_t n = 0; n < texels.size(); ++n)
                 checkerError(model, levelBlocks(table, m).data(), texels[n], checkerReference[n], *checkers, gradient.data());
         const double perTexel = secondsSince(modelStart) / static_cast<double>(timed.size());
-        // Measuring exactly: the model without its gradient, from the kernel's lobe (evaluate.h), whose
-        // normalization is a pass over every base texel.
-        std::vector<OutputTexel> measured;
-        const auto normalizationStart = Clock::now();
-        for (std::size_t n = 0; n < timed.size(); ++n) {
-            const double normalization = ReferenceLobe(texels[n].cubeVector, geometry, tableLevelLobe(table, m)).normalization();
-            measured.push_back(makeMeasuredTexel(timed[n], geometry, m, tableLevelLobe(table, m), normalization));
+        // Measuring exactly (the records): the model without its gradient, from the kernel's lobe
+        // (evaluate.h), whose normalization is a pass over every base texel.
+        double normalization = 0.0, perMeasured = 0.0;
+        if (settings.records != Records::none) {
+            std::vector<OutputTexel> measured;
+            const auto normalizationStart = Clock::now();
+            for (std::size_t n = 0; n < timed.size(); ++n) {
+                const double sum = ReferenceLobe(texels[n].cubeVector, *geometry, tableLevelLobe(table, m)).normalization();
+                measured.push_back(makeMeasuredTexel(timed[n], *geometry, m, tableLevelLobe(table, m), sum));
+            }
+            normalization = secondsSince(normalizationStart) / static_cast<double>(timed.size());
+            const auto measureStart = Clock::now();
+            for (const OutputTexel& t : measured) model.evaluate(levelBlocks(table, m).data(), t, ws);
+            perMeasured = secondsSince(measureStart) / static_cast<double>(timed.size());
         }
-        const double normalization = secondsSince(normalizationStart) / static_cast<double>(timed.size());
-        const auto measureStart = Clock::now();
-        for (const OutputTexel& t : measured) model.evaluate(levelBlocks(table, m).data(), t, ws);
-        const double perMeasured = secondsSince(measureStart) / static_cast<double>(timed.size());
         const double fitTexels = static_cast<double>(stratified.size());
         const bool fitted = settings.fitLevels.empty() || std::ranges::find(settings.fitLevels, m) != settings.fitLevels.end();
         double seconds = (kernel + routes) * fitTexels;

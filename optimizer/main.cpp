@@ -211,9 +211,10 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
             if (p.stage == "iteration")
                 fmt::print("  level {} iteration {:3d}  {} {:.5f}  {:7.1f} s\n", p.level, p.iteration, objective, p.l1, p.seconds);
             else if (p.stage == "done") {
-                // Time left: the estimate of the levels to come, at the pace of the estimate so far.
+                // Time left: the estimate of the levels to come, at the pace of the estimate so far (at
+                // least 0: the sum's rounding would print "-0" after the last level).
                 estimatedDone += estimate.levelSeconds[static_cast<std::size_t>(p.level)];
-                const double left = estimatedDone > 0.0 ? (estimate.seconds - estimatedDone) * p.seconds / estimatedDone : 0.0;
+                const double left = estimatedDone > 0.0 ? std::max(0.0, estimate.seconds - estimatedDone) * p.seconds / estimatedDone : 0.0;
                 fmt::print("level {} done: {} {:.5f}  {:7.1f} s  ({} iterations; kernels {:.1f} s, model {:.1f} s in {} "
                            "evaluations, solver {:.1f} s); about {:.0f} s left\n",
                            p.level, doneQuantity, p.l1, p.seconds, p.iteration, p.kernelSeconds, p.evaluationSeconds, p.evaluations,
@@ -229,8 +230,9 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
         writeCheckpoint);
     // Levels fitted at once overlap: the parts are summed over levels, beside the wall time.
     fmt::print("time: {:.1f} s in all; summed over the levels {:.1f} s: reference kernels {:.1f} s, model in the solver {:.1f} s ({} "
-               "evaluations), solver's own work {:.1f} s, other (start candidates, exact records) {:.1f} s\n",
-               table.fitSeconds, levelTime, kernels, evaluation, evaluations, solverOwn, levelTime - kernels - evaluation - solverOwn);
+               "evaluations), solver's own work {:.1f} s, other (start candidates{}) {:.1f} s\n",
+               table.fitSeconds, levelTime, kernels, evaluation, evaluations, solverOwn,
+               settings.records == probefit::Records::none ? "" : ", exact records", levelTime - kernels - evaluation - solverOwn);
     probefit::writeTableOutputs(out, table);
     std::filesystem::remove(checkpointPath, error);
     for (const std::string& line : tableSummary(table)) fmt::print("{}\n", line);
