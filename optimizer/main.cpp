@@ -224,7 +224,9 @@ int runFit(probefit::FitSettings settings, const std::string& form, const std::s
                 solverOwn += p.solverSeconds;
                 evaluations += p.evaluations;
                 levelTime += p.levelSeconds;
-            } else fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, quantityOf(p.stage), p.l1, p.seconds);
+            } else if (p.l1 < 0.0) // a level resumed or copied without records
+                fmt::print("level {} {}: L1 not measured  {:7.1f} s\n", p.level, p.stage, p.seconds);
+            else fmt::print("level {} {}: {} {:.5f}  {:7.1f} s\n", p.level, p.stage, quantityOf(p.stage), p.l1, p.seconds);
             std::fflush(stdout);
         },
         writeCheckpoint);
