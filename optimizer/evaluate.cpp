@@ -99,11 +99,14 @@ LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const*
     return combine(weighted, results);
 }
 
+void recordEvaluation(TableLevel& level, TexelSet set, const LevelEvaluation& evaluation) {
+    const bool otherRecorded = (set == TexelSet::all ? level.stratified.mean : level.all.mean) >= 0.0;
+    (set == TexelSet::all ? level.all : level.stratified) = evaluation.error;
+    level.minWeightSum = otherRecorded ? std::min(level.minWeightSum, evaluation.minWeightSum) : evaluation.minWeightSum;
+}
+
 void restratifyLevel(TapTable& table, int level) {
-    TableLevel& kept = table.levels[level];
-    const LevelEvaluation stratified = evaluateLevel(table, level, TexelSet::stratified);
-    kept.stratified = stratified.error;
-    kept.minWeightSum = kept.all.mean >= 0.0 ? std::min(kept.minWeightSum, stratified.minWeightSum) : stratified.minWeightSum;
+    recordEvaluation(table.levels[level], TexelSet::stratified, evaluateLevel(table, level, TexelSet::stratified));
 }
 
 } // namespace probefit

@@ -37,6 +37,10 @@ std::vector<OutputTexel> measuredTexels(const probe::CubeGeometry& geometry, int
 // The same from prepared texels and coefficient blocks (what the fit uses).
 LevelEvaluation evaluatePrepared(const ImpulseModel& model, const double* const* blocks, const std::vector<OutputTexel>& texels);
 
+// Records an evaluation of `set` in a level: its L1 as that set's record, and its smallest weight sum
+// (the lower of both sets' where the other set is recorded too).
+void recordEvaluation(probe::TableLevel& level, TexelSet set, const LevelEvaluation& evaluation);
+
 // Measures a level's stratified record (and its smallest weight sum) again on the table's own budget:
 // for a level taken from a table fitted on another (`probefit select`, `probefit mix`), so that the
 // record is what `probefit eval` finds. The all-texel record does not depend on the budget.

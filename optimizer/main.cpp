@@ -257,7 +257,7 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
     if (!recordOut.empty() && !recordedTexels)
         throw ProbeError(
             fmt::format("--record: the table records {} stratified texels per level, not --budget {}", table.stratifiedBudget, *budget));
-    if (!recordOut.empty()) probefit::checkWritable(recordOut);
+    if (!recordOut.empty()) probefit::checkWritable(recordOut, "--record");
     if (budget) table.stratifiedBudget = *budget;
     const TexelSet set = texels == "all" ? TexelSet::all : TexelSet::stratified;
     fmt::print("{}: impulse-response L1 over {} texels{}\n", path, texels,
@@ -289,15 +289,10 @@ int runEval(const std::string& path, const std::string& texels, double tolerance
         fmt::print("level {} mean {:.6f} max {:.6f} worst texel face {} ({}, {}) min weight sum {:.4f}; {}\n", m, e.error.mean, e.error.max,
                    e.error.worst.face, e.error.worst.i, e.error.worst.j, e.minWeightSum, comparison);
         std::fflush(stdout);
-        if (!recordOut.empty()) {
-            TableLevel& level = table.levels[m];
-            const bool otherRecorded = (set == TexelSet::all ? level.stratified.mean : level.all.mean) >= 0.0;
-            (set == TexelSet::all ? level.all : level.stratified) = e.error;
-            level.minWeightSum = otherRecorded ? std::min(level.minWeightSum, e.minWeightSum) : e.minWeightSum;
-        }
+        if (!recordOut.empty()) probefit::recordEvaluation(table.levels[m], set, e);
     }
     if (!recordOut.empty()) {
-        probefit::writeTableOutputs(recordOut, table);
+        probefit::writeTableOutputs(recordOut, table, "--record");
         fmt::print("wrote {0}.json, {0}.h, {0}.glsl\n", recordOut);
     }
     if (mismatch) printToStderr(fmt::format("probefit eval: {} differs from its recorded L1 by more than {}\n", path, tolerance));

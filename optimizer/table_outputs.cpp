@@ -28,17 +28,17 @@ constexpr std::array<const char*, 3> kExtensions{".json", ".h", ".glsl"};
 
 } // namespace
 
-void checkWritable(const std::filesystem::path& prefix) {
+void checkWritable(const std::filesystem::path& prefix, const char* flag) {
     try {
         for (const char* extension : kExtensions) {
             const probe::StagedFile file(prefix.string() + extension); // checks, creating nothing
         }
     } catch (const probe::ProbeError& e) {
-        throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
+        throw probe::ProbeError(fmt::format("{} {}: {}", flag, prefix.string(), e.what()));
     }
 }
 
-void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table) {
+void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTable& table, const char* flag) {
     const std::string name = tableIdentifier(prefix);
     const std::array<std::string, 3> texts{probe::tableToJson(table), probe::tableCppHeader(table, name),
                                            probe::tableGlslInclude(table, name)};
@@ -50,7 +50,7 @@ void writeTableOutputs(const std::filesystem::path& prefix, const probe::TapTabl
         }
         for (const auto& file : staged) file->commit();
     } catch (const probe::ProbeError& e) {
-        throw probe::ProbeError(fmt::format("--out {}: {}", prefix.string(), e.what()));
+        throw probe::ProbeError(fmt::format("{} {}: {}", flag, prefix.string(), e.what()));
     }
 }
 

@@ -91,6 +91,10 @@ cmp -s <(grep -v fitSeconds "$work/alone.json") <(grep -v fitSeconds "$work/agai
 [[ $? -eq 2 ]] && grep -q -- '--no-eval' "$work/stderr" || fail "--no-eval with --no-full-eval: $(cat "$work/stderr")"
 "$PROBEFIT" eval "$work/alone.json" --texels stratified --budget 100 --record "$work/budget" 2>"$work/stderr" >/dev/null
 [[ $? -eq 2 && ! -e $work/budget.json ]] && grep -q -- '--record' "$work/stderr" || fail "eval --record --budget: $(cat "$work/stderr")"
+mkdir "$work/folder.json"
+timeout 60 "$PROBEFIT" eval "$work/alone.json" --texels stratified --record "$work/folder" 2>"$work/stderr" >/dev/null
+[[ $? -eq 2 && -d $work/folder.json && ! -e $work/folder.h ]] && grep -q -- '--record .*folder' "$work/stderr" ||
+    fail "eval --record onto a folder: $(cat "$work/stderr")"
 
 # An interrupted fit writes no table and leaves its checkpoint; --resume takes the finished levels from
 # it and ends at the table of an uninterrupted fit.
