@@ -100,12 +100,13 @@ timeout 60 "$PROBEFIT" eval "$work/alone.json" --texels stratified --record "$wo
 # it and ends at the table of an uninterrupted fit.
 "$PROBEFIT" fit --size 16 --levels 4 --taps 4 --form quad --iterations 200 --out "$work/cut" >"$work/cut.log" 2>&1 &
 fit_pid=$!
-# Levels run at once: the first to finish is the one the checkpoint must hold.
+# Levels run at once: the first to finish is the one the checkpoint must hold. The checkpoint is
+# written (renamed into place) after the level's last line, so wait for it before the signal.
 for _ in $(seq 600); do
-    first=$(awk '/^level [0-9]+ all texels/ { print $2; exit }' "$work/cut.log")
-    [[ -n $first ]] && break
+    [[ -s $work/cut.resume.json ]] && break
     sleep 0.05
 done
+first=$(awk '/^level [0-9]+ all texels/ { print $2; exit }' "$work/cut.log")
 kill -INT $fit_pid
 wait $fit_pid
 code=$?
