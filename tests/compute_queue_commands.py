@@ -2,8 +2,9 @@
 """The runtime records onto a compute-only queue (an engine's async compute queue): every command it
 records, and every pipeline stage and access it names in barriers and timestamps, is one that the
 Vulkan specification lists for compute queues ("Supported Queue Types"; graphics-only ones such as
-vkCmdBlitImage, or a fragment stage, would fail there). No device here has a compute-only family to
-record on (lavapipe's and RADV's null device's one family does graphics too), so the sources are read.
+vkCmdBlitImage, or a fragment stage, would fail there). compute_queue_tests runs the runtime on a
+family the validation layer sees as compute-only; the sources are read here too, for the paths that
+the test device does not take (those for devices that lack a format or a feature).
 
     tests/compute_queue_commands.py [ROOT]
 """

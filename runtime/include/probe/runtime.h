@@ -66,7 +66,7 @@ public:
     // be Vulkan 1.2+, and so must the instance's apiVersion (the runtime's SPIR-V is 1.5); `queue`
     // belongs to `queueFamily`, which must support compute: a compute-only family (an async compute
     // queue) serves, since the runtime records compute and transfer commands alone
-    // (tests/compute_queue_commands.py). The runtime needs one device feature,
+    // (tests/gpu_compute_queue_test.cpp). The runtime needs one device feature,
     // timelineSemaphore (Vulkan 1.2 core, which every 1.2 device has: enable it in
     // VkPhysicalDeviceVulkan12Features), and for batches (FilterSettings::batchSize) imageCubeArray
     // (Vulkan 1.0, on every desktop GPU), and no extension (the exact sampling mode's table shader uses
