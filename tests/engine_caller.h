@@ -12,6 +12,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu_test_support.h"
+#include "probe/bc6h.h"
 #include "probe/runtime.h"
 
 namespace probetest {
@@ -258,6 +259,57 @@ private:
     VkImageView view_ = VK_NULL_HANDLE;
     HostBuffer staging_;
     std::vector<VkBufferImageCopy> regions_;
+};
+
+// An engine's BC6H cube of `levels` mips (the target of Bc6hEncoder::record) and the host memory its
+// blocks are read back into.
+class EngineBc6hCube {
+public:
+    EngineBc6hCube(const Caller& c, int size, int levels) : c_(c) {
+        cube_ =
+            cubeTexture(c, VK_FORMAT_BC6H_UFLOAT_BLOCK, size, levels, VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+        VkDeviceSize bytes = 0;
+        for (int m = 0; m < levels; ++m) {
+            const uint32_t levelSize = uint32_t(size >> m);
+            regions_.push_back({bytes, 0, 0, {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6}, {0, 0, 0}, {levelSize, levelSize, 1}});
+            bytes += probe::bc6hLevelBytes(int(levelSize));
+        }
+        blocks_ = hostBuffer(c, bytes);
+    }
+    ~EngineBc6hCube() {
+        vkDestroyBuffer(c_.device, blocks_.buffer, nullptr);
+        vkFreeMemory(c_.device, blocks_.memory, nullptr);
+        vkDestroyImage(c_.device, cube_.image, nullptr);
+        vkFreeMemory(c_.device, cube_.memory, nullptr);
+    }
+    EngineBc6hCube(const EngineBc6hCube&) = delete;
+    EngineBc6hCube& operator=(const EngineBc6hCube&) = delete;
+
+    VkImage image() const { return cube_.image; }
+    // Its mips in TRANSFER_DST_OPTIMAL, as the encoder's record() takes them.
+    void prepare(VkCommandBuffer cmd) const {
+        transition(cmd, cube_.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
+    }
+    // The encoder's blocks into host memory.
+    void readBack(VkCommandBuffer cmd) const {
+        transition(cmd, cube_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        vkCmdCopyImageToBuffer(cmd, cube_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, blocks_.buffer, uint32_t(regions_.size()),
+                               regions_.data());
+        VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
+    }
+    // Level m's blocks, as read back.
+    std::vector<uint8_t> level(int m) const {
+        const auto* first = reinterpret_cast<const uint8_t*>(blocks_.data) + regions_[std::size_t(m)].bufferOffset;
+        return {first, first + probe::bc6hLevelBytes(int(regions_[std::size_t(m)].imageExtent.width))};
+    }
+
+private:
+    const Caller& c_;
+    CubeTexture cube_;
+    std::vector<VkBufferImageCopy> regions_;
+    HostBuffer blocks_;
 };
 
 // One command buffer of the engine's, begun.

@@ -11,7 +11,6 @@
 
 #include "engine_caller.h"
 #include "gpu_test_support.h"
-#include "probe/bc6h.h"
 #include "probe/dfg.h"
 #include "probe/error.h"
 #include "probe/sh.h"
@@ -236,37 +235,15 @@ TEST_F(ComputeQueueTest, Bc6hShAndSpheresEqualTheTestDevice) {
     // record(): the filter's output cube into the engine's BC6H cube, read back.
     gpu::Filter filter(wrapped, s);
     const EngineProbe probe(c, source, s.levelCount, VK_FORMAT_R32G32B32A32_SFLOAT, s.outputFormat);
-    const CubeTexture bc6h = cubeTexture(c, VK_FORMAT_BC6H_UFLOAT_BLOCK, s.faceSize, s.levelCount,
-                                         VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    std::vector<VkBufferImageCopy> regions;
-    VkDeviceSize bytes = 0;
-    for (int m = 0; m < s.levelCount; ++m) {
-        const uint32_t size = uint32_t(s.faceSize >> m);
-        regions.push_back({bytes, 0, 0, {VK_IMAGE_ASPECT_COLOR_BIT, uint32_t(m), 0, 6}, {0, 0, 0}, {size, size, 1}});
-        bytes += bc6hLevelBytes(int(size));
-    }
-    const HostBuffer readBack = hostBuffer(c, bytes);
+    const EngineBc6hCube bc6h(c, s.faceSize, s.levelCount);
     EngineCommands commands(c);
     probe.upload(commands.cmd);
-    transition(commands.cmd, bc6h.image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT);
+    bc6h.prepare(commands.cmd);
     const gpu::Completion done = filter.record(commands.cmd, probe.source(), probe.output(), gpu::Timestamps::none);
-    encoder.record(commands.cmd, probe.output(), bc6h.image);
-    transition(commands.cmd, bc6h.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-               VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyImageToBuffer(commands.cmd, bc6h.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readBack.buffer, uint32_t(regions.size()),
-                           regions.data());
-    VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
-    vkCmdPipelineBarrier(commands.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0, nullptr);
+    encoder.record(commands.cmd, probe.output(), bc6h.image());
+    bc6h.readBack(commands.cmd);
     commands.submit(done);
-    const auto* recorded = reinterpret_cast<const uint8_t*>(readBack.data);
-    for (int m = 0; m < s.levelCount; ++m)
-        EXPECT_EQ(std::vector<uint8_t>(recorded + regions[m].bufferOffset, recorded + regions[m].bufferOffset + blocks[m].size()),
-                  blocks[m])
-            << "BC6H recorded, level " << m;
-    vkDestroyBuffer(c.device, readBack.buffer, nullptr);
-    vkFreeMemory(c.device, readBack.memory, nullptr);
-    vkDestroyImage(c.device, bc6h.image, nullptr);
-    vkFreeMemory(c.device, bc6h.memory, nullptr);
+    for (int m = 0; m < s.levelCount; ++m) EXPECT_EQ(bc6h.level(m), blocks[m]) << "BC6H recorded, level " << m;
 
     const ShCoefficients sh = gpu::ShProjector(wrapped, s.faceSize).project(source);
     const ShCoefficients expectedSh = gpu::ShProjector(testDevice(), s.faceSize).project(source);
