@@ -419,7 +419,7 @@ void addSweepCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,
-                    "Hardware sampling's pyramid image for the tables and FIS on the cube: auto, rgba32f or rgba16f")
+                    "Hardware sampling's pyramid image for the tables and FIS on the cube: auto, rgba32f, rgba16f or rgb9e5")
         ->capture_default_str();
     cmd->add_option("--device", o->device, kDeviceHelp);
     cmd->add_option("--summarize", o->summarize,

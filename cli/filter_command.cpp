@@ -343,8 +343,9 @@ void addFilterCommand(CLI::App& app) {
     cmd->add_option("--sampling", o->sampling, kSamplingHelp)->capture_default_str();
     cmd->add_option("--pyramid-format", o->pyramidFormat,
                     "Hardware sampling's pyramid image: rgba16f (half the bytes the sampler reads; a probe brighter than "
-                    "65504 is filtered scaled down by a power of two), rgba32f, or auto (rgba16f where the device can filter "
-                    "and store it)")
+                    "65504 is filtered scaled down by a power of two), rgba32f, rgb9e5 (a quarter of rgba32f's bytes, a 9-bit "
+                    "mantissa per channel under a shared exponent, no negative values), or auto (rgba16f where the device can "
+                    "filter and store it)")
         ->capture_default_str();
     cmd->add_option("--format", o->format,
                     "The GPU's output cube format, which the written levels keep: rgba32f, rgba16f (what engines use) or b10g11r11")

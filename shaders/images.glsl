@@ -43,7 +43,10 @@ vec3 pyramidRead(vec3 direction, float level) { return textureLod(pyramidCube, d
 #if PROBE_LEVEL_GROUP_WIDTH != 4 && PROBE_LEVEL_GROUP_WIDTH != PROBE_MAX_GROUP_LEVELS
 #error "storeOutput writes groups of 4 or of PROBE_MAX_GROUP_LEVELS levels"
 #endif
-#if defined(PROBE_PYRAMID_FORMAT)
+#if defined(PROBE_PYRAMID_SHARED_EXPONENT)
+// An E5B9G9R9 pyramid, which no device stores to: its mips are written as bits through R32_UINT views.
+layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly uimage2DArray pyramidMips[4];
+#elif defined(PROBE_PYRAMID_FORMAT)
 layout(set = 0, binding = 7, PROBE_PYRAMID_FORMAT) uniform writeonly image2DArray pyramidMips[4];
 #elif defined(PROBE_LEVEL_GROUP)
 layout(set = 0, binding = 7, PROBE_OUTPUT_FORMAT) uniform writeonly image2DArray outputMips[PROBE_LEVEL_GROUP_WIDTH];
@@ -66,11 +69,39 @@ ivec3 texelCoordinates(uint index, int size) {
 }
 
 #if defined(PROBE_PYRAMID_FORMAT)
+// A value clamped to the pyramid format's range: its largest finite value, and 0 for the unsigned
+// E5B9G9R9.
+vec3 pyramidRange(vec3 value) {
+#if defined(PROBE_PYRAMID_SHARED_EXPONENT)
+    return clamp(value, 0.0, PROBE_PYRAMID_MAX.x);
+#else
+    return clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX);
+#endif
+}
+
+#if defined(PROBE_PYRAMID_SHARED_EXPONENT)
+// E5B9G9R9 bits of `c` (in range), rounded to nearest: the conversion of the Vulkan specification
+// ("Shared Exponent Formats"), with the exponent taken exactly by frexp.
+uint packRgb9e5(vec3 c) {
+    float largest = max(c.r, max(c.g, c.b));
+    int e;
+    frexp(largest, e);                 // largest = f 2^e, f in [0.5, 1): floor(log2(largest)) = e - 1
+    int exponent = max(e - 1, -16) + 16; // biased by 15, plus 1: the mantissas have no implicit leading one
+    if (floor(ldexp(largest, 24 - exponent) + 0.5) == 512.0) exponent += 1; // rounded up into the next exponent
+    uvec3 m = uvec3(floor(ldexp(c, ivec3(24 - exponent)) + 0.5));
+    return m.r | (m.g << 9) | (m.b << 18) | (uint(exponent) << 27);
+}
+#endif
+
 // Writes texel (i, j, face) of the invocation's cube in pyramid mip `element` of the dispatch, clamped
-// to the format's largest finite value. Constant indices: a dynamic one needs a device feature.
+// to the format's range. Constant indices: a dynamic one needs a device feature.
 void storePyramidMip(int element, ivec3 texel, vec3 value) {
     texel = batchLayer(texel);
-    vec4 v = vec4(clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX), 1.0);
+#if defined(PROBE_PYRAMID_SHARED_EXPONENT)
+    uvec4 v = uvec4(packRgb9e5(pyramidRange(value)));
+#else
+    vec4 v = vec4(pyramidRange(value), 1.0);
+#endif
     switch (element) {
     case 0: imageStore(pyramidMips[0], texel, v); break;
     case 1: imageStore(pyramidMips[1], texel, v); break;

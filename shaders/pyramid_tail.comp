@@ -80,7 +80,7 @@ void main() {
             if (kBoxKind == 0) value = pyramidBspline(t.z, t.x, t.y, 2 * size, kInverseSolidAngle != 0);
             else value = pyramidBox(t.z, t.x, t.y, 2 * size, levelOffset(params.faceSize, level - 1), kInverseSolidAngle != 0);
 #ifndef PROBE_EXACT_TAIL
-            value = clamp(value, -PROBE_PYRAMID_MAX, PROBE_PYRAMID_MAX);
+            value = pyramidRange(value);
             storePyramidMip(level - params.level, t, value);
 #endif
             tailTexels[first + pyramidTexelIndex(t.z, t.x, t.y, size)] = value;

@@ -25,6 +25,9 @@ DeviceCapabilities gpu() {
     d.maxTexelBufferElements = 1u << 27;
     for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT})
         d.formatFeatures[f] = kEverything;
+    // What Vulkan requires of E5B9G9R9, and what GPUs offer: no storage.
+    d.formatFeatures[VK_FORMAT_E5B9G9R9_UFLOAT_PACK32] =
+        VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT;
     return d;
 }
 
@@ -120,6 +123,14 @@ TEST(FilterPlan, SamplingByDeviceAndMethod) {
     DeviceCapabilities noHalf = gpu();
     noHalf.formatFeatures[VK_FORMAT_R16G16B16A16_SFLOAT] = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
     EXPECT_EQ(planFilter(fisSettings(64), noHalf).pyramidFormat, VK_FORMAT_R32G32B32A32_SFLOAT);
+
+    // An E5B9G9R9 pyramid where asked for: filtered as itself, stored as R32_UINT bits, which it needs.
+    FilterSettings sharedExponent = fisSettings(64);
+    sharedExponent.pyramidFormat = VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
+    EXPECT_EQ(planFilter(sharedExponent, gpu()).pyramidFormat, VK_FORMAT_E5B9G9R9_UFLOAT_PACK32);
+    DeviceCapabilities noUintStorage = gpu();
+    noUintStorage.formatFeatures[VK_FORMAT_R32_UINT] = VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT;
+    EXPECT_THROW(planFilter(sharedExponent, noUintStorage), ProbeError);
 
     // The reference reads every texel exactly and sums into the accumulator; no pyramid is built.
     FilterSettings reference = fisSettings(32);

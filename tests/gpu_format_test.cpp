@@ -11,8 +11,10 @@
 #include "device.h"
 #include "probe/bc6h.h"
 #include "probe/error.h"
+#include "probe/pyramid.h"
 #include "probe/range_scale.h"
 #include "probe/reference.h"
+#include "probe/shared_constants.h"
 #include "probe/synthetic.h"
 
 using namespace probe;
@@ -97,6 +99,44 @@ TEST_F(GpuTest, B10G11R11ThroughTheConversionPassEqualsTheDirectStore) {
 // Each pyramid texel rounded to half: each output blends them, so the relative error stays the
 // half's, with room for the roundings of the mips that feed each other.
 constexpr double kHalfPyramidTolerance = 4 * 0x1p-10;
+// The same for E5B9G9R9, whose shared exponent rounds every channel of a texel to a step of its
+// brightest channel's: within 2^-9 of that channel (maxErrorOfBrightest).
+constexpr double kRgb9e5PyramidTolerance = 4 * 0x1p-9;
+
+// The largest difference of a channel over all texels, relative to the brightest channel of the
+// texel (at least `floor`).
+double maxErrorOfBrightest(const CubeImage& out, const CubeImage& expected, double floor = 1e-3) {
+    double worst = 0.0;
+    for (std::size_t t = 0; t < texelCount(expected.size); ++t) {
+        const glm::vec3 e = expected.texel(t), o = out.texel(t);
+        const double brightest = std::max({double(std::abs(e.r)), double(std::abs(e.g)), double(std::abs(e.b)), floor});
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(o[c]) - double(e[c])) / brightest);
+    }
+    return worst;
+}
+
+// The error of `out` against `full`, as a pyramid format's tolerance measures it.
+double pyramidError(VkFormat pyramid, const CubeImage& out, const CubeImage& full) {
+    return pyramid == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 ? maxErrorOfBrightest(out, full) : probetest::maxRelativeError(out, full);
+}
+
+double pyramidTolerance(VkFormat pyramid) {
+    return pyramid == VK_FORMAT_R16G16B16A16_SFLOAT      ? kHalfPyramidTolerance
+           : pyramid == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 ? kRgb9e5PyramidTolerance
+                                                         : 0.0;
+}
+
+// E5B9G9R9 of `c` by the Vulkan specification's conversion ("Shared Exponent Formats"), decoded:
+// negative values 0, each channel rounded to nearest in steps of 2^(exponent - 24).
+glm::vec3 rgb9e5Rounded(glm::vec3 c) {
+    c = glm::clamp(c, glm::vec3(0.0f), glm::vec3(float(PROBE_RGB9E5_MAX)));
+    const double largest = std::max({c.r, c.g, c.b});
+    int exponent = std::max(-16, largest > 0.0 ? int(std::floor(std::log2(largest))) : -16) + 16;
+    if (std::floor(std::ldexp(largest, 24 - exponent) + 0.5) == 512.0) ++exponent;
+    glm::vec3 rounded;
+    for (int k = 0; k < 3; ++k) rounded[k] = float(std::ldexp(std::floor(std::ldexp(double(c[k]), 24 - exponent) + 0.5), exponent - 24));
+    return rounded;
+}
 
 TEST_F(GpuTest, PyramidIsRgba16fByDefaultAndRgba32fWhereTheDeviceLacksIt) {
     const gpu::Device& shared = probetest::testDevice();
@@ -120,14 +160,17 @@ TEST_F(GpuTest, PyramidIsRgba16fByDefaultAndRgba32fWhereTheDeviceLacksIt) {
 TEST_F(GpuTest, ProbeBrighterThanAHalfPyramidKeepsItsLight) {
     const CubeImage probe = shifted(sunSkyProbe(kSize), 20);
     ASSERT_GT(largestMagnitude(probe), 1e6f);
-    gpu::FilterSettings half = fisSettings(gpu::Sampling::hardware), full = half;
-    half.pyramidFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+    gpu::FilterSettings narrow = fisSettings(gpu::Sampling::hardware), full = narrow;
     full.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
-    for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
-        const CubeLevels out = runWith(probetest::testDevice(), half, format, probe);
-        const CubeLevels expected = runWith(probetest::testDevice(), full, format, probe);
-        for (std::size_t m = 0; m < out.size(); ++m)
-            EXPECT_LE(probetest::maxRelativeError(out[m], expected[m]), kHalfPyramidTolerance) << gpu::formatName(format) << " level " << m;
+    for (VkFormat pyramid : {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_E5B9G9R9_UFLOAT_PACK32}) {
+        narrow.pyramidFormat = pyramid;
+        for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
+            const CubeLevels out = runWith(probetest::testDevice(), narrow, format, probe);
+            const CubeLevels expected = runWith(probetest::testDevice(), full, format, probe);
+            for (std::size_t m = 0; m < out.size(); ++m)
+                EXPECT_LE(pyramidError(pyramid, out[m], expected[m]), pyramidTolerance(pyramid))
+                    << gpu::formatName(pyramid) << " pyramid, " << gpu::formatName(format) << " output, level " << m;
+        }
     }
 }
 
@@ -144,14 +187,13 @@ TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
         s.levelCount = defaultLevelCount(size);
         s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
         const CubeLevels full = runWith(shared, s, VK_FORMAT_R32G32B32A32_SFLOAT, probe);
-        for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT}) {
+        for (VkFormat format : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_E5B9G9R9_UFLOAT_PACK32}) {
             s.pyramidFormat = format;
             gpu::Filter filter(shared, s);
             EXPECT_EQ(filter.pyramidFormat(), format);
             const CubeLevels out = filter.run(probe);
-            const double tolerance = format == VK_FORMAT_R16G16B16A16_SFLOAT ? kHalfPyramidTolerance : 0.0;
             for (std::size_t m = 0; m < out.size(); ++m)
-                EXPECT_LE(probetest::maxRelativeError(out[m], full[m]), tolerance)
+                EXPECT_LE(pyramidError(format, out[m], full[m]), pyramidTolerance(format))
                     << size << "^2, " << gpu::formatName(format) << " level " << m;
         }
     }
@@ -171,6 +213,11 @@ TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
     const std::string unfiltered = refusal(device, s);
     EXPECT_NE(unfiltered.find("rgba32f"), std::string::npos) << unfiltered;
     EXPECT_NE(unfiltered.find("filter"), std::string::npos) << unfiltered;
+    device.impl().formatFeatures[VK_FORMAT_R32_UINT] &= ~VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    s.pyramidFormat = VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
+    const std::string unstored = refusal(device, s);
+    EXPECT_NE(unstored.find("rgb9e5"), std::string::npos) << unstored;
+    s.pyramidFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     for (gpu::FilterSettings bad : {s, fisSettings(gpu::Sampling::exact)}) {
         bad.pyramidFormat = bad.sampling == gpu::Sampling::exact ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_B10G11R11_UFLOAT_PACK32;
         try {
@@ -182,7 +229,43 @@ TEST_F(GpuTest, PyramidFormatIsTheOneAskedFor) {
     }
     EXPECT_EQ(gpu::parsePyramidFormat("auto"), VK_FORMAT_UNDEFINED);
     EXPECT_EQ(gpu::parsePyramidFormat("rgba16f"), VK_FORMAT_R16G16B16A16_SFLOAT);
+    EXPECT_EQ(gpu::parsePyramidFormat("rgb9e5"), VK_FORMAT_E5B9G9R9_UFLOAT_PACK32);
     EXPECT_THROW(gpu::parsePyramidFormat("b10g11r11"), ParameterError);
+}
+
+// An E5B9G9R9 pyramid holds each source texel as the Vulkan specification rounds it, bit for bit:
+// over 36 binades, at 0, at its largest value, where rounding carries into the next exponent, and
+// negative values as 0; each coarser mip, for one probe and in a batch, is the model's of the mip
+// above within the sampler's precision and the format's rounding.
+TEST_F(GpuTest, Rgb9e5PyramidRoundsAsTheSpecification) {
+    constexpr int kFace = 32; // mips 0 and 1 a dispatch each, the tail from 8^2
+    CubeImage probe = probetest::randomProbe(kFace, 23);
+    for (std::size_t t = 0; t < texelCount(kFace); ++t) probe.set(t, probe.texel(t) * std::ldexp(1.0f, int(t % 36) - 20));
+    probe.set(0, glm::vec3(0.0f));
+    probe.set(1, glm::vec3(float(PROBE_RGB9E5_MAX)));
+    probe.set(2, glm::vec3(511.75f, 1.0f, 0.5f)); // rounds to 512: the exponent goes up by one
+    probe.set(3, glm::vec3(-1.0f, 2.0f, 3.0f));
+    gpu::FilterSettings s = fisSettings(gpu::Sampling::hardware);
+    s.faceSize = kFace;
+    s.levelCount = defaultLevelCount(kFace);
+    s.pyramidFormat = VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
+    for (const int batch : {1, 2}) {
+        s.batchSize = batch;
+        gpu::Filter filter(probetest::testDevice(), s);
+        filter.run(std::vector<CubeImage>(std::size_t(batch), probe));
+        const CubeLevels pyramid = filter.downloadPyramid();
+        int mismatches = 0;
+        for (std::size_t t = 0; t < texelCount(kFace); ++t)
+            if (pyramid[0].texel(t) != rgb9e5Rounded(probe.texel(t)) && mismatches++ < 4)
+                ADD_FAILURE() << "batch of " << batch << ", mip 0 texel " << t << ": " << pyramid[0].texel(t).r << " "
+                              << pyramid[0].texel(t).g << " " << pyramid[0].texel(t).b << " for " << probe.texel(t).r << " "
+                              << probe.texel(t).g << " " << probe.texel(t).b;
+        EXPECT_EQ(mismatches, 0) << "batch of " << batch;
+        for (std::size_t k = 1; k < pyramid.size(); ++k)
+            EXPECT_LE(maxErrorOfBrightest(pyramid[k], buildPyramid(pyramid[k - 1], PyramidSettings{})[1], 1e-30),
+                      probetest::kSamplingCases[1].tolerance + 0x1p-9)
+                << "batch of " << batch << ", mip " << k;
+    }
 }
 
 TEST_F(GpuTest, UnusableFormatsAreRefusedByName) {

@@ -55,15 +55,16 @@ std::string_view formatName(VkFormat format) {
     case VK_FORMAT_R32G32B32A32_SFLOAT: return "rgba32f";
     case VK_FORMAT_R16G16B16A16_SFLOAT: return "rgba16f";
     case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return "b10g11r11";
+    case VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: return "rgb9e5";
     default: return "unsupported";
     }
 }
 
 VkFormat parsePyramidFormat(std::string_view name) {
     if (name == "auto") return VK_FORMAT_UNDEFINED;
-    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT})
+    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_E5B9G9R9_UFLOAT_PACK32})
         if (formatName(f) == name) return f;
-    throw ParameterError("pyramidFormat", fmt::format("{}: expected auto, rgba32f or rgba16f", name));
+    throw ParameterError("pyramidFormat", fmt::format("{}: expected auto, rgba32f, rgba16f or rgb9e5", name));
 }
 
 VkFormat parseFormat(std::string_view name) {
@@ -178,15 +179,21 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     r.pyramidCounters = Buffer(d, sizeof(uint32_t), Buffer::Kind::storage);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         const int mips = plan.pyramidDepth + 1;
+        // An E5B9G9R9 pyramid is stored through R32_UINT views of its bits (no device stores that format).
+        const bool sharedExponent = plan.pyramidFormat == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
+        const VkFormat storeFormat = sharedExponent ? VK_FORMAT_R32_UINT : plan.pyramidFormat;
+        const VkImageUsageFlags sampled = sharedExponent ? VK_IMAGE_USAGE_SAMPLED_BIT : 0,
+                                stored = sharedExponent ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
         r.pyramidImage =
             CubeImageResource(d, s.faceSize, mips, plan.pyramidFormat,
-                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize);
+                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize,
+                              sharedExponent ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT : 0);
         const uint32_t layers = r.pyramidImage.layers();
-        r.pyramidAll = ImageView(vk, r.pyramidImage.handle(), plan.pyramidFormat, cubeViewType(), 0, uint32_t(mips), layers);
+        const VkImage image = r.pyramidImage.handle();
+        r.pyramidAll = ImageView(vk, image, plan.pyramidFormat, cubeViewType(), 0, uint32_t(mips), layers, sampled);
         for (int k = 0; k < mips; ++k) {
-            r.pyramidMipCubes.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, cubeViewType(), uint32_t(k), 1, layers);
-            r.pyramidMipArrays.emplace_back(vk, r.pyramidImage.handle(), plan.pyramidFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1,
-                                            layers);
+            r.pyramidMipCubes.emplace_back(vk, image, plan.pyramidFormat, cubeViewType(), uint32_t(k), 1, layers, sampled);
+            r.pyramidMipArrays.emplace_back(vk, image, storeFormat, VK_IMAGE_VIEW_TYPE_2D_ARRAY, uint32_t(k), 1, layers, stored);
         }
     }
     if (plan.convertOutput) {

@@ -57,6 +57,14 @@ Sampling resolveSampling(const DeviceCapabilities& device, const FilterSettings&
 VkFormat choosePyramidFormat(const DeviceCapabilities& device, VkFormat requested) {
     const VkFormatFeatureFlags needed =
         VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+    if (requested == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) { // filtered as itself, stored as R32_UINT bits
+        if (!device.has(requested, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) ||
+            !device.has(VK_FORMAT_R32_UINT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
+            throw ProbeError(fmt::format("Vulkan: {} cannot filter rgb9e5 images or store R32_UINT ones, which that pyramid needs (use "
+                                         "another format)",
+                                         device.name));
+        return requested;
+    }
     if (requested != VK_FORMAT_UNDEFINED) {
         if (!device.has(requested, needed))
             throw ProbeError(fmt::format("Vulkan: {} cannot filter and store {} images, which the pyramid needs (use the other format)",
@@ -157,7 +165,8 @@ DeviceCapabilities capabilitiesOf(const Device& device) {
     c.maxStorageBufferRange = d.limits.maxStorageBufferRange;
     c.minStorageBufferOffsetAlignment = d.limits.minStorageBufferOffsetAlignment;
     c.maxTexelBufferElements = d.limits.maxTexelBufferElements;
-    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT})
+    for (VkFormat f : {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32, VK_FORMAT_R32_UINT,
+                       VK_FORMAT_E5B9G9R9_UFLOAT_PACK32})
         c.formatFeatures[f] = d.features(f);
     return c;
 }
@@ -216,9 +225,11 @@ FilterPlan planFilter(const FilterSettings& s, const DeviceCapabilities& d) {
     if (plan.paraboloid) plan.pyramidDepth = 0; // the map reads the source alone
     plan.sampling = resolveSampling(d, s);
     if (s.pyramidFormat != VK_FORMAT_UNDEFINED) {
-        if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT)
-            throw ParameterError("pyramidFormat",
-                                 fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT or R16G16B16A16_SFLOAT", int(s.pyramidFormat)));
+        if (s.pyramidFormat != VK_FORMAT_R32G32B32A32_SFLOAT && s.pyramidFormat != VK_FORMAT_R16G16B16A16_SFLOAT &&
+            s.pyramidFormat != VK_FORMAT_E5B9G9R9_UFLOAT_PACK32)
+            throw ParameterError("pyramidFormat", fmt::format("{}: the pyramid is R32G32B32A32_SFLOAT, R16G16B16A16_SFLOAT or "
+                                                              "E5B9G9R9_UFLOAT_PACK32",
+                                                              int(s.pyramidFormat)));
         if (plan.sampling == Sampling::exact)
             throw ParameterError("pyramidFormat",
                                  fmt::format("{}: only hardware sampling's pyramid is an image; exact sampling's is a float32 "

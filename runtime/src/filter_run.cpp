@@ -45,18 +45,21 @@ void makeRunImages(const Filter::Impl& f, Recording& r) {
 
 // The probes of a run, uploaded into the set's source cubes, each beyond the range the filter keeps
 // scaled down by a power of two; returns each one's power, by which its output is scaled back up once
-// read (probe/range_scale.h). The range is an RGBA16F pyramid's 65504, else 2^64 for a float32 output;
+// read (probe/range_scale.h). The range is an RGBA16F pyramid's 65504 (E5B9G9R9's 65408), else 2^64 for a float32 output;
 // a 16-bit output saturates at 65504 anyway, so with a float32 pyramid its source goes as it is (the
 // shaders clamp what they read of it to 2^64).
 std::vector<int> uploadRunSources(Filter::Impl& f, const Recording& r, std::span<const CubeImage> sources) {
     const FilterSettings& s = f.settings;
-    const bool halfPyramid =
-        f.plan.buildsPyramid && f.plan.sampling == Sampling::hardware && f.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
+    const bool imagePyramid = f.plan.buildsPyramid && f.plan.sampling == Sampling::hardware;
+    const double pyramidMax = !imagePyramid                                              ? 0.0
+                              : f.plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT    ? PROBE_HALF_MAX
+                              : f.plan.pyramidFormat == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 ? PROBE_RGB9E5_MAX
+                                                                                         : 0.0;
     const bool float32 = s.outputFormat == VK_FORMAT_R32G32B32A32_SFLOAT;
     std::vector<int> shifts;
     std::vector<float> texels;
     for (const CubeImage& source : sources) {
-        const int shift = halfPyramid ? rangeShift(largestMagnitude(source), PROBE_HALF_MAX) : float32 ? rangeShift(source) : 0;
+        const int shift = pyramidMax > 0.0 ? rangeShift(largestMagnitude(source), pyramidMax) : float32 ? rangeShift(source) : 0;
         const std::vector<float> cube = rgbaTexels(shifted(source, -shift));
         texels.insert(texels.end(), cube.begin(), cube.end());
         shifts.push_back(shift);

@@ -13,10 +13,11 @@
 
 namespace probe::gpu {
 
-CubeImageResource::CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes)
+CubeImageResource::CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes,
+                                     VkImageCreateFlags flags)
     : device_(device.device()), format_(format), faceSize_(faceSize), mips_(mips), layers_(uint32_t(kFaceCount * cubes)) {
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+    info.flags = VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT | flags;
     info.imageType = VK_IMAGE_TYPE_2D;
     info.format = format;
     info.extent = {uint32_t(faceSize), uint32_t(faceSize), 1};
@@ -68,9 +69,10 @@ void CubeImageResource::release() {
 }
 
 ImageView::ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount,
-                     uint32_t layers)
+                     uint32_t layers, VkImageUsageFlags usage)
     : device_(device) {
-    VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    const VkImageViewUsageCreateInfo viewUsage{VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO, nullptr, usage};
+    VkImageViewCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO, usage ? &viewUsage : nullptr};
     info.image = image;
     info.viewType = type;
     info.format = format;
@@ -110,7 +112,8 @@ Sampler::~Sampler() {
 uint32_t texelBytes(VkFormat format) {
     switch (format) {
     case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
-    case VK_FORMAT_B10G11R11_UFLOAT_PACK32: return 4;
+    case VK_FORMAT_B10G11R11_UFLOAT_PACK32:
+    case VK_FORMAT_E5B9G9R9_UFLOAT_PACK32: return 4;
     default: return 16;
     }
 }
@@ -127,6 +130,10 @@ void unpackTexels(const void* data, std::size_t texels, VkFormat format, std::ve
             uint32_t packed;
             std::memcpy(&packed, bytes + 4 * t, sizeof(packed));
             c = glm::unpackF2x11_1x10(packed); // R in bits 0-10, G in 11-21, B in 22-31, as Vulkan's format
+        } else if (format == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) {
+            uint32_t packed;
+            std::memcpy(&packed, bytes + 4 * t, sizeof(packed));
+            c = glm::unpackF3x9_E1x5(packed); // R in bits 0-8, G in 9-17, B in 18-26, the exponent in 27-31
         } else {
             std::memcpy(&c, bytes + 16 * t, sizeof(c));
         }

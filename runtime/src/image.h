@@ -15,7 +15,10 @@ namespace probe::gpu {
 class CubeImageResource {
 public:
     CubeImageResource() = default;
-    CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes = 1);
+    // `flags` beside CUBE_COMPATIBLE: MUTABLE_FORMAT and EXTENDED_USAGE for an image stored through
+    // views of another format.
+    CubeImageResource(const Device& device, int faceSize, int mips, VkFormat format, VkImageUsageFlags usage, int cubes = 1,
+                      VkImageCreateFlags flags = 0);
     ~CubeImageResource();
     CubeImageResource(CubeImageResource&& other) noexcept;
     CubeImageResource& operator=(CubeImageResource&& other) noexcept;
@@ -43,8 +46,10 @@ private:
 class ImageView {
 public:
     ImageView() = default;
+    // `usage`: 0 for the image's, or the part of it this view serves (an image of EXTENDED_USAGE has
+    // usages that its own format does not support).
     ImageView(VkDevice device, VkImage image, VkFormat format, VkImageViewType type, uint32_t firstMip, uint32_t mipCount,
-              uint32_t layers = kFaceCount);
+              uint32_t layers = kFaceCount, VkImageUsageFlags usage = 0);
     ~ImageView();
     ImageView(ImageView&& other) noexcept;
     ImageView& operator=(ImageView&& other) noexcept;

@@ -20,13 +20,17 @@
 #include <paraboloid_map.spv.h>
 #include <pyramid.spv.h>
 #include <pyramid_batch.spv.h>
+#include <pyramid_image_batch_rgb9e5.spv.h>
 #include <pyramid_image_batch_rgba16f.spv.h>
 #include <pyramid_image_batch_rgba32f.spv.h>
+#include <pyramid_image_rgb9e5.spv.h>
 #include <pyramid_image_rgba16f.spv.h>
 #include <pyramid_image_rgba32f.spv.h>
+#include <pyramid_tail_batch_rgb9e5.spv.h>
 #include <pyramid_tail_batch_rgba16f.spv.h>
 #include <pyramid_tail_batch_rgba32f.spv.h>
 #include <pyramid_tail_exact.spv.h>
+#include <pyramid_tail_rgb9e5.spv.h>
 #include <pyramid_tail_rgba16f.spv.h>
 #include <pyramid_tail_rgba32f.spv.h>
 
@@ -83,14 +87,22 @@ PyramidPass::PyramidPass(const PassContext& context) : context_(context) {
                                                 pyramid.weighting == PyramidWeighting::inverseSolidAngle ? 1 : 0};
     const std::array<int32_t, 3> tailSpecialization{specialization[0], specialization[1], tailLanes(context.device)};
     if (plan.sampling == Sampling::hardware) {
-        const bool half = plan.pyramidFormat == VK_FORMAT_R16G16B16A16_SFLOAT;
-        const std::span<const uint32_t> spirv = half ? context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv)
-                                                     : context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv);
-        levels_ = context.pipeline(spirv, specialization);
-        if (plan.pyramidTailLevel > 0)
-            tail_ = context.pipeline(half ? context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)
-                                          : context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv),
-                                     tailSpecialization);
+        // The shaders of the pyramid's format: {mip, tail}, each for one probe and for a batch.
+        const auto [image, tail] = [&]() -> std::pair<std::span<const uint32_t>, std::span<const uint32_t>> {
+            switch (plan.pyramidFormat) {
+            case VK_FORMAT_R16G16B16A16_SFLOAT:
+                return {context.batchVariant(kPyramidImageRgba16fSpv, kPyramidImageBatchRgba16fSpv),
+                        context.batchVariant(kPyramidTailRgba16fSpv, kPyramidTailBatchRgba16fSpv)};
+            case VK_FORMAT_E5B9G9R9_UFLOAT_PACK32:
+                return {context.batchVariant(kPyramidImageRgb9e5Spv, kPyramidImageBatchRgb9e5Spv),
+                        context.batchVariant(kPyramidTailRgb9e5Spv, kPyramidTailBatchRgb9e5Spv)};
+            default:
+                return {context.batchVariant(kPyramidImageRgba32fSpv, kPyramidImageBatchRgba32fSpv),
+                        context.batchVariant(kPyramidTailRgba32fSpv, kPyramidTailBatchRgba32fSpv)};
+            }
+        }();
+        levels_ = context.pipeline(image, specialization);
+        if (plan.pyramidTailLevel > 0) tail_ = context.pipeline(tail, tailSpecialization);
         return;
     }
     levels_ = context.pipeline(context.batchVariant(kPyramidSpv, kPyramidBatchSpv), specialization);

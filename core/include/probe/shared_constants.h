@@ -49,6 +49,9 @@
 #define PROBE_HALF_MAX 65504.0
 #define PROBE_FLOAT11_MAX 65024.0
 #define PROBE_FLOAT10_MAX 64512.0
+// The largest finite value of E5B9G9R9 (a 9-bit mantissa per channel, one 5-bit exponent shared):
+// 511 / 512 * 2^16.
+#define PROBE_RGB9E5_MAX 65408.0
 
 // Order-2 real SH basis (probe/sh.h): sqrt(1/4pi), sqrt(3/4pi), sqrt(15/4pi), sqrt(5/16pi),
 // sqrt(15/16pi).
