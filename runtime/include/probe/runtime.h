@@ -108,10 +108,10 @@ Sampling parseSampling(std::string_view name);    // ParameterError("sampling") 
 
 // The output cube's texel formats: RGBA16F (what engines use), RGBA32F, B10G11R11 (unsigned, 5-bit
 // exponents). Values are clamped to the format's largest finite value, so no texel is Inf.
-std::string_view formatName(VkFormat format); // "rgba16f", "rgba32f", "b10g11r11"
+std::string_view formatName(VkFormat format); // "rgba16f", "rgba32f", "b10g11r11", "rgb9e5" (a pyramid's E5B9G9R9)
 VkFormat parseFormat(std::string_view name);  // ParameterError("outputFormat") for any other name
-// FilterSettings::pyramidFormat by name: "auto" (VK_FORMAT_UNDEFINED), "rgba32f" or "rgba16f";
-// ParameterError("pyramidFormat") for any other name.
+// FilterSettings::pyramidFormat by name: "auto" (VK_FORMAT_UNDEFINED), "rgba32f", "rgba16f" or
+// "rgb9e5"; ParameterError("pyramidFormat") for any other name.
 VkFormat parsePyramidFormat(std::string_view name);
 
 struct FilterSettings {
@@ -124,11 +124,13 @@ struct FilterSettings {
     // cube must have. B10G11R11 goes through a conversion pass where the device cannot store it.
     VkFormat outputFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
     // Hardware sampling's pyramid image: R16G16B16A16_SFLOAT, half the memory and the bytes per texel
-    // that the sampler reads, or R32G32B32A32_SFLOAT; VK_FORMAT_UNDEFINED: RGBA16F where the device
-    // can filter and store it (every Vulkan device must), else RGBA32F. An RGBA16F pyramid's largest
-    // value is 65504: run() scales a brighter probe into that range and its output back; record()'s
-    // brighter source texels are clamped there. Exact sampling's pyramid is a float32 buffer: a format
-    // is refused there.
+    // that the sampler reads, R32G32B32A32_SFLOAT, or E5B9G9R9_UFLOAT_PACK32, a quarter of them (a
+    // 9-bit mantissa per channel under a shared exponent: each channel within 2^-9 of the texel's
+    // brightest; negative values read as 0; written through R32_UINT views, which every device can
+    // store); VK_FORMAT_UNDEFINED: RGBA16F where the device can filter and store it (every Vulkan
+    // device must), else RGBA32F. An RGBA16F pyramid's largest value is 65504 (E5B9G9R9's 65408): run()
+    // scales a brighter probe into that range and its output back; record()'s brighter source texels
+    // are clamped there. Exact sampling's pyramid is a float32 buffer: a format is refused there.
     VkFormat pyramidFormat = VK_FORMAT_UNDEFINED;
     // The engine's pipeline cache for the Filter's pipelines (VK_NULL_HANDLE: none); the engine keeps
     // it alive while Filters are built with it and saves its data where it likes.
@@ -275,7 +277,7 @@ public:
     //   VK_ACCESS_SHADER_WRITE_BIT (VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT when
     //   converted): the caller's barrier makes them visible to its readers.
     // Any finite source gives finite output: the passes read the source clamped to +-2^64
-    // (probe::kFilterRangeLimit), and an RGBA16F pyramid holds at most 65504, so values above those
+    // (probe::kFilterRangeLimit), and an RGBA16F pyramid holds at most 65504 (E5B9G9R9 65408), so values above those
     // saturate there, where run(), which sees the probe on the host, scales the whole probe by a
     // power of two instead (probe/range_scale.h). An engine whose sources pass 65504 asks for an
     // RGBA32F pyramid.
