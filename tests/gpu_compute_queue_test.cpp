@@ -163,24 +163,33 @@ TEST_F(ComputeQueueTest, TheValidationLayerSeesAComputeOnlyFamily) {
     compute.messages.clear();
 }
 
-// The tool path and the engine path, every method and both sampling modes, a batch of two, three
-// slices, and a Filter initialized in the engine's command buffer: the test device's levels, bit
-// for bit.
+// The tool path and the engine path, every method and both sampling modes (hardware sampling over
+// the default pyramid and the E5B9G9R9 one), a batch of two, three slices, and a Filter initialized in
+// the engine's command buffer: the test device's levels, bit for bit.
 TEST_F(ComputeQueueTest, FilterEqualsTheTestDevice) {
     const Caller c = compute.caller();
     const gpu::Device wrapped(compute.instance, c.physical, c.device, c.queueFamily, c.queue);
     const TapTable table = readTable(PROBE_TEST_FIXTURES "/table_16_quad4_gltf.json");
     const std::vector<CubeImage> sources = {probetest::randomProbe(16, 31), probetest::randomProbe(16, 32)};
+    struct Case {
+        gpu::Sampling sampling;
+        VkFormat pyramid;
+    };
+    const Case cases[] = {{gpu::Sampling::exact, VK_FORMAT_UNDEFINED},
+                          {gpu::Sampling::hardware, VK_FORMAT_UNDEFINED},
+                          {gpu::Sampling::hardware, VK_FORMAT_E5B9G9R9_UFLOAT_PACK32}};
     for (MethodKind method : {MethodKind::table, MethodKind::fis, MethodKind::reference})
-        for (gpu::Sampling sampling : {gpu::Sampling::exact, gpu::Sampling::hardware}) {
-            if (method == MethodKind::reference && sampling == gpu::Sampling::hardware) continue;
+        for (const Case& k : cases) {
+            if (method == MethodKind::reference && k.sampling == gpu::Sampling::hardware) continue;
             gpu::FilterSettings s;
             s.method = {method, &table, {}};
             s.faceSize = 16;
             s.levelCount = 4;
-            s.sampling = sampling;
+            s.sampling = k.sampling;
+            s.pyramidFormat = k.pyramid;
             s.outputFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
-            const std::string what = fmt::format("{} {}", methodKindName(method), gpu::samplingName(sampling));
+            const std::string what = fmt::format("{} {}{}", methodKindName(method), gpu::samplingName(k.sampling),
+                                                 k.pyramid == VK_FORMAT_UNDEFINED ? "" : " over rgb9e5");
             const CubeLevels expected = gpu::Filter(testDevice(), s).run(sources[0]);
             gpu::Filter filter(wrapped, s);
             const CubeLevels ran = filter.run(sources[0]);
