@@ -179,15 +179,15 @@ std::unique_ptr<Recording> Filter::Impl::makeRecording() const {
     r.pyramidCounters = Buffer(d, sizeof(uint32_t), Buffer::Kind::storage);
     if (plan.buildsPyramid && plan.sampling == Sampling::hardware) {
         const int mips = plan.pyramidDepth + 1;
-        // An E5B9G9R9 pyramid is stored through R32_UINT views of its bits (no device stores that format).
-        const bool sharedExponent = plan.pyramidFormat == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32;
-        const VkFormat storeFormat = sharedExponent ? VK_FORMAT_R32_UINT : plan.pyramidFormat;
-        const VkImageUsageFlags sampled = sharedExponent ? VK_IMAGE_USAGE_SAMPLED_BIT : 0,
-                                stored = sharedExponent ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
+        // Written through views of another format (E5B9G9R9 as R32_UINT): a mutable image whose views
+        // each name the usage their format supports.
+        const VkFormat storeFormat = pyramidStoreFormat(plan.pyramidFormat);
+        const bool aliased = storeFormat != plan.pyramidFormat;
+        const VkImageUsageFlags sampled = aliased ? VK_IMAGE_USAGE_SAMPLED_BIT : 0, stored = aliased ? VK_IMAGE_USAGE_STORAGE_BIT : 0;
         r.pyramidImage =
             CubeImageResource(d, s.faceSize, mips, plan.pyramidFormat,
                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, s.batchSize,
-                              sharedExponent ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT : 0);
+                              aliased ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT | VK_IMAGE_CREATE_EXTENDED_USAGE_BIT : 0);
         const uint32_t layers = r.pyramidImage.layers();
         const VkImage image = r.pyramidImage.handle();
         r.pyramidAll = ImageView(vk, image, plan.pyramidFormat, cubeViewType(), 0, uint32_t(mips), layers, sampled);

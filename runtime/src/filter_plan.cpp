@@ -55,24 +55,20 @@ Sampling resolveSampling(const DeviceCapabilities& device, const FilterSettings&
 // engines filter in: the sampler reads half the bytes per tap (docs/benchmarks.md times both), and
 // run() scales a source brighter than 65504 into its range; RGBA32F where a device lacks it.
 VkFormat choosePyramidFormat(const DeviceCapabilities& device, VkFormat requested) {
-    const VkFormatFeatureFlags needed =
-        VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
-    if (requested == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32) { // filtered as itself, stored as R32_UINT bits
-        if (!device.has(requested, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) ||
-            !device.has(VK_FORMAT_R32_UINT, VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT))
-            throw ProbeError(fmt::format("Vulkan: {} cannot filter rgb9e5 images or store R32_UINT ones, which that pyramid needs (use "
-                                         "another format)",
-                                         device.name));
-        return requested;
-    }
+    // Filtered as itself, stored through pyramidStoreFormat.
+    const auto usable = [&](VkFormat format) {
+        return device.has(format, VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT | VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) &&
+               device.has(pyramidStoreFormat(format), VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT);
+    };
     if (requested != VK_FORMAT_UNDEFINED) {
-        if (!device.has(requested, needed))
-            throw ProbeError(fmt::format("Vulkan: {} cannot filter and store {} images, which the pyramid needs (use the other format)",
-                                         device.name, formatName(requested)));
+        if (!usable(requested))
+            throw ProbeError(fmt::format("Vulkan: {} cannot filter and store {} images{}, which the pyramid needs (use another format)",
+                                         device.name, formatName(requested),
+                                         pyramidStoreFormat(requested) != requested ? " (stored as R32_UINT bits)" : ""));
         return requested;
     }
     for (VkFormat format : {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT})
-        if (device.has(format, needed)) return format;
+        if (usable(format)) return format;
     throw ProbeError(fmt::format("Vulkan: {} can neither filter and store R16G16B16A16_SFLOAT nor R32G32B32A32_SFLOAT images, which "
                                  "the pyramid of hardware sampling needs (use exact sampling)",
                                  device.name));
@@ -94,6 +90,8 @@ bool checkOutputFormat(const DeviceCapabilities& device, VkFormat format) {
 }
 
 } // namespace
+
+VkFormat pyramidStoreFormat(VkFormat pyramid) { return pyramid == VK_FORMAT_E5B9G9R9_UFLOAT_PACK32 ? VK_FORMAT_R32_UINT : pyramid; }
 
 bool DeviceCapabilities::has(VkFormat format, VkFormatFeatureFlags needed) const {
     const auto f = formatFeatures.find(format);

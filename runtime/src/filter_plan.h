@@ -110,6 +110,10 @@ struct FilterPlan {
     bool isHandedOff(int level) const { return (fisLevels & (1u << level)) != 0; }
 };
 
+// The format a pyramid image's mips are written through: E5B9G9R9, which no device stores, as its
+// R32_UINT bits (shaders/images.glsl packs them); any other as itself.
+VkFormat pyramidStoreFormat(VkFormat pyramid);
+
 // Throws ParameterError naming the setting the method or the runtime refuses, and ProbeError naming
 // the device and what it lacks (a format feature, subgroup votes, a buffer range) for the rest.
 FilterPlan planFilter(const FilterSettings& settings, const DeviceCapabilities& device);
