@@ -101,6 +101,7 @@ refused "--fis-map sphere" --method fis --fis-map sphere --size 16
 refused "reads it exactly" --method fis --fis-map paraboloid --sampling hardware --size 16
 refused "--pyramid-format b10g11r11" --method fis --sampling hardware --pyramid-format b10g11r11 --size 16
 refused "--pyramid-format rgba16f: only hardware sampling" --method fis --sampling exact --pyramid-format rgba16f --size 16
+refused "--pyramid-format rgb9e5: only hardware sampling" --method fis --sampling exact --pyramid-format rgb9e5 --size 16
 refused "--irradiance lambert: expected none, sh, cube or both" --irradiance lambert --size 16
 
 # --slices 3: the update as pass 1 and two groups of levels, one submission each; the same levels
@@ -135,7 +136,7 @@ assert 0 < d["relative_l1"] < 0.05 and d["relative_l1"] <= d["max_relative"], d
 PY
 
 # The pyramid format, by default and as asked for: the report names it.
-for format in auto rgba32f; do
+for format in auto rgba32f rgb9e5; do
     "$PROBEFILTER" filter sky.exr --method table --table "$fixtures/table_16_quad4_gltf.json" --size 16 --sampling hardware \
         --pyramid-format $format --validate --out pyramid-$format >/dev/null 2>&1 || fail "--pyramid-format $format"
     expected=$format; [[ $format == auto ]] && expected=rgba16f
