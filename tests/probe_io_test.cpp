@@ -8,6 +8,8 @@
 #include <iterator>
 #include <numbers>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -46,6 +48,33 @@ double energy(const CubeImage& cube) {
     double e = 0.0;
     for (std::size_t t = 0; t < texelCount(cube.size); ++t) e += cube.texel(t).r * g.solidAngles[t];
     return e;
+}
+
+// A float EXR of `names`, channel c holding value(c, x, y).
+template <typename Value>
+fs::path writeChannels(const fs::path& file, int w, int h, const std::vector<std::string>& names, Value value) {
+    std::vector<std::vector<float>> planes(names.size(), std::vector<float>(std::size_t(w) * h));
+    Imf::Header header(w, h);
+    Imf::FrameBuffer frame;
+    for (std::size_t c = 0; c < names.size(); ++c) {
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) planes[c][std::size_t(y) * w + x] = value(int(c), x, y);
+        header.channels().insert(names[c], Imf::Channel(Imf::FLOAT));
+        frame.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes[c].data()), sizeof(float), sizeof(float) * w));
+    }
+    Imf::OutputFile out(file.c_str(), header);
+    out.setFrameBuffer(frame);
+    out.writePixels(h);
+    return file;
+}
+
+std::string refusal(const fs::path& file) {
+    try {
+        readImage(file);
+    } catch (const ProbeError& e) {
+        return e.what();
+    }
+    return "accepted";
 }
 
 } // namespace
@@ -133,6 +162,29 @@ TEST(ProbeIo, HalfRgbaExrInEveryCompression) {
                 EXPECT_NEAR(image.pixel(x, y).b, float(pixels[y][x].b), 0.03f) << "compression " << int(c);
             }
     }
+}
+
+// Besides R, G and B: the one layer that has them, and luminance alone as grey. Several layers with
+// them, or luminance with chroma, are refused with the reason.
+TEST(ProbeIo, ExrColourFromALayerOrLuminance) {
+    TempDir dir;
+    const int w = 16, h = 8;
+    auto value = [](int c, int x, int y) { return float(c + 1) * 10.0f + float(x) + 0.25f * float(y); };
+    const fs::path layer = writeChannels(dir.path / "layer.exr", w, h, {"beauty.B", "beauty.G", "beauty.R", "depth.Z"}, value);
+    const Image fromLayer = readImage(layer);
+    const fs::path grey = writeChannels(dir.path / "grey.exr", w, h, {"A", "Y"}, value);
+    const Image fromGrey = readImage(grey);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // Each channel holds the value of its place in the list: beauty.R the third, Y the second.
+            EXPECT_EQ(fromLayer.pixel(x, y), glm::vec3(value(2, x, y), value(1, x, y), value(0, x, y))) << x << ", " << y;
+            EXPECT_EQ(fromGrey.pixel(x, y), glm::vec3(value(1, x, y))) << x << ", " << y;
+        }
+    EXPECT_NE(refusal(writeChannels(dir.path / "two.exr", w, h, {"a.R", "a.G", "a.B", "b.R", "b.G", "b.B"}, value))
+                  .find("2 layers with them ('a', 'b')"),
+              std::string::npos);
+    EXPECT_NE(refusal(writeChannels(dir.path / "yc.exr", w, h, {"BY", "RY", "Y"}, value)).find("luminance and chroma"), std::string::npos);
+    EXPECT_NE(refusal(writeChannels(dir.path / "rg.exr", w, h, {"G", "R"}, value)).find("no R, G and B channels"), std::string::npos);
 }
 
 TEST(ProbeIo, RadianceHdr) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <set>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -121,6 +122,43 @@ void checkExrHeader(const fs::path& path) {
     }
 }
 
+// The channels a probe is read from: R, G and B; else those of the one layer that has all three (a
+// compositor's "beauty.R"); else a luminance image's Y, read as grey (b empty).
+struct ColourChannels {
+    std::string r, g, b;
+};
+
+// A name from the file, printable and short enough for a one-line message.
+std::string printableName(const std::string& name) {
+    std::string out;
+    for (char c : name.substr(0, 40)) out += c >= 0x20 && c < 0x7f ? c : '?';
+    return name.size() > 40 ? out + "..." : out;
+}
+
+ColourChannels colourChannels(const Imf::ChannelList& channels, const fs::path& path) {
+    auto hasRgb = [&](const std::string& prefix) {
+        return channels.findChannel(prefix + "R") && channels.findChannel(prefix + "G") && channels.findChannel(prefix + "B");
+    };
+    if (hasRgb("")) return {"R", "G", "B"};
+    std::set<std::string> layers;
+    channels.layers(layers);
+    std::vector<std::string> rgbLayers;
+    for (const std::string& layer : layers)
+        if (hasRgb(layer + ".")) rgbLayers.push_back(layer);
+    if (rgbLayers.size() == 1) return {rgbLayers[0] + ".R", rgbLayers[0] + ".G", rgbLayers[0] + ".B"};
+    if (rgbLayers.size() > 1)
+        fail(path,
+             fmt::format("EXR has no R, G and B channels but {} layers with them ('{}', '{}'{}); probefilter reads a file "
+                         "with one",
+                         rgbLayers.size(), printableName(rgbLayers[0]), printableName(rgbLayers[1]), rgbLayers.size() > 2 ? ", ..." : ""));
+    if (channels.findChannel("Y")) {
+        if (channels.findChannel("RY") || channels.findChannel("BY"))
+            fail(path, "EXR holds luminance and chroma (Y, RY, BY); probefilter reads RGB, or Y alone as grey");
+        return {"Y", "", ""};
+    }
+    fail(path, "EXR has no R, G and B channels, no layer with them and no Y (RGB, RGBA or luminance expected)");
+}
+
 Image readExr(const fs::path& path) {
     try {
         checkExrHeader(path);
@@ -128,9 +166,7 @@ Image readExr(const fs::path& path) {
         if (!file.isComplete()) fail(path, "EXR is truncated: part of its pixel data is missing");
         const Imath::Box2i window = file.header().dataWindow();
         const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
-        const Imf::ChannelList& channels = file.header().channels();
-        for (const char* name : {"R", "G", "B"})
-            if (!channels.findChannel(name)) fail(path, fmt::format("EXR has no '{}' channel (RGB or RGBA expected)", name));
+        const ColourChannels colour = colourChannels(file.header().channels(), path);
         // Memory is taken as rows decode (reserved, then resized block by block), so that a file whose
         // header promises more than its data holds fails before it costs the whole image.
         const std::size_t rowFloats = static_cast<std::size_t>(width) * 3;
@@ -141,9 +177,11 @@ Image readExr(const fs::path& path) {
         float* rgb = image.rgb.data();
         Imf::FrameBuffer frame;
         const std::size_t xStride = 3 * sizeof(float), yStride = xStride * width;
-        frame.insert("R", Imf::Slice::Make(Imf::FLOAT, rgb, window, xStride, yStride));
-        frame.insert("G", Imf::Slice::Make(Imf::FLOAT, rgb + 1, window, xStride, yStride));
-        frame.insert("B", Imf::Slice::Make(Imf::FLOAT, rgb + 2, window, xStride, yStride));
+        frame.insert(colour.r, Imf::Slice::Make(Imf::FLOAT, rgb, window, xStride, yStride));
+        if (!colour.b.empty()) {
+            frame.insert(colour.g, Imf::Slice::Make(Imf::FLOAT, rgb + 1, window, xStride, yStride));
+            frame.insert(colour.b, Imf::Slice::Make(Imf::FLOAT, rgb + 2, window, xStride, yStride));
+        }
         file.setFrameBuffer(frame);
         constexpr int kBlockRows = 64;
         for (int row = 0; row < height; row += kBlockRows) {
@@ -151,6 +189,8 @@ Image readExr(const fs::path& path) {
             image.rgb.resize(rowFloats * static_cast<std::size_t>(row + rows));
             file.readPixels(window.min.y + row, window.min.y + row + rows - 1);
         }
+        if (colour.b.empty())
+            for (std::size_t p = 0; p < image.rgb.size(); p += 3) image.rgb[p + 1] = image.rgb[p + 2] = image.rgb[p];
         return image;
     } catch (const ProbeError&) {
         throw;
