@@ -310,7 +310,8 @@ void addFilterCommand(CLI::App& app) {
     CLI::App* cmd =
         app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
     cmd->add_option("inputs", o->inputs,
-                    fmt::format("Probe images: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip; several (at most {}) are "
+                    fmt::format("Probe images: EXR or Radiance HDR, equirectangular (2:1), or faces in a 6:1 strip or a 1:6 column; "
+                                "several (at most {}) are "
                                 "filtered as one batch, one recording, each into a folder of --out named after the file",
                                 kMaxBatch))
         ->required();

@@ -51,7 +51,9 @@ void runReference(const ReferenceOptions& o) {
         input = {{"path", o.input},
                  {"width", image.width},
                  {"height", image.height},
-                 {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular" : "face strip"}};
+                 {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular"
+                            : layout == probe::ProbeLayout::faceStrip     ? "face strip"
+                                                                          : "face column"}};
         return probe::imageToCube(image, layout, o.size);
     }();
     const double loadSeconds = loadTime.seconds();
@@ -80,7 +82,9 @@ void runReference(const ReferenceOptions& o) {
 void addReferenceCommand(CLI::App& app) {
     auto options = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Filter a probe with the exact (brute-force) GGX reference on the CPU");
-    cmd->add_option("input", options->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1) or a 6:1 face strip")->required();
+    cmd->add_option("input", options->input,
+                    "Probe image: EXR or Radiance HDR, equirectangular (2:1), or faces in a 6:1 strip or a 1:6 column")
+        ->required();
     cmd->add_option("--size", options->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))
         ->required();
     cmd->add_option("--levels", options->levels, kLevelsHelp);

@@ -231,6 +231,22 @@ TEST(ProbeIo, StripOfTheSameSizeIsACopy) {
     EXPECT_EQ(imageToCube(strip, ProbeLayout::faceStrip, 16).rgb, cube.rgb);
 }
 
+// Faces one above the other read as the same faces side by side, at the size and shrunk.
+TEST(ProbeIo, FaceColumnReadsAsTheStrip) {
+    const CubeImage fine = checkerProbe(32);
+    const Image strip = cubeToStrip(fine);
+    Image column{32, 6 * 32, std::vector<float>(strip.rgb.size())};
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < 32; ++j)
+            for (int i = 0; i < 32; ++i) {
+                const glm::vec3 p = strip.pixel(f * 32 + i, j);
+                std::copy(&p.x, &p.x + 3, &column.rgb[(std::size_t(f * 32 + j) * 32 + i) * 3]);
+            }
+    EXPECT_EQ(detectLayout(column, "x"), ProbeLayout::faceColumn);
+    EXPECT_EQ(imageToCube(column, ProbeLayout::faceColumn, 32).rgb, fine.rgb);
+    EXPECT_EQ(imageToCube(column, ProbeLayout::faceColumn, 16).rgb, imageToCube(strip, ProbeLayout::faceStrip, 16).rgb);
+}
+
 TEST(ProbeIo, ShrinkingAStripIsASolidAngleWeightedBoxFilter) {
     const CubeImage fine = checkerProbe(32);
     const CubeImage coarse = imageToCube(cubeToStrip(fine), ProbeLayout::faceStrip, 16);

@@ -221,18 +221,20 @@ glm::vec3 sampleEquirect(const Image& image, const glm::dvec3& d) {
     return top * (1.0f - fy) + bottom * fy;
 }
 
-// Bilinear read of one face of a 6S x S strip, clamped to the face (used only to resample).
+// Bilinear read of one face of a 6S x S strip or an S x 6S column, clamped to the face (used only to
+// resample).
 glm::vec3 sampleStrip(const Image& strip, const glm::dvec3& d) {
-    const int s = strip.height;
+    const bool row = strip.width > strip.height;
+    const int s = row ? strip.height : strip.width;
     const FaceUv f = directionToFaceUv(d);
     const double x = (f.u + 1.0) * 0.5 * s - 0.5, y = (f.v + 1.0) * 0.5 * s - 0.5;
     const double x0 = std::floor(x), y0 = std::floor(y);
     const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
     const int xa = std::clamp(static_cast<int>(x0), 0, s - 1), xb = std::clamp(static_cast<int>(x0) + 1, 0, s - 1);
     const int ya = std::clamp(static_cast<int>(y0), 0, s - 1), yb = std::clamp(static_cast<int>(y0) + 1, 0, s - 1);
-    const int o = f.face * s;
-    const glm::vec3 top = strip.pixel(o + xa, ya) * (1.0f - fx) + strip.pixel(o + xb, ya) * fx;
-    const glm::vec3 bottom = strip.pixel(o + xa, yb) * (1.0f - fx) + strip.pixel(o + xb, yb) * fx;
+    const int ox = row ? f.face * s : 0, oy = row ? 0 : f.face * s;
+    const glm::vec3 top = strip.pixel(ox + xa, oy + ya) * (1.0f - fx) + strip.pixel(ox + xb, oy + ya) * fx;
+    const glm::vec3 bottom = strip.pixel(ox + xa, oy + yb) * (1.0f - fx) + strip.pixel(ox + xb, oy + yb) * fx;
     return top * (1.0f - fy) + bottom * fy;
 }
 
@@ -301,13 +303,16 @@ PixelRepairs checkPixels(Image& image, const fs::path& path, BadPixelPolicy poli
 ProbeLayout detectLayout(const Image& image, const fs::path& path) {
     if (image.width == 2 * image.height) return ProbeLayout::equirectangular;
     if (image.width == 6 * image.height) return ProbeLayout::faceStrip;
-    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular or a 6:1 strip of faces", image.width, image.height));
+    if (image.height == 6 * image.width) return ProbeLayout::faceColumn;
+    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular, or faces in a 6:1 strip or a 1:6 column", image.width,
+                           image.height));
 }
 
 CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize) {
-    if (layout == ProbeLayout::faceStrip) {
+    if (layout != ProbeLayout::equirectangular) {
         // Subsamples land exactly on source texel centres when the sizes divide.
-        const int subsamples = std::max(1, (image.height + faceSize - 1) / faceSize);
+        const int sourceSize = std::min(image.width, image.height);
+        const int subsamples = std::max(1, (sourceSize + faceSize - 1) / faceSize);
         return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleStrip(image, d); });
     }
     // A face texel spans about height / (2 S) source rows; take two subsamples per source pixel.

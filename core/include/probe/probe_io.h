@@ -28,11 +28,12 @@ struct PixelRepairs {
 // throws ProbeError with the count and the first position; with `repair`, sets them to 0.
 PixelRepairs checkPixels(Image& image, const std::filesystem::path& path, BadPixelPolicy policy);
 
-// The two layouts a probe image may have.
-enum class ProbeLayout { equirectangular, faceStrip };
+// The layouts a probe image may have: six S x S faces in Vulkan order side by side (a row) or one
+// above the other (a column).
+enum class ProbeLayout { equirectangular, faceStrip, faceColumn };
 
-// Equirectangular images are 2:1, face strips 6:1 (six S x S faces in Vulkan order). Throws
-// ProbeError for anything else.
+// Equirectangular images are 2:1, face strips 6:1, face columns 1:6. Throws ProbeError for anything
+// else.
 ProbeLayout detectLayout(const Image& image, const std::filesystem::path& path);
 
 // Resamples a probe image to a cube of `faceSize`. Each output texel integrates the source over
