@@ -228,7 +228,8 @@ void runCompare(const CompareOptions& o) {
 void addCompareCommand(CLI::App& app) {
     auto o = std::make_shared<CompareOptions>();
     CLI::App* cmd = app.add_subcommand("compare", "Comparison sheet: reference, tap table and FIS spheres with error heat maps");
-    cmd->add_option("input", o->input, "Probe image: EXR or Radiance HDR, equirectangular (2:1), or faces in a 6:1 strip or a 1:6 column")
+    cmd->add_option("input", o->input,
+                    "Probe image: EXR or Radiance HDR, equirectangular (2:1), faces in a 6:1 strip or 1:6 column, or a 4:3 or 3:4 cross")
         ->required();
     cmd->add_option("--size", o->size, kGpuSizeHelp)->required();
     cmd->add_option("--levels", o->levels, "Output level count M (default max(1, log2 S_0))");

@@ -48,12 +48,7 @@ void runReference(const ReferenceOptions& o) {
         const probe::PixelRepairs repairs =
             probe::checkPixels(image, o.input, o.repairPixels ? probe::BadPixelPolicy::repair : probe::BadPixelPolicy::refuse);
         pixels = reportPixelRepairs(o.input, repairs);
-        input = {{"path", o.input},
-                 {"width", image.width},
-                 {"height", image.height},
-                 {"layout", layout == probe::ProbeLayout::equirectangular ? "equirectangular"
-                            : layout == probe::ProbeLayout::faceStrip     ? "face strip"
-                                                                          : "face column"}};
+        input = {{"path", o.input}, {"width", image.width}, {"height", image.height}, {"layout", probe::layoutName(layout)}};
         return probe::imageToCube(image, layout, o.size);
     }();
     const double loadSeconds = loadTime.seconds();
@@ -83,7 +78,7 @@ void addReferenceCommand(CLI::App& app) {
     auto options = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Filter a probe with the exact (brute-force) GGX reference on the CPU");
     cmd->add_option("input", options->input,
-                    "Probe image: EXR or Radiance HDR, equirectangular (2:1), or faces in a 6:1 strip or a 1:6 column")
+                    "Probe image: EXR or Radiance HDR, equirectangular (2:1), faces in a 6:1 strip or 1:6 column, or a 4:3 or 3:4 cross")
         ->required();
     cmd->add_option("--size", options->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))
         ->required();

@@ -1,12 +1,15 @@
 // Probes in and out: EXR (every compression, half and float, RGB and RGBA), Radiance HDR, layouts,
 // area-correct resampling, bad pixels, staged output.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -66,6 +69,26 @@ fs::path writeChannels(const fs::path& file, int w, int h, const std::vector<std
     out.setFrameBuffer(frame);
     out.writePixels(h);
     return file;
+}
+
+// A cube's faces placed in an image `columns` x `rows` faces large, face f at places[f] (column, row,
+// turned by 180 degrees); the rest black.
+struct Place {
+    int column, row;
+    bool turned;
+};
+Image placeFaces(const CubeImage& cube, int columns, int rows, const std::array<Place, kFaceCount>& places) {
+    const int s = cube.size;
+    Image image{columns * s, rows * s, std::vector<float>(std::size_t(columns) * rows * s * s * 3)};
+    for (int f = 0; f < kFaceCount; ++f)
+        for (int j = 0; j < s; ++j)
+            for (int i = 0; i < s; ++i) {
+                const Place p = places[f];
+                const int x = p.column * s + (p.turned ? s - 1 - i : i), y = p.row * s + (p.turned ? s - 1 - j : j);
+                const glm::vec3 v = cube.texel(texelIndex({f, i, j}, s));
+                std::copy(&v.x, &v.x + 3, &image.rgb[(std::size_t(y) * image.width + x) * 3]);
+            }
+    return image;
 }
 
 std::string refusal(const fs::path& file) {
@@ -234,17 +257,66 @@ TEST(ProbeIo, StripOfTheSameSizeIsACopy) {
 // Faces one above the other read as the same faces side by side, at the size and shrunk.
 TEST(ProbeIo, FaceColumnReadsAsTheStrip) {
     const CubeImage fine = checkerProbe(32);
-    const Image strip = cubeToStrip(fine);
-    Image column{32, 6 * 32, std::vector<float>(strip.rgb.size())};
-    for (int f = 0; f < kFaceCount; ++f)
-        for (int j = 0; j < 32; ++j)
-            for (int i = 0; i < 32; ++i) {
-                const glm::vec3 p = strip.pixel(f * 32 + i, j);
-                std::copy(&p.x, &p.x + 3, &column.rgb[(std::size_t(f * 32 + j) * 32 + i) * 3]);
-            }
+    const Image column =
+        placeFaces(fine, 1, 6, {{{0, 0, false}, {0, 1, false}, {0, 2, false}, {0, 3, false}, {0, 4, false}, {0, 5, false}}});
     EXPECT_EQ(detectLayout(column, "x"), ProbeLayout::faceColumn);
     EXPECT_EQ(imageToCube(column, ProbeLayout::faceColumn, 32).rgb, fine.rgb);
-    EXPECT_EQ(imageToCube(column, ProbeLayout::faceColumn, 16).rgb, imageToCube(strip, ProbeLayout::faceStrip, 16).rgb);
+    EXPECT_EQ(imageToCube(column, ProbeLayout::faceColumn, 16).rgb, imageToCube(cubeToStrip(fine), ProbeLayout::faceStrip, 16).rgb);
+}
+
+// The crosses as docs/usage.md lays them out read as their faces, at the size and shrunk; and as
+// Filament's cmgen reads the same files (an independent reader: `cmgen --no-mirror --extract` writes
+// the faces it finds, in half floats).
+TEST(ProbeIo, CrossesReadAsCmgenReadsThem) {
+    TempDir dir;
+    const int s = 32;
+    CubeImage faces(s);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> uniform(0.1f, 1.0f);
+    for (float& v : faces.rgb) v = uniform(random); // texels that match in one orientation only
+    const struct {
+        const char* name;
+        ProbeLayout layout;
+        Image image;
+    } crosses[] = {
+        {"horizontal", ProbeLayout::horizontalCross,
+         placeFaces(faces, 4, 3, {{{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {3, 1, false}}})},
+        {"vertical", ProbeLayout::verticalCross,
+         placeFaces(faces, 3, 4, {{{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {1, 3, true}}})},
+    };
+    const char* cmgenFaces[kFaceCount] = {"px", "nx", "py", "ny", "pz", "nz"};
+    for (const auto& cross : crosses) {
+        SCOPED_TRACE(cross.name);
+        EXPECT_EQ(detectLayout(cross.image, "x"), cross.layout);
+        const CubeImage read = imageToCube(cross.image, cross.layout, s);
+        EXPECT_EQ(read.rgb, faces.rgb);
+        EXPECT_EQ(imageToCube(cross.image, cross.layout, s / 2).rgb, imageToCube(cubeToStrip(faces), ProbeLayout::faceStrip, s / 2).rgb);
+
+        const fs::path file = dir.path / fmt::format("{}.exr", cross.name), out = dir.path / cross.name;
+        writeExr(file, cross.image);
+        const std::string command =
+            fmt::format("cmgen -q -s{} --format=exr -cRAW --no-mirror --extract='{}' '{}'", s, out.string(), file.string());
+        ASSERT_EQ(std::system(command.c_str()), 0) << command << " (cmgen: Debian's libfilament-tools, which scripts/setup installs)";
+        for (int f = 0; f < kFaceCount; ++f) {
+            // A face is square, no probe: OpenEXR reads it.
+            Imf::RgbaInputFile in((out / cross.name / fmt::format("{}.exr", cmgenFaces[f])).c_str());
+            const Imath::Box2i window = in.dataWindow();
+            ASSERT_EQ(window.max.x - window.min.x + 1, s);
+            ASSERT_EQ(window.max.y - window.min.y + 1, s);
+            Imf::Array2D<Imf::Rgba> pixels(s, s);
+            in.setFrameBuffer(&pixels[0][0] - window.min.x - window.min.y * s, 1, s);
+            in.readPixels(window.min.y, window.max.y);
+            double worst = 0.0;
+            for (int j = 0; j < s; ++j)
+                for (int i = 0; i < s; ++i) {
+                    const Imf::Rgba& c = pixels[j][i];
+                    const glm::vec3 difference = glm::vec3(float(c.r), float(c.g), float(c.b)) - read.texel(texelIndex({f, i, j}, s));
+                    worst =
+                        std::max({worst, double(std::abs(difference.r)), double(std::abs(difference.g)), double(std::abs(difference.b))});
+                }
+            EXPECT_LT(worst, 1e-3) << "face " << cmgenFaces[f]; // half floats: 2^-11 of values below 1
+        }
+    }
 }
 
 TEST(ProbeIo, ShrinkingAStripIsASolidAngleWeightedBoxFilter) {

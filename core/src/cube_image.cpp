@@ -15,4 +15,23 @@ Image cubeToStrip(const CubeImage& cube) {
     return strip;
 }
 
+std::optional<ProbeLayout> layoutOfShape(std::int64_t width, std::int64_t height) {
+    if (width == 2 * height) return ProbeLayout::equirectangular;
+    if (width == 6 * height) return ProbeLayout::faceStrip;
+    if (height == 6 * width) return ProbeLayout::faceColumn;
+    if (3 * width == 4 * height) return ProbeLayout::horizontalCross;
+    if (4 * width == 3 * height) return ProbeLayout::verticalCross;
+    return std::nullopt;
+}
+
+const char* layoutName(ProbeLayout layout) {
+    switch (layout) {
+    case ProbeLayout::equirectangular: return "equirectangular";
+    case ProbeLayout::faceStrip: return "face strip";
+    case ProbeLayout::faceColumn: return "face column";
+    case ProbeLayout::horizontalCross: return "horizontal cross";
+    default: return "vertical cross";
+    }
+}
+
 } // namespace probe

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "probe/cube_image.h"
 #include "probe/error.h"
 
 namespace probe {
@@ -14,9 +15,7 @@ std::string imageSizeProblem(std::int64_t width, std::int64_t height) {
     if (width < 1 || height < 1) return fmt::format("image has zero size ({} x {})", width, height);
     if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)
         return fmt::format("{} x {} pixels is over the limit of {} pixels ({} per side)", width, height, kMaxImagePixels, kMaxImageSide);
-    if (width != 2 * height && width != 6 * height && height != 6 * width)
-        return fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular, or faces in a 6:1 strip or a 1:6 column", width,
-                           height);
+    if (!layoutOfShape(width, height)) return fmt::format("wrong aspect ratio {}x{}: expected {}", width, height, kProbeShapes);
     return {};
 }
 

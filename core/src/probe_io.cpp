@@ -1,6 +1,7 @@
 #include "probe/probe_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -221,20 +222,47 @@ glm::vec3 sampleEquirect(const Image& image, const glm::dvec3& d) {
     return top * (1.0f - fy) + bottom * fy;
 }
 
-// Bilinear read of one face of a 6S x S strip or an S x 6S column, clamped to the face (used only to
+// Where face f lies in an image of faces: its column and row in face sizes, and whether it is turned
+// by 180 degrees.
+struct FacePlace {
+    int column, row;
+    bool turned;
+};
+
+std::array<FacePlace, kFaceCount> facePlaces(ProbeLayout layout) {
+    switch (layout) {
+    case ProbeLayout::faceStrip: return {{{0, 0, false}, {1, 0, false}, {2, 0, false}, {3, 0, false}, {4, 0, false}, {5, 0, false}}};
+    case ProbeLayout::faceColumn: return {{{0, 0, false}, {0, 1, false}, {0, 2, false}, {0, 3, false}, {0, 4, false}, {0, 5, false}}};
+    case ProbeLayout::horizontalCross: return {{{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {3, 1, false}}};
+    default: return {{{2, 1, false}, {0, 1, false}, {1, 0, false}, {1, 2, false}, {1, 1, false}, {1, 3, true}}}; // vertical cross
+    }
+}
+
+// The face size of an image of faces.
+int faceSizeOf(const Image& image, ProbeLayout layout) {
+    switch (layout) {
+    case ProbeLayout::faceStrip: return image.height;
+    case ProbeLayout::horizontalCross: return image.width / 4;
+    default: return image.width / (layout == ProbeLayout::verticalCross ? 3 : 1); // column, vertical cross
+    }
+}
+
+// Bilinear read of an image of faces at a unit direction, clamped to the face (used only to
 // resample).
-glm::vec3 sampleStrip(const Image& strip, const glm::dvec3& d) {
-    const bool row = strip.width > strip.height;
-    const int s = row ? strip.height : strip.width;
+glm::vec3 sampleFaces(const Image& image, int s, const std::array<FacePlace, kFaceCount>& places, const glm::dvec3& d) {
     const FaceUv f = directionToFaceUv(d);
     const double x = (f.u + 1.0) * 0.5 * s - 0.5, y = (f.v + 1.0) * 0.5 * s - 0.5;
     const double x0 = std::floor(x), y0 = std::floor(y);
     const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
     const int xa = std::clamp(static_cast<int>(x0), 0, s - 1), xb = std::clamp(static_cast<int>(x0) + 1, 0, s - 1);
     const int ya = std::clamp(static_cast<int>(y0), 0, s - 1), yb = std::clamp(static_cast<int>(y0) + 1, 0, s - 1);
-    const int ox = row ? f.face * s : 0, oy = row ? 0 : f.face * s;
-    const glm::vec3 top = strip.pixel(ox + xa, oy + ya) * (1.0f - fx) + strip.pixel(ox + xb, oy + ya) * fx;
-    const glm::vec3 bottom = strip.pixel(ox + xa, oy + yb) * (1.0f - fx) + strip.pixel(ox + xb, oy + yb) * fx;
+    const FacePlace place = places[f.face];
+    auto texel = [&](int i, int j) {
+        if (place.turned) i = s - 1 - i, j = s - 1 - j;
+        return image.pixel(place.column * s + i, place.row * s + j);
+    };
+    const glm::vec3 top = texel(xa, ya) * (1.0f - fx) + texel(xb, ya) * fx;
+    const glm::vec3 bottom = texel(xa, yb) * (1.0f - fx) + texel(xb, yb) * fx;
     return top * (1.0f - fy) + bottom * fy;
 }
 
@@ -301,19 +329,17 @@ PixelRepairs checkPixels(Image& image, const fs::path& path, BadPixelPolicy poli
 }
 
 ProbeLayout detectLayout(const Image& image, const fs::path& path) {
-    if (image.width == 2 * image.height) return ProbeLayout::equirectangular;
-    if (image.width == 6 * image.height) return ProbeLayout::faceStrip;
-    if (image.height == 6 * image.width) return ProbeLayout::faceColumn;
-    fail(path, fmt::format("wrong aspect ratio {}x{}: expected 2:1 equirectangular, or faces in a 6:1 strip or a 1:6 column", image.width,
-                           image.height));
+    if (const std::optional<ProbeLayout> layout = layoutOfShape(image.width, image.height)) return *layout;
+    fail(path, fmt::format("wrong aspect ratio {}x{}: expected {}", image.width, image.height, kProbeShapes));
 }
 
 CubeImage imageToCube(const Image& image, ProbeLayout layout, int faceSize) {
     if (layout != ProbeLayout::equirectangular) {
         // Subsamples land exactly on source texel centres when the sizes divide.
-        const int sourceSize = std::min(image.width, image.height);
+        const int sourceSize = faceSizeOf(image, layout);
         const int subsamples = std::max(1, (sourceSize + faceSize - 1) / faceSize);
-        return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleStrip(image, d); });
+        const std::array<FacePlace, kFaceCount> places = facePlaces(layout);
+        return resample(faceSize, subsamples, [&](const glm::dvec3& d) { return sampleFaces(image, sourceSize, places, d); });
     }
     // A face texel spans about height / (2 S) source rows; take two subsamples per source pixel.
     const int subsamples = std::max(2, (image.height + faceSize - 1) / faceSize);

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -45,5 +47,18 @@ using CubeLevels = std::vector<CubeImage>;
 
 // A 6S x S horizontal strip of the faces in Vulkan order, as level files store a cube.
 Image cubeToStrip(const CubeImage& cube);
+
+// The layouts a probe image may have: equirectangular (2:1); six S x S faces in Vulkan order side by
+// side (a strip, 6:1) or one above the other (a column, 1:6); the faces unfolded in a cross,
+// horizontal (4:3: -X +Z +X -Z across the middle, +Y above +Z, -Y below) or vertical (3:4: -X +Z +X
+// across, +Y above +Z, -Y and -Z below, -Z turned by 180 degrees), as Filament's cmgen reads them.
+enum class ProbeLayout { equirectangular, faceStrip, faceColumn, horizontalCross, verticalCross };
+
+// The layout of an image of that shape, if any.
+std::optional<ProbeLayout> layoutOfShape(std::int64_t width, std::int64_t height);
+// What layoutOfShape accepts, for messages.
+inline constexpr const char* kProbeShapes = "2:1 equirectangular, faces in a 6:1 strip or a 1:6 column, or a 4:3 or 3:4 cross";
+// Its name in reports.
+const char* layoutName(ProbeLayout layout);
 
 } // namespace probe

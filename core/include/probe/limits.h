@@ -47,7 +47,7 @@ inline constexpr int kMaxJsonDepth = 32;
 inline constexpr std::int64_t kMaxJsonValues = std::int64_t{1} << 20;
 
 // What is wrong with a probe image of this size, as an image file's header declares it, or empty:
-// a size within kMaxImagePixels and kMaxImageSide, and a probe's shape (2:1, 6:1 or 1:6), so that a large
+// a size within kMaxImagePixels and kMaxImageSide, and a probe's shape (probe_io.h's layoutOfShape), so that a large
 // image of another shape is refused before its pixels are read.
 std::string imageSizeProblem(std::int64_t width, std::int64_t height);
 

@@ -10,8 +10,8 @@
 
 namespace probe {
 
-// Reads an OpenEXR (RGB or RGBA, any pixel type and compression OpenEXR reads) or Radiance .hdr
-// image. Throws ProbeError naming the file and the problem.
+// Reads an OpenEXR (RGB or RGBA, a layer's RGB or luminance; any pixel type and compression OpenEXR
+// reads) or Radiance .hdr image. Throws ProbeError naming the file and the problem.
 Image readImage(const std::filesystem::path& path);
 
 // What to do with NaN and Inf pixels: refuse the file, or set them to 0.
@@ -28,12 +28,7 @@ struct PixelRepairs {
 // throws ProbeError with the count and the first position; with `repair`, sets them to 0.
 PixelRepairs checkPixels(Image& image, const std::filesystem::path& path, BadPixelPolicy policy);
 
-// The layouts a probe image may have: six S x S faces in Vulkan order side by side (a row) or one
-// above the other (a column).
-enum class ProbeLayout { equirectangular, faceStrip, faceColumn };
-
-// Equirectangular images are 2:1, face strips 6:1, face columns 1:6. Throws ProbeError for anything
-// else.
+// The layout of the image's shape. Throws ProbeError for any other shape.
 ProbeLayout detectLayout(const Image& image, const std::filesystem::path& path);
 
 // Resamples a probe image to a cube of `faceSize`. Each output texel integrates the source over
