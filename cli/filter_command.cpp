@@ -311,11 +311,9 @@ void addFilterCommand(CLI::App& app) {
         app.add_subcommand("filter", "Filter a probe on a Vulkan device: tap table, filtered importance sampling or the exact reference");
     cmd->add_option(
            "inputs", o->inputs,
-           fmt::format(
-               "Probe images: EXR or Radiance HDR, equirectangular (2:1), faces in a 6:1 strip or 1:6 column, or a 4:3 or 3:4 cross; "
-               "several (at most {}) are "
-               "filtered as one batch, one recording, each into a folder of --out named after the file",
-               kMaxBatch))
+           fmt::format("Probe images: {}; several (at most {}) are filtered as one batch, one recording, each into a folder of --out "
+                       "named after the file",
+                       probe::kProbeImageKinds, kMaxBatch))
         ->required();
     cmd->add_option("--method", o->method, "table, fis or reference")->capture_default_str();
     cmd->add_option("--lobe", o->lobe, kLobeHelp)->capture_default_str();

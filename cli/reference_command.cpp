@@ -77,9 +77,7 @@ void runReference(const ReferenceOptions& o) {
 void addReferenceCommand(CLI::App& app) {
     auto options = std::make_shared<ReferenceOptions>();
     CLI::App* cmd = app.add_subcommand("reference", "Filter a probe with the exact (brute-force) GGX reference on the CPU");
-    cmd->add_option("input", options->input,
-                    "Probe image: EXR or Radiance HDR, equirectangular (2:1), faces in a 6:1 strip or 1:6 column, or a 4:3 or 3:4 cross")
-        ->required();
+    cmd->add_option("input", options->input, fmt::format("Probe image: {}", probe::kProbeImageKinds))->required();
     cmd->add_option("--size", options->size, fmt::format("Output face size S_0 (a power of two, at most {})", probe::kMaxFaceSize))
         ->required();
     cmd->add_option("--levels", options->levels, kLevelsHelp);

@@ -21,6 +21,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 
 PROBEFILTER, PROBEFIT, PROBEBENCH = (os.path.abspath(tool) for tool in sys.argv[1:4])
 MAX_SECONDS = 10.0
@@ -166,6 +167,15 @@ def exr_header(width, height, tiles=None, extra=b"", tiled_flag=None, display=No
     return out + extra + b"\0"
 
 
+def ktx2(vk_format, width, height, faces, level, scheme=0, texel_bytes=8, layers=0, offset=None, stored=None):
+    """A KTX2 file of one level: the header, level 0's index entry (its offset and stored length as
+    given, or those of `level`), then the level's bytes."""
+    count = width * height * faces * texel_bytes
+    identifier = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
+    header = identifier + struct.pack("<9I4I2Q", vk_format, 2, width, height, 0, layers, faces, 1, scheme, 0, 0, 0, 0, 0, 0)
+    return header + struct.pack("<3Q", offset if offset is not None else 104, stored if stored is not None else len(level), count) + level
+
+
 def good_table_text():
     with open(path("gltf16_quad8.json")) as f:
         return f.read()
@@ -240,6 +250,17 @@ def main():
     for name, flag, needle in (("multi-part.exr", 0x1000, "multi-part"), ("deep.exr", 0x800, "deep")):
         struct.pack_into("<i", good, 4, version | flag)
         reference(name, [needle], bytes(good))
+
+    # KTX2: a level of Zstandard data that promises an image at the pixel limit and holds a row of it,
+    # a level past the end of the file, a format that is not a float probe's, a cube array.
+    zstd_frame = bytes([0x28, 0xB5, 0x2F, 0xFD, 0x20, 0x00, 0x01, 0x00, 0x00])  # an empty raw block: no texels
+    reference("zstd-bomb.ktx2", ["ends before its texels"], ktx2(97, 16384, 8192, 1, zstd_frame, scheme=2))
+    reference("not-zstd.ktx2", ["Zstandard data is corrupt"], ktx2(97, 64, 32, 1, zlib.compress(bytes(64 * 32 * 8)), scheme=2))
+    reference("level-past-end.ktx2", ["beyond the end"], ktx2(97, 16384, 8192, 1, bytes(64), stored=16384 * 8192 * 8))
+    reference("huge-offset.ktx2", ["beyond the end"], ktx2(97, 8, 8, 6, bytes(3072), offset=2**63))
+    reference("unorm.ktx2", ["VkFormat 37"], ktx2(37, 8, 8, 6, bytes(1536), texel_bytes=4))
+    reference("cube-array.ktx2", ["array of 4 layers"], ktx2(97, 8, 8, 6, bytes(4 * 3072), layers=4))
+    reference("over-limit.ktx2", ["over the limit"], ktx2(97, 40000, 40000, 6, b""))
 
     # What a path names
     os.mkfifo(path("fifo.exr"))

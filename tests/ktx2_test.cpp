@@ -1,10 +1,14 @@
 // KTX2 output: read back equal (RGBA32F exactly, RGBA16F to half precision, RGB9E5 to its shared
 // exponent's), clamping to each format's range counted, metadata kept; Zstandard supercompression
-// gives the same levels back.
+// gives the same levels back. KTX2 input: a cube read as a probe, and every header the probe reader
+// cannot read refused by name.
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <glm/common.hpp>
@@ -13,6 +17,7 @@
 
 #include "probe/error.h"
 #include "probe/ktx2.h"
+#include "probe/probe_io.h"
 #include "probe/reference.h"
 #include "probe/synthetic.h"
 
@@ -143,5 +148,114 @@ TEST(Ktx2, Bc6hWrittenFromItsBlocks) {
                  ProbeError);
     EXPECT_THROW(readKtx2Cube(dir / "bc6h.ktx2"), ProbeError);
     EXPECT_FALSE(fs::exists(dir / "short.ktx2"));
+    fs::remove_all(dir);
+}
+
+namespace {
+
+std::vector<char> readBytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const fs::path& path, const std::vector<char>& bytes) {
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+template <typename T>
+void put(std::vector<char>& bytes, std::size_t offset, T value) {
+    std::memcpy(&bytes[offset], &value, sizeof(T));
+}
+
+} // namespace
+
+TEST(Ktx2, CubeReadsAsAProbeOfItsFacesInAColumn) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_probe_test_{}", ::getpid());
+    fs::create_directories(dir);
+    const CubeLevels levels = referenceFilter(sunSkyProbe(8), 3, RoughnessMapping::gltf);
+    for (const Ktx2PixelFormat format : {Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgb9e5})
+        for (const Ktx2Supercompression supercompression : {Ktx2Supercompression::none, Ktx2Supercompression::zstd}) {
+            SCOPED_TRACE(fmt::format("{} {}", ktx2FormatName(format), supercompression == Ktx2Supercompression::zstd ? "zstd" : "plain"));
+            const fs::path path = dir / "probe.ktx2";
+            writeKtx2Cube(path, levels, format, {}, supercompression);
+            // Level 0 as the whole-file reader decodes it, face f's texel (i, j) at (i, 8 f + j).
+            const CubeImage stored = readKtx2Cube(path).levels[0];
+            const Image image = readImage(path);
+            ASSERT_EQ(image.width, 8);
+            ASSERT_EQ(image.height, 48);
+            EXPECT_EQ(detectLayout(image, path), ProbeLayout::faceColumn);
+            for (int f = 0; f < kFaceCount; ++f)
+                for (int j = 0; j < 8; ++j)
+                    for (int i = 0; i < 8; ++i) ASSERT_EQ(image.pixel(i, 8 * f + j), stored.texel(texelIndex({f, i, j}, 8))) << f << i << j;
+            if (format == Ktx2PixelFormat::rgba32f) {
+                PixelRepairs repairs;
+                EXPECT_EQ(loadProbe(path, 8, BadPixelPolicy::refuse, repairs).rgb, levels[0].rgb);
+            }
+        }
+    fs::remove_all(dir);
+}
+
+TEST(Ktx2, ProbeReaderRefusesWhatItCannotRead) {
+    const fs::path dir = fs::temp_directory_path() / fmt::format("ktx2_refuse_test_{}", ::getpid());
+    fs::create_directories(dir);
+    writeKtx2Cube(dir / "plain.ktx2", {sunSkyProbe(8)}, Ktx2PixelFormat::rgba16f, {});
+    writeKtx2Cube(dir / "zstd.ktx2", {sunSkyProbe(8)}, Ktx2PixelFormat::rgba16f, {}, Ktx2Supercompression::zstd);
+    const std::vector<char> plain = readBytes(dir / "plain.ktx2"), zstd = readBytes(dir / "zstd.ktx2");
+    // Header fields: 12 vkFormat, 20 width, 24 height, 28 depth, 32 layers, 36 faces, 44 scheme;
+    // level 0's entry: 80 offset, 88 stored bytes, 96 bytes.
+    struct Case {
+        const char* name;
+        std::vector<char> bytes;
+        const char* expected;
+    };
+    std::vector<Case> cases;
+    auto edited = [&](const char* name, const std::vector<char>& base, const char* expected, auto edit) {
+        std::vector<char> bytes = base;
+        edit(bytes);
+        cases.push_back({name, bytes, expected});
+    };
+    edited("bc6h", plain, "BC6H blocks", [](auto& b) { put<std::uint32_t>(b, 12, 143); });
+    edited("rgba8", plain, "VkFormat 37", [](auto& b) { put<std::uint32_t>(b, 12, 37); });
+    edited("volume", plain, "3D texture", [](auto& b) { put<std::uint32_t>(b, 28, 4); });
+    edited("array", plain, "array of 2 layers", [](auto& b) { put<std::uint32_t>(b, 32, 2); });
+    edited("faces", plain, "3 faces", [](auto& b) { put<std::uint32_t>(b, 36, 3); });
+    edited("line", plain, "1D texture", [](auto& b) { put<std::uint32_t>(b, 24, 0); });
+    edited("oblong", plain, "not square", [](auto& b) { put<std::uint32_t>(b, 24, 4); });
+    edited("huge", plain, "over the limit", [](auto& b) { put<std::uint32_t>(b, 20, 40000), put<std::uint32_t>(b, 24, 40000); });
+    edited("basis", plain, "supercompression scheme 1", [](auto& b) { put<std::uint32_t>(b, 44, 1); });
+    edited("declared", plain, "level 0 declares", [](auto& b) { put<std::uint64_t>(b, 96, 100); });
+    edited("stored", plain, "level 0 stores", [](auto& b) { put<std::uint64_t>(b, 88, 100); });
+    edited("beyond", plain, "beyond the end", [](auto& b) { put<std::uint64_t>(b, 80, 1u << 30); });
+    edited("truncated", plain, "beyond the end", [](auto& b) { b.resize(b.size() - 1); });
+    edited("version1", plain, "KTX version 1", [](auto& b) { b[5] = '1', b[6] = '1'; });
+    edited("short", plain, "ends within its header", [](auto& b) { b.resize(100); });
+    // Zstandard: a corrupt frame, and a frame of a 4^2 cube where an 8^2 one is declared (its
+    // header's sizes kept, so that only the data is short).
+    const std::size_t zstdOffset = [&] {
+        std::uint64_t offset;
+        std::memcpy(&offset, &zstd[80], 8);
+        return static_cast<std::size_t>(offset);
+    }();
+    edited("corrupt-zstd", zstd, "Zstandard data is corrupt", [&](auto& b) {
+        for (std::size_t k = zstdOffset; k < b.size(); ++k) b[k] = static_cast<char>(0x5a);
+    });
+    writeKtx2Cube(dir / "small.ktx2", {sunSkyProbe(4)}, Ktx2PixelFormat::rgba16f, {}, Ktx2Supercompression::zstd);
+    edited("short-zstd", readBytes(dir / "small.ktx2"), "ends before its texels",
+           [](auto& b) { put<std::uint32_t>(b, 20, 8), put<std::uint32_t>(b, 24, 8), put<std::uint64_t>(b, 96, 6 * 64 * 8); });
+    for (const Case& c : cases) {
+        const fs::path path = dir / (std::string(c.name) + ".ktx2");
+        writeBytes(path, c.bytes);
+        try {
+            readImage(path);
+            ADD_FAILURE() << c.name << ": read";
+        } catch (const ProbeError& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find(path.string() + ": KTX2: "), std::string::npos) << c.name << ": " << message;
+            EXPECT_NE(message.find(c.expected), std::string::npos) << c.name << ": " << message;
+        }
+    }
+    // Unedited, both read.
+    EXPECT_EQ(readImage(dir / "plain.ktx2").height, 48);
+    EXPECT_EQ(readImage(dir / "zstd.ktx2").height, 48);
     fs::remove_all(dir);
 }

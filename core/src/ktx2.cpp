@@ -21,8 +21,6 @@ namespace probe {
 
 namespace {
 
-constexpr std::array<std::uint8_t, 12> kIdentifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
-constexpr std::uint32_t kVkFormatRgba16f = 97, kVkFormatRgba32f = 109, kVkFormatRgb9e5 = 123, kVkFormatBc6h = 143;
 constexpr float kHalfMax = float(PROBE_HALF_MAX);
 // RGB9E5 (the Vulkan specification's shared exponent): 9 mantissa bits, exponent bias 15, largest
 // exponent 31, so the largest value is 511 / 512 * 2^16.
@@ -31,10 +29,10 @@ constexpr float kRgb9e5Max = 65408.0f;
 
 std::uint32_t vkFormatOf(Ktx2PixelFormat format) {
     switch (format) {
-    case Ktx2PixelFormat::rgba16f: return kVkFormatRgba16f;
-    case Ktx2PixelFormat::rgba32f: return kVkFormatRgba32f;
-    case Ktx2PixelFormat::rgb9e5: return kVkFormatRgb9e5;
-    case Ktx2PixelFormat::bc6h: return kVkFormatBc6h;
+    case Ktx2PixelFormat::rgba16f: return vk_format::r16g16b16a16_sfloat;
+    case Ktx2PixelFormat::rgba32f: return vk_format::r32g32b32a32_sfloat;
+    case Ktx2PixelFormat::rgb9e5: return vk_format::e5b9g9r9_ufloat_pack32;
+    case Ktx2PixelFormat::bc6h: return vk_format::bc6h_ufloat_block;
     }
     return 0;
 }
@@ -66,12 +64,6 @@ std::uint32_t encodeRgb9e5(const glm::vec3& c) {
     };
     if (mantissa(brightest) == (1u << kMantissaBits)) ++exponent;
     return mantissa(c.r) | mantissa(c.g) << 9 | mantissa(c.b) << 18 | static_cast<std::uint32_t>(std::min(exponent, kMaxExponent)) << 27;
-}
-
-glm::vec3 decodeRgb9e5(std::uint32_t bits) {
-    const int exponent = static_cast<int>(bits >> 27) - kExponentBias - kMantissaBits;
-    return {std::ldexp(static_cast<float>(bits & 511u), exponent), std::ldexp(static_cast<float>((bits >> 9) & 511u), exponent),
-            std::ldexp(static_cast<float>((bits >> 18) & 511u), exponent)};
 }
 
 std::size_t align(std::size_t offset, std::size_t alignment) { return (offset + alignment - 1) / alignment * alignment; }
@@ -213,9 +205,8 @@ T readAt(const std::vector<std::uint8_t>& bytes, std::size_t offset, const std::
     return value;
 }
 
-// KTX2's supercompression scheme 2, each level compressed on its own at this Zstandard level (a
-// filtered probe gains little beyond it, and a 1024^2 RGBA32F chain stays within seconds).
-constexpr std::uint32_t kZstdScheme = 2;
+// Each level is compressed at this Zstandard level: a filtered probe gains little beyond it, and a
+// 1024^2 RGBA32F chain stays within seconds.
 constexpr int kZstdLevel = 9;
 
 std::vector<std::uint8_t> zstdCompress(const std::vector<std::uint8_t>& data, const std::filesystem::path& path) {
@@ -238,6 +229,12 @@ std::vector<std::uint8_t> zstdDecompress(const std::vector<std::uint8_t>& data, 
 }
 
 } // namespace
+
+glm::vec3 decodeRgb9e5(std::uint32_t bits) {
+    const int exponent = static_cast<int>(bits >> 27) - kExponentBias - kMantissaBits;
+    return {std::ldexp(static_cast<float>(bits & 511u), exponent), std::ldexp(static_cast<float>((bits >> 9) & 511u), exponent),
+            std::ldexp(static_cast<float>((bits >> 18) & 511u), exponent)};
+}
 
 std::string_view ktx2FormatName(Ktx2PixelFormat format) {
     switch (format) {
@@ -281,9 +278,9 @@ void writeContainer(const std::filesystem::path& path, Ktx2PixelFormat format, i
     }
 
     ByteWriter w;
-    w.bytes.assign(kIdentifier.begin(), kIdentifier.end());
+    w.bytes.assign(kKtx2Identifier.begin(), kKtx2Identifier.end());
     for (std::uint32_t v : {vkFormatOf(format), typeSizeOf(format), std::uint32_t(faceSize), std::uint32_t(faceSize), 0u /*depth*/,
-                            0u /*layers*/, 6u /*faces*/, levelCount, zstd ? kZstdScheme : 0u})
+                            0u /*layers*/, 6u /*faces*/, levelCount, zstd ? kKtx2ZstdScheme : 0u})
         w.put<std::uint32_t>(v);
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfdOffset));
     w.put<std::uint32_t>(static_cast<std::uint32_t>(dfd.size()));
@@ -333,14 +330,14 @@ Ktx2Levels readKtx2Levels(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw ProbeError(fmt::format("{}: cannot open KTX2 file", path.string()));
     const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.size() < 80 || !std::equal(kIdentifier.begin(), kIdentifier.end(), bytes.begin()))
+    if (bytes.size() < 80 || !std::equal(kKtx2Identifier.begin(), kKtx2Identifier.end(), bytes.begin()))
         throw ProbeError(fmt::format("{}: not a KTX2 file", path.string()));
     const auto vkFormat = readAt<std::uint32_t>(bytes, 12, path);
     const auto width = readAt<std::uint32_t>(bytes, 20, path);
     const auto faces = readAt<std::uint32_t>(bytes, 36, path);
     const auto levelCount = readAt<std::uint32_t>(bytes, 40, path);
     const auto scheme = readAt<std::uint32_t>(bytes, 44, path);
-    if (scheme != 0 && scheme != kZstdScheme)
+    if (scheme != 0 && scheme != kKtx2ZstdScheme)
         throw ProbeError(fmt::format("{}: supercompression scheme {} (probefilter reads none and Zstandard)", path.string(), scheme));
     Ktx2Levels k;
     const Ktx2PixelFormat formats[] = {Ktx2PixelFormat::rgba16f, Ktx2PixelFormat::rgba32f, Ktx2PixelFormat::rgb9e5, Ktx2PixelFormat::bc6h};
@@ -348,7 +345,7 @@ Ktx2Levels readKtx2Levels(const std::filesystem::path& path) {
     if (format == std::end(formats) || faces != 6)
         throw ProbeError(fmt::format("{}: not an RGBA16F, RGBA32F, RGB9E5 or BC6H cube", path.string()));
     k.format = *format;
-    k.supercompression = scheme == kZstdScheme ? Ktx2Supercompression::zstd : Ktx2Supercompression::none;
+    k.supercompression = scheme == kKtx2ZstdScheme ? Ktx2Supercompression::zstd : Ktx2Supercompression::none;
     k.faceSize = static_cast<int>(width);
     for (std::uint32_t m = 0; m < levelCount; ++m) {
         const auto offset = readAt<std::uint64_t>(bytes, 80 + 24 * m, path), length = readAt<std::uint64_t>(bytes, 88 + 24 * m, path),
@@ -357,7 +354,7 @@ Ktx2Levels readKtx2Levels(const std::filesystem::path& path) {
             throw ProbeError(fmt::format("{}: level {} lies beyond the file", path.string(), m));
         std::vector<std::uint8_t> stored(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
                                          bytes.begin() + static_cast<std::ptrdiff_t>(offset + length));
-        k.levels.push_back(scheme == kZstdScheme ? zstdDecompress(stored, uncompressed, path) : std::move(stored));
+        k.levels.push_back(scheme == kKtx2ZstdScheme ? zstdDecompress(stored, uncompressed, path) : std::move(stored));
     }
     const auto kvdOffset = readAt<std::uint32_t>(bytes, 56, path), kvdLength = readAt<std::uint32_t>(bytes, 60, path);
     for (std::size_t p = kvdOffset; p + 4 <= kvdOffset + kvdLength;) {

@@ -24,6 +24,7 @@
 
 #include "probe/error.h"
 #include "probe/input_file.h"
+#include "probe/ktx2_image.h"
 #include "probe/limits.h"
 #include "probe/output_file.h"
 #include "probe/radiance_hdr.h"
@@ -206,6 +207,12 @@ Image readHdr(const fs::path& path, std::uintmax_t size) {
     return readRadianceHdr(in, size, path);
 }
 
+Image readKtx2(const fs::path& path, std::uintmax_t size) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, "cannot open file");
+    return readKtx2Image(in, size, path);
+}
+
 // Bilinear read of an equirectangular image at a unit direction, wrapping in longitude and
 // clamping in latitude.
 glm::vec3 sampleEquirect(const Image& image, const glm::dvec3& d) {
@@ -300,7 +307,8 @@ Image readImage(const fs::path& path) {
     const std::string magic = readMagic(path);
     if (magic == std::string("\x76\x2f\x31\x01", 4)) return readExr(path);
     if (magic.rfind("#?", 0) == 0) return readHdr(path, size);
-    fail(path, "not an OpenEXR or Radiance HDR file");
+    if (magic == "\xABKTX") return readKtx2(path, size);
+    fail(path, "not an OpenEXR, Radiance HDR or KTX2 file");
 }
 
 PixelRepairs checkPixels(Image& image, const fs::path& path, BadPixelPolicy policy) {

@@ -1,4 +1,4 @@
-// probe::readImage on arbitrary bytes: the Radiance HDR reader and OpenEXR's, then the pixel check
+// probe::readImage on arbitrary bytes: the Radiance HDR and KTX2 readers and OpenEXR's, then the pixel check
 // every probe goes through.
 #include "fuzz_input.h"
 

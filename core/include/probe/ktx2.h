@@ -1,8 +1,9 @@
 // KTX2 output for engines: an uncompressed RGBA16F, RGBA32F or shared-exponent RGB9E5 cube, or a
 // BC6H one from its blocks, with every level, a basic data format descriptor (BT.709 primaries,
-// linear), and key/value metadata.
+// linear), and key/value metadata. What KTX2 reading and writing share.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -14,6 +15,20 @@
 #include "probe/cube_image.h"
 
 namespace probe {
+
+// The file's first 12 bytes.
+inline constexpr std::array<std::uint8_t, 12> kKtx2Identifier{0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+// The VkFormat values a KTX2 header records, named here so that the tools need no Vulkan headers.
+namespace vk_format {
+inline constexpr std::uint32_t r16g16b16_sfloat = 90, r16g16b16a16_sfloat = 97, r32g32b32_sfloat = 106, r32g32b32a32_sfloat = 109,
+                               b10g11r11_ufloat_pack32 = 122, e5b9g9r9_ufloat_pack32 = 123, bc6h_ufloat_block = 143,
+                               bc6h_sfloat_block = 144;
+}
+// KTX2's supercompression scheme 2: each level compressed with Zstandard on its own.
+inline constexpr std::uint32_t kKtx2ZstdScheme = 2;
+
+// An E5B9G9R9 texel by the Vulkan specification's formula.
+glm::vec3 decodeRgb9e5(std::uint32_t bits);
 
 // rgb9e5: VK_FORMAT_E5B9G9R9_UFLOAT_PACK32, 4 bytes a texel with no alpha, which every Vulkan
 // device samples: three 9-bit mantissas sharing a 5-bit exponent (about 3 significant digits of the

@@ -1,4 +1,4 @@
-// Probes in and out: EXR and Radiance HDR reading, pixel validation, conversion to a cube of a
+// Probes in and out: EXR, Radiance HDR and KTX2 reading, pixel validation, conversion to a cube of a
 // chosen face size, EXR writing.
 #pragma once
 
@@ -10,8 +10,13 @@
 
 namespace probe {
 
+// What a probe image may be, for the tools' help.
+inline constexpr const char* kProbeImageKinds =
+    "EXR, Radiance HDR or KTX2 (a float cube or image), equirectangular (2:1), faces in a 6:1 strip or 1:6 column, or a 4:3 or 3:4 cross";
+
 // Reads an OpenEXR (RGB or RGBA, a layer's RGB or luminance; any pixel type and compression OpenEXR
-// reads) or Radiance .hdr image. Throws ProbeError naming the file and the problem.
+// reads), Radiance .hdr or KTX2 image (level 0 of a float cube, its faces in a 1:6 column, or of a 2D
+// image; probe/ktx2_image.h). Throws ProbeError naming the file and the problem.
 Image readImage(const std::filesystem::path& path);
 
 // What to do with NaN and Inf pixels: refuse the file, or set them to 0.
