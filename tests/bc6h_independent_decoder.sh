@@ -16,11 +16,7 @@ if ! "$BC6H_VENV/bin/python" -c "import imagecodecs, ispc_texcomp, numpy" 2>/dev
     "$BC6H_VENV/bin/pip" install --quiet --disable-pip-version-check imagecodecs==2026.3.6 ispc-texcomp==1.0.1 ||
         { echo "bc6h_independent_decoder: pip install imagecodecs ispc-texcomp failed (is PyPI reachable?)" >&2; exit 1; }
 fi
-node_dir="$KTX_PARSE_PREFIX/node_modules"
-if [[ ! -d $node_dir/ktx-parse ]]; then
-    npm install --silent --no-audit --no-fund --prefix "$KTX_PARSE_PREFIX" ktx-parse@2.0.0 >/dev/null ||
-        { echo "bc6h_independent_decoder: npm install ktx-parse@2.0.0 failed (is the npm registry reachable?)" >&2; exit 1; }
-fi
+source "$(dirname "$0")/ktx_parse.sh"
 
 pairs=() sampled=()
 for probe in sunsky sky room checker; do

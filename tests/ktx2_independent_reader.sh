@@ -3,11 +3,7 @@
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-node_dir="$KTX_PARSE_PREFIX/node_modules"
-if [[ ! -d $node_dir/ktx-parse ]]; then
-    npm install --silent --no-audit --no-fund --prefix "$KTX_PARSE_PREFIX" ktx-parse@2.0.0 >/dev/null ||
-        { echo "ktx2_independent_reader: npm install ktx-parse@2.0.0 failed (is the npm registry reachable?)" >&2; exit 1; }
-fi
+source "$(dirname "$0")/ktx_parse.sh"
 "$PROBEFILTER" synth sunsky --size 16 --out "$work/sunsky.exr" >/dev/null
 "$PROBEFILTER" reference "$work/sunsky.exr" --size 16 --ktx2 rgba16f --out "$work/half" >/dev/null
 "$PROBEFILTER" reference "$work/sunsky.exr" --size 16 --ktx2 rgba32f --out "$work/float" >/dev/null

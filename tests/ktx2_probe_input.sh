@@ -6,11 +6,7 @@
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-node_dir="$KTX_PARSE_PREFIX/node_modules"
-if [[ ! -d $node_dir/ktx-parse ]]; then
-    npm install --silent --no-audit --no-fund --prefix "$KTX_PARSE_PREFIX" ktx-parse@2.0.0 >/dev/null ||
-        { echo "ktx2_probe_input: npm install ktx-parse@2.0.0 failed (is the npm registry reachable?)" >&2; exit 1; }
-fi
+source "$(dirname "$0")/ktx_parse.sh"
 KTX_PARSE_DIR="$node_dir" node "$(dirname "$0")/ktx2_write_probes.mjs" "$work"
 
 reference() { "$PROBEFILTER" reference "$1" --size 8 --out "$2" >/dev/null; }
