@@ -251,8 +251,9 @@ def main():
         struct.pack_into("<i", good, 4, version | flag)
         reference(name, [needle], bytes(good))
 
-    # KTX2: a level of Zstandard data that promises an image at the pixel limit and holds a row of it,
-    # a level past the end of the file, a format that is not a float probe's, a cube array.
+    # KTX2: a Zstandard level that promises an image at the pixel limit (1 GiB of RGBA16F) and holds
+    # none of it, data that is not Zstandard, a level or offset past the end of the file, a format
+    # that is not a float probe's, a cube array, a size over the limit.
     zstd_frame = bytes([0x28, 0xB5, 0x2F, 0xFD, 0x20, 0x00, 0x01, 0x00, 0x00])  # an empty raw block: no texels
     reference("zstd-bomb.ktx2", ["ends before its texels"], ktx2(97, 16384, 8192, 1, zstd_frame, scheme=2))
     reference("not-zstd.ktx2", ["Zstandard data is corrupt"], ktx2(97, 64, 32, 1, zlib.compress(bytes(64 * 32 * 8)), scheme=2))
