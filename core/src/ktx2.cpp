@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <numeric>
+#include <span>
 
 #include <Imath/half.h>
 #include <fmt/format.h>
@@ -236,6 +237,24 @@ glm::vec3 decodeRgb9e5(std::uint32_t bits) {
             std::ldexp(static_cast<float>((bits >> 18) & 511u), exponent)};
 }
 
+std::optional<KeyValues> parseKtx2KeyValues(const std::uint8_t* data, std::size_t size) {
+    const std::span<const std::uint8_t> block(data, size);
+    KeyValues entries;
+    for (std::size_t p = 0; p + 4 <= block.size();) {
+        std::uint32_t length;
+        std::memcpy(&length, &block[p], sizeof(length));
+        if (length > block.size() - p - 4) return std::nullopt;
+        const std::string entry(block.begin() + static_cast<std::ptrdiff_t>(p + 4),
+                                block.begin() + static_cast<std::ptrdiff_t>(p + 4 + length));
+        const std::size_t nul = entry.find('\0');
+        std::string value = nul == std::string::npos ? std::string() : entry.substr(nul + 1);
+        if (!value.empty() && value.back() == '\0') value.pop_back();
+        entries.emplace_back(entry.substr(0, nul), std::move(value));
+        p = align(p + 4 + length, 4);
+    }
+    return entries;
+}
+
 std::string_view ktx2FormatName(Ktx2PixelFormat format) {
     switch (format) {
     case Ktx2PixelFormat::rgba16f: return "rgba16f";
@@ -357,17 +376,11 @@ Ktx2Levels readKtx2Levels(const std::filesystem::path& path) {
         k.levels.push_back(scheme == kKtx2ZstdScheme ? zstdDecompress(stored, uncompressed, path) : std::move(stored));
     }
     const auto kvdOffset = readAt<std::uint32_t>(bytes, 56, path), kvdLength = readAt<std::uint32_t>(bytes, 60, path);
-    for (std::size_t p = kvdOffset; p + 4 <= kvdOffset + kvdLength;) {
-        const auto length = readAt<std::uint32_t>(bytes, p, path);
-        if (p + 4 + length > bytes.size()) throw ProbeError(fmt::format("{}: truncated KTX2 metadata", path.string()));
-        const std::string entry(bytes.begin() + static_cast<std::ptrdiff_t>(p + 4),
-                                bytes.begin() + static_cast<std::ptrdiff_t>(p + 4 + length));
-        const std::size_t nul = entry.find('\0');
-        std::string value = entry.substr(nul + 1);
-        if (!value.empty() && value.back() == '\0') value.pop_back();
-        k.metadata.emplace_back(entry.substr(0, nul), value);
-        p = align(p + 4 + length, 4);
-    }
+    std::optional<KeyValues> metadata;
+    if (kvdOffset <= bytes.size() && kvdLength <= bytes.size() - kvdOffset)
+        metadata = parseKtx2KeyValues(bytes.data() + kvdOffset, kvdLength);
+    if (!metadata) throw ProbeError(fmt::format("{}: truncated KTX2 metadata", path.string()));
+    k.metadata = std::move(*metadata);
     return k;
 }
 

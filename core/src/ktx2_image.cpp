@@ -51,7 +51,8 @@ float halfBits(std::uint16_t bits) {
     return float(h);
 }
 
-// An unsigned 10- or 11-bit float (B10G11R11): a 5-bit exponent of bias 15 and no sign.
+// An unsigned 10- or 11-bit float (B10G11R11): a 5-bit exponent of bias 15 and no sign. Inf and NaN
+// stay what they are, for the bad-pixel policy to see (GLM's unpackF2x11_1x10 makes them -1).
 float smallFloat(std::uint32_t bits, int mantissaBits) {
     const std::uint32_t exponent = bits >> mantissaBits, mantissa = bits & ((1u << mantissaBits) - 1);
     if (exponent == 31) return mantissa ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
@@ -155,18 +156,10 @@ Orientation readOrientation(Reader& reader, std::uint32_t offset, std::uint32_t 
     std::vector<std::uint8_t> data(length);
     reader.seek(offset);
     reader.bytes(data.data(), length, "metadata");
-    for (std::size_t p = 0; p + 4 <= data.size();) {
-        const std::uint32_t entry = load<std::uint32_t>(&data[p]);
-        if (entry > data.size() - p - 4) reader.fail("a metadata entry runs past the metadata");
-        const std::string text(data.begin() + static_cast<std::ptrdiff_t>(p + 4),
-                               data.begin() + static_cast<std::ptrdiff_t>(p + 4 + entry));
-        static constexpr std::string_view kKey("KTXorientation\0", 15);
-        if (text.starts_with(kKey)) {
-            const std::string value = text.substr(kKey.size());
-            return {value.size() > 0 && value[0] == 'l', value.size() > 1 && value[1] == 'u'};
-        }
-        p += 4 + (static_cast<std::size_t>(entry) + 3) / 4 * 4;
-    }
+    const std::optional<KeyValues> entries = parseKtx2KeyValues(data.data(), data.size());
+    if (!entries) reader.fail("a metadata entry runs past the metadata");
+    for (const auto& [key, value] : *entries)
+        if (key == "KTXorientation") return {value.size() > 0 && value[0] == 'l', value.size() > 1 && value[1] == 'u'};
     return {};
 }
 

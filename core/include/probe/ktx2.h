@@ -52,6 +52,9 @@ struct Ktx2Settings {
 };
 
 using KeyValues = std::vector<std::pair<std::string, std::string>>;
+// The entries of a KTX2 key/value block of `size` bytes (each a byte count, a key, NUL, the value and
+// its NUL, padded to 4 bytes); std::nullopt when an entry runs past the block.
+std::optional<KeyValues> parseKtx2KeyValues(const std::uint8_t* block, std::size_t size);
 
 // Writes levels[0..] (face size halving each level, alpha 1) as one cube map. Values outside the
 // format's range are clamped to it (RGBA16F above 65504; RGB9E5 above 65408 or below 0); returns
