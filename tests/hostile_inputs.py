@@ -167,13 +167,16 @@ def exr_header(width, height, tiles=None, extra=b"", tiled_flag=None, display=No
     return out + extra + b"\0"
 
 
-def ktx2(vk_format, width, height, faces, level, scheme=0, texel_bytes=8, layers=0, offset=None, stored=None):
-    """A KTX2 file of one level: the header, level 0's index entry (its offset and stored length as
-    given, or those of `level`), then the level's bytes."""
+def ktx2(vk_format, width, height, faces, level, scheme=0, texel_bytes=8, layers=0, offset=None, stored=None, kvd=(0, 0),
+         tail=b""):
+    """A KTX2 file of one level: the header (its key/value block's offset and length as given), level
+    0's index entry (its offset and stored length as given, or those of `level`), the level's bytes,
+    then `tail`."""
     count = width * height * faces * texel_bytes
     identifier = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
-    header = identifier + struct.pack("<9I4I2Q", vk_format, 2, width, height, 0, layers, faces, 1, scheme, 0, 0, 0, 0, 0, 0)
-    return header + struct.pack("<3Q", offset if offset is not None else 104, stored if stored is not None else len(level), count) + level
+    header = identifier + struct.pack("<9I4I2Q", vk_format, 2, width, height, 0, layers, faces, 1, scheme, 0, 0, *kvd, 0, 0)
+    index = struct.pack("<3Q", offset if offset is not None else 104, stored if stored is not None else len(level), count)
+    return header + index + level + tail
 
 
 def good_table_text():
@@ -262,6 +265,13 @@ def main():
     reference("unorm.ktx2", ["VkFormat 37"], ktx2(37, 8, 8, 6, bytes(1536), texel_bytes=4))
     reference("cube-array.ktx2", ["array of 4 layers"], ktx2(97, 8, 8, 6, bytes(4 * 3072), layers=4))
     reference("over-limit.ktx2", ["over the limit"], ktx2(97, 40000, 40000, 6, b""))
+    # A 2D image's metadata (read for its KTXorientation): past the end, over its limit, an entry past it.
+    image = bytes(16 * 8 * 8)
+    reference("metadata-past-end.ktx2", ["metadata lies beyond the end"], ktx2(97, 16, 8, 1, image, kvd=(10**9, 64)))
+    reference("metadata-over-limit.ktx2", ["bytes of metadata, over the limit"], ktx2(97, 16, 8, 1, image, kvd=(104, 2**31)))
+    entry = struct.pack("<I", 1000) + b"KTXorientation\0ru\0\0"
+    reference("metadata-entry-past.ktx2", ["entry runs past the metadata"],
+              ktx2(97, 16, 8, 1, image, kvd=(104 + len(image), len(entry)), tail=entry))
 
     # What a path names
     os.mkfifo(path("fifo.exr"))
